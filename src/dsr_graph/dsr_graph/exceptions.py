@@ -1,0 +1,63 @@
+"""Typed errors of the DSR graph. Every rejection names the element and the rule it broke."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+
+@dataclass(frozen=True)
+class Violation:
+    """One broken rule: which rule, which element, what is wrong, and where in a request.
+
+    ``rule`` is a short stable identifier (e.g. ``rt-single-parent``) that scripts can match;
+    ``element`` names the node (``node 'robot'``) or edge (``edge 'room'->'robot' (RT)``);
+    ``at`` locates it in a transaction (``op 2 (insert_edge)``, ``precondition 0``) or a file.
+    """
+
+    rule: str
+    element: str
+    message: str
+    at: Optional[str] = None
+
+    def __str__(self) -> str:
+        where = f"{self.at}: " if self.at else ""
+        return f"{where}{self.element}: {self.rule}: {self.message}"
+
+    def located(self, at: str) -> "Violation":
+        return Violation(self.rule, self.element, self.message, at)
+
+    def to_json(self) -> dict:
+        return {"rule": self.rule, "element": self.element, "message": self.message, "at": self.at}
+
+
+class DsrError(Exception):
+    """Base of every error raised by dsr_graph."""
+
+
+class RuleViolation(DsrError):
+    """A change or a file broke a rule of the graph; ``violation`` says which and where."""
+
+    def __init__(self, violation: Violation):
+        super().__init__(str(violation))
+        self.violation = violation
+
+
+class TransactionRejected(RuleViolation):
+    """A transaction was refused as a whole; the graph is exactly as it was before it."""
+
+
+class FormatError(DsrError):
+    """A JSON document (world, snapshot, transaction, vocabulary) does not follow the schema."""
+
+
+class VocabularyError(DsrError):
+    """A vocabulary file is malformed or contradicts another one."""
+
+
+class WorldLoadError(DsrError):
+    """A world file could not be read at all (not JSON, unknown format)."""
+
+
+class LookupFailed(DsrError):
+    """A query named a node that does not exist or is not part of the geometric tree."""

@@ -1,0 +1,521 @@
+"""The Deep State Representation: a multi-labelled directed graph of symbols and geometry.
+
+Paper, Section II-A. Rules enforced here (each violation names its rule id):
+
+- ``unique-id`` / ``unique-name``: node ids and names are unique; names never change.
+- ``unknown-node-type`` / ``unknown-edge-type`` / ``unknown-attribute`` / ``attribute-type``:
+  everything is checked against the vocabulary.
+- ``no-self-loop``: no edge joins a node to itself (symbolic quiver, property 2).
+- ``edge-unique``: one edge per (from, to, type); several types may join the same pair.
+- ``rt-rigid``: an RT edge holds a rigid transform; only RT edges do.
+- ``rt-single-parent``: a geometric node has at most one RT parent.
+- ``rt-acyclic``: RT edges never form a cycle.
+- ``rt-single-tree``: all RT edges form one rooted tree (checked when a transaction ends).
+
+Every mutation is recorded in an undo log while ``atomic()`` is active, so that a failing
+transaction is rolled back to exactly the state it started from.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Sequence, Set, Tuple, Union
+
+import numpy as np
+
+from . import rigid
+from .exceptions import LookupFailed, RuleViolation, Violation
+from .values import UINT64_MAX, ValueTypeError, coerce
+from .vocabulary import RT, Vocabulary
+
+NodeRef = Union[int, str]  # a node id (int) or name (str)
+EdgeKey = Tuple[int, int, str]  # (from id, to id, type)
+
+MAX_NAME_LENGTH = 256
+
+
+class Node:
+    __slots__ = ("id", "name", "type", "attrs", "version")
+
+    def __init__(self, id: int, name: str, type: str, attrs: Dict[str, Any], version: int = 1):
+        self.id = id
+        self.name = name
+        self.type = type
+        self.attrs = attrs
+        self.version = version
+
+    def __repr__(self) -> str:
+        return f"Node({self.id}, {self.name!r}, {self.type!r}, v{self.version})"
+
+
+class Edge:
+    __slots__ = ("src", "dst", "type", "attrs", "version", "rt")
+
+    def __init__(self, src: int, dst: int, type: str, attrs: Dict[str, Any],
+                 rt: Optional[np.ndarray] = None, version: int = 1):
+        self.src = src
+        self.dst = dst
+        self.type = type
+        self.attrs = attrs
+        self.rt = rt
+        self.version = version
+
+    @property
+    def key(self) -> EdgeKey:
+        return (self.src, self.dst, self.type)
+
+    def __repr__(self) -> str:
+        return f"Edge({self.src}->{self.dst} {self.type!r}, v{self.version})"
+
+
+def _fail(rule: str, element: str, message: str) -> None:
+    raise RuleViolation(Violation(rule=rule, element=element, message=message))
+
+
+class Graph:
+    """The graph model. Pure Python: no ROS import anywhere below this package's node modules."""
+
+    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+        self.vocabulary = vocabulary if vocabulary is not None else Vocabulary.default()
+        self._nodes: Dict[int, Node] = {}
+        self._ids: Dict[str, int] = {}
+        self._edges: Dict[EdgeKey, Edge] = {}
+        self._out: Dict[int, Set[EdgeKey]] = {}
+        self._in: Dict[int, Set[EdgeKey]] = {}
+        self._rt_parent: Dict[int, int] = {}
+        self._rt_children: Dict[int, Set[int]] = {}
+        self._rt_roots: Set[int] = set()
+        self._pose_cache: Dict[int, np.ndarray] = {}  # node id -> pose in the root's frame
+        self._next_id = 1
+        self._undo: Optional[List[Callable[[], None]]] = None
+
+    # ------------------------------------------------------------------ naming and lookup
+    def node(self, ref: NodeRef) -> Node:
+        """The node with this id (int) or name (str); ``LookupFailed`` if there is none."""
+        node = self.find(ref)
+        if node is None:
+            raise LookupFailed(f"no node {ref!r}")
+        return node
+
+    def find(self, ref: NodeRef) -> Optional[Node]:
+        if isinstance(ref, bool):
+            return None
+        if isinstance(ref, int):
+            return self._nodes.get(ref)
+        if isinstance(ref, str):
+            node_id = self._ids.get(ref)
+            return None if node_id is None else self._nodes[node_id]
+        return None
+
+    def __contains__(self, ref: NodeRef) -> bool:
+        return self.find(ref) is not None
+
+    def __len__(self) -> int:
+        return len(self._nodes)
+
+    def nodes(self) -> Iterator[Node]:
+        return iter(self._nodes.values())
+
+    def edges(self) -> Iterator[Edge]:
+        return iter(self._edges.values())
+
+    def edge(self, src: NodeRef, dst: NodeRef, type: str) -> Optional[Edge]:
+        a, b = self.find(src), self.find(dst)
+        if a is None or b is None:
+            return None
+        return self._edges.get((a.id, b.id, type))
+
+    def out_edges(self, ref: NodeRef) -> List[Edge]:
+        return [self._edges[k] for k in self._out.get(self.node(ref).id, ())]
+
+    def in_edges(self, ref: NodeRef) -> List[Edge]:
+        return [self._edges[k] for k in self._in.get(self.node(ref).id, ())]
+
+    def edge_count(self) -> int:
+        return len(self._edges)
+
+    def describe_node(self, node_id: int) -> str:
+        node = self._nodes.get(node_id)
+        return f"node {node.name!r}" if node else f"node #{node_id}"
+
+    def describe_edge(self, src: int, dst: int, type: str) -> str:
+        def name(i: int) -> str:
+            n = self._nodes.get(i)
+            return repr(n.name) if n else f"#{i}"
+
+        return f"edge {name(src)}->{name(dst)} ({type})"
+
+    # ------------------------------------------------------------------ geometry
+    def rt_parent(self, ref: NodeRef) -> Optional[Node]:
+        parent = self._rt_parent.get(self.node(ref).id)
+        return None if parent is None else self._nodes[parent]
+
+    def rt_children(self, ref: NodeRef) -> List[Node]:
+        return [self._nodes[c] for c in self._rt_children.get(self.node(ref).id, ())]
+
+    def rt_root(self) -> Optional[Node]:
+        """The root of the RT tree (None when there are no RT edges)."""
+        if len(self._rt_roots) != 1:
+            return None
+        return self._nodes[next(iter(self._rt_roots))]
+
+    def is_geometric(self, ref: NodeRef) -> bool:
+        """A node is geometric when an RT edge touches it (it is part of the kinematic tree)."""
+        node_id = self.node(ref).id
+        return node_id in self._rt_parent or bool(self._rt_children.get(node_id))
+
+    def pose_in_root(self, ref: NodeRef) -> np.ndarray:
+        """The node's pose in the root's frame (cached; cache entries die with any RT change above)."""
+        node_id = self._geometric_id(ref)
+        return self._pose(node_id).copy()
+
+    def transform(self, frm: NodeRef, to: NodeRef) -> np.ndarray:
+        """The kinematic chain C(frm, to): a 4x4 matrix mapping coordinates in frame ``to`` into
+        frame ``frm`` (``to``'s pose seen from ``frm``, like tf2's lookupTransform(frm, to)).
+
+        It equals inv(T_w,frm) @ T_w,to for the closest common ancestor w (paper, Section II-A);
+        both poses are taken from the root, whose part of the chain cancels out.
+        """
+        a, b = self._geometric_id(frm), self._geometric_id(to)
+        if a == b:
+            return np.eye(4)
+        if len(self._rt_roots) > 1:  # only in a loaded world that breaks rt-single-tree
+            self._same_tree(a, b)
+        return rigid.inverse(self._pose(a)) @ self._pose(b)
+
+    def chain(self, frm: NodeRef, to: NodeRef) -> List[str]:
+        """Names on the path frm -> closest common ancestor -> to."""
+        a, b = self._geometric_id(frm), self._geometric_id(to)
+        self._same_tree(a, b)
+        up_a = self._ancestry(a)
+        on_a = set(up_a)
+        down: List[int] = []
+        node = b
+        while node not in on_a:
+            down.append(node)
+            node = self._rt_parent[node]
+        path = up_a[: up_a.index(node) + 1] + list(reversed(down))
+        return [self._nodes[i].name for i in path]
+
+    def _same_tree(self, a: int, b: int) -> None:
+        if self._ancestry(a)[-1] != self._ancestry(b)[-1]:
+            raise LookupFailed(
+                f"no kinematic chain joins {self._nodes[a].name!r} and {self._nodes[b].name!r}: "
+                "they are in different RT trees")
+
+    def _geometric_id(self, ref: NodeRef) -> int:
+        node = self.find(ref)
+        if node is None:
+            raise LookupFailed(f"no node {ref!r}")
+        if node.id not in self._rt_parent and not self._rt_children.get(node.id):
+            raise LookupFailed(f"node {node.name!r} is not geometric: no RT edge joins it to the tree")
+        return node.id
+
+    def _ancestry(self, node_id: int) -> List[int]:
+        path = [node_id]
+        while path[-1] in self._rt_parent:
+            path.append(self._rt_parent[path[-1]])
+        return path
+
+    def _pose(self, node_id: int) -> np.ndarray:
+        cached = self._pose_cache.get(node_id)
+        if cached is not None:
+            return cached
+        # Walk up to the first cached ancestor (or the root), then come down caching each pose.
+        chain = []
+        node = node_id
+        while node not in self._pose_cache and node in self._rt_parent:
+            chain.append(node)
+            node = self._rt_parent[node]
+        pose = self._pose_cache.get(node)
+        if pose is None:  # node is the root
+            pose = np.eye(4)
+            self._pose_cache[node] = pose
+        for child in reversed(chain):
+            pose = pose @ self._edges[(self._rt_parent[child], child, RT)].rt
+            self._pose_cache[child] = pose
+        return pose
+
+    def _invalidate_poses(self, node_id: int) -> None:
+        # An ancestor is always cached before its descendants, so an uncached node has no
+        # cached descendants and the walk can stop there.
+        stack = [node_id]
+        while stack:
+            n = stack.pop()
+            if self._pose_cache.pop(n, None) is not None:
+                stack.extend(self._rt_children.get(n, ()))
+
+    # ------------------------------------------------------------------ atomicity
+    @contextmanager
+    def atomic(self) -> Iterator[None]:
+        """All changes inside the block happen, or none: on any exception (including a rule
+        broken at the end, such as ``rt-single-tree``) the graph is rolled back exactly."""
+        if self._undo is not None:
+            raise RuntimeError("atomic() blocks do not nest")
+        self._undo = []
+        try:
+            yield
+            self.check_single_tree()
+        except BaseException:
+            undo, self._undo = self._undo, None
+            for step in reversed(undo):
+                step()
+            self._pose_cache.clear()
+            raise
+        finally:
+            self._undo = None
+
+    def _record(self, step: Callable[[], None]) -> None:
+        if self._undo is not None:
+            self._undo.append(step)
+
+    def check_single_tree(self) -> None:
+        if len(self._rt_roots) > 1:
+            names = sorted(self._nodes[r].name for r in self._rt_roots)
+            _fail(
+                "rt-single-tree",
+                "graph",
+                f"RT edges must form one rooted tree, but there are {len(names)} roots: "
+                + ", ".join(repr(n) for n in names),
+            )
+
+    # ------------------------------------------------------------------ checks
+    def check_attribute(self, element: str, name: Any, value: Any) -> Any:
+        """``value`` coerced to the vocabulary's type for ``name``; a ``RuleViolation`` otherwise."""
+        type_name = self.vocabulary.attribute_type(name) if isinstance(name, str) else None
+        if type_name is None:
+            _fail("unknown-attribute", element,
+                  f"attribute {name!r} is not in the vocabulary (extend it to add one)")
+        try:
+            return coerce(type_name, value)
+        except ValueTypeError as e:
+            _fail("attribute-type", element, f"attribute {name!r} must be {type_name}: {e}")
+
+    def _checked_attrs(self, element: str, attrs: Any) -> Dict[str, Any]:
+        if not isinstance(attrs, Mapping):
+            _fail("malformed", element, f"attrs must be an object, got {type(attrs).__name__}")
+        return {name: self.check_attribute(element, name, value) for name, value in attrs.items()}
+
+    def _existing(self, ref: NodeRef, element: str) -> Node:
+        node = self.find(ref)
+        if node is None:
+            _fail("node-missing", element, f"node {ref!r} does not exist")
+        return node
+
+    def _existing_edge(self, src: NodeRef, dst: NodeRef, type: str) -> Edge:
+        a = self._existing(src, f"edge {src!r}->{dst!r} ({type})")
+        b = self._existing(dst, f"edge {src!r}->{dst!r} ({type})")
+        edge = self._edges.get((a.id, b.id, type))
+        if edge is None:
+            _fail("edge-missing", self.describe_edge(a.id, b.id, type), "the edge does not exist")
+        return edge
+
+    # ------------------------------------------------------------------ node mutations
+    def insert_node(self, name: str, type: str, id: Optional[int] = None,
+                    attrs: Optional[Mapping[str, Any]] = None) -> Node:
+        element = f"node {name!r}"
+        if not isinstance(name, str) or not name or name != name.strip() or len(name) > MAX_NAME_LENGTH \
+                or not name.isprintable():
+            _fail("node-name", element,
+                  f"a name is a printable string of 1..{MAX_NAME_LENGTH} characters with no surrounding blanks")
+        if name in self._ids:
+            _fail("unique-name", element, f"a node named {name!r} already exists (id {self._ids[name]})")
+        if not isinstance(type, str) or type not in self.vocabulary.node_types:
+            _fail("unknown-node-type", element, f"node type {type!r} is not in the vocabulary (extend it to add one)")
+        if id is None:
+            id = self._next_id
+        elif isinstance(id, bool) or not isinstance(id, int) or not 0 <= id <= UINT64_MAX:
+            _fail("node-id", element, f"id must be an integer in [0, 2^64-1], got {id!r}")
+        elif id in self._nodes:
+            _fail("unique-id", element, f"id {id} is already used by node {self._nodes[id].name!r}")
+        node = Node(id, name, type, self._checked_attrs(element, attrs or {}))
+        previous_next = self._next_id
+        self._nodes[id] = node
+        self._ids[name] = id
+        self._next_id = max(self._next_id, id + 1)
+
+        def undo() -> None:
+            del self._nodes[id]
+            del self._ids[name]
+            self._next_id = previous_next
+
+        self._record(undo)
+        return node
+
+    def delete_node(self, ref: NodeRef) -> None:
+        """Delete a node and every edge that touches it (its RT subtree, if any, must go too, or
+        the transaction fails with ``rt-single-tree``)."""
+        node = self._existing(ref, f"node {ref!r}")
+        for key in list(self._out.get(node.id, ())) + list(self._in.get(node.id, ())):
+            if key in self._edges:
+                self._remove_edge(self._edges[key])
+        del self._nodes[node.id]
+        del self._ids[node.name]
+
+        def undo() -> None:
+            self._nodes[node.id] = node
+            self._ids[node.name] = node.id
+
+        self._record(undo)
+
+    def set_node_attrs(self, ref: NodeRef, attrs: Mapping[str, Any]) -> Node:
+        node = self._existing(ref, f"node {ref!r}")
+        self._set_attrs(node, self._checked_attrs(f"node {node.name!r}", attrs))
+        return node
+
+    def remove_node_attrs(self, ref: NodeRef, names: Sequence[str]) -> Node:
+        node = self._existing(ref, f"node {ref!r}")
+        self._remove_attrs(node, names, f"node {node.name!r}")
+        return node
+
+    # ------------------------------------------------------------------ edge mutations
+    def insert_edge(self, src: NodeRef, dst: NodeRef, type: str,
+                    attrs: Optional[Mapping[str, Any]] = None, rt: Any = None) -> Edge:
+        element = f"edge {src!r}->{dst!r} ({type})"
+        a = self._existing(src, element)
+        b = self._existing(dst, element)
+        element = self.describe_edge(a.id, b.id, type)
+        if not isinstance(type, str) or type not in self.vocabulary.edge_types:
+            _fail("unknown-edge-type", element, f"edge type {type!r} is not in the vocabulary (extend it to add one)")
+        if a.id == b.id:
+            _fail("no-self-loop", element, "an edge may not join a node to itself")
+        if (a.id, b.id, type) in self._edges:
+            _fail("edge-unique", element, "this edge already exists (one edge per from, to and type)")
+        checked_attrs = self._checked_attrs(element, attrs or {})
+        matrix = None
+        if type == RT:
+            matrix = self._checked_rt(element, rt)
+            if b.id in self._rt_parent:
+                _fail("rt-single-parent", element,
+                      f"{b.name!r} already has the RT parent {self._nodes[self._rt_parent[b.id]].name!r}")
+            if (b.id, a.id, RT) in self._edges or b.id in self._ancestry(a.id):
+                _fail("rt-acyclic", element, f"{b.name!r} is an RT ancestor of {a.name!r}: this edge would close a cycle")
+        elif rt is not None:
+            _fail("rt-rigid", element, "only RT edges carry a transform")
+        edge = Edge(a.id, b.id, type, checked_attrs, matrix)
+        self._add_edge(edge)
+        return edge
+
+    def delete_edge(self, src: NodeRef, dst: NodeRef, type: str) -> None:
+        self._remove_edge(self._existing_edge(src, dst, type))
+
+    def set_edge_attrs(self, src: NodeRef, dst: NodeRef, type: str, attrs: Mapping[str, Any]) -> Edge:
+        edge = self._existing_edge(src, dst, type)
+        self._set_attrs(edge, self._checked_attrs(self.describe_edge(*edge.key), attrs))
+        return edge
+
+    def remove_edge_attrs(self, src: NodeRef, dst: NodeRef, type: str, names: Sequence[str]) -> Edge:
+        edge = self._existing_edge(src, dst, type)
+        self._remove_attrs(edge, names, self.describe_edge(*edge.key))
+        return edge
+
+    def set_rt(self, src: NodeRef, dst: NodeRef, rt: Any) -> Edge:
+        """Change the transform of an existing RT edge (a node moved)."""
+        edge = self._existing_edge(src, dst, RT)
+        matrix = self._checked_rt(self.describe_edge(*edge.key), rt)
+        old_matrix, old_version = edge.rt, edge.version
+        edge.rt = matrix
+        edge.version += 1
+        self._invalidate_poses(edge.dst)
+
+        def undo() -> None:
+            edge.rt, edge.version = old_matrix, old_version
+
+        self._record(undo)
+        return edge
+
+    @staticmethod
+    def _checked_rt(element: str, rt: Any) -> np.ndarray:
+        if rt is None:
+            _fail("rt-rigid", element, "an RT edge needs a transform (\"rt\")")
+        if isinstance(rt, np.ndarray):
+            try:
+                return rigid.check_rigid(rt)
+            except rigid.NotRigidError as e:
+                _fail("rt-rigid", element, str(e))
+        try:
+            return rigid.from_json(rt)
+        except rigid.NotRigidError as e:
+            _fail("rt-rigid", element, str(e))
+
+    # ------------------------------------------------------------------ primitives (with undo)
+    def _set_attrs(self, element: Union[Node, Edge], attrs: Dict[str, Any]) -> None:
+        before = {k: element.attrs[k] for k in attrs if k in element.attrs}
+        added = [k for k in attrs if k not in element.attrs]
+        old_version = element.version
+        element.attrs.update(attrs)
+        element.version += 1
+
+        def undo() -> None:
+            for k in added:
+                del element.attrs[k]
+            element.attrs.update(before)
+            element.version = old_version
+
+        self._record(undo)
+
+    def _remove_attrs(self, element: Union[Node, Edge], names: Sequence[str], label: str) -> None:
+        if isinstance(names, str) or not isinstance(names, (list, tuple)):
+            _fail("malformed", label, f"names must be a list of attribute names, got {names!r}")
+        for name in names:
+            if name not in element.attrs:
+                _fail("attribute-missing", label, f"has no attribute {name!r} to remove")
+        removed = {name: element.attrs.pop(name) for name in names}
+        old_version = element.version
+        element.version += 1
+
+        def undo() -> None:
+            element.attrs.update(removed)
+            element.version = old_version
+
+        self._record(undo)
+
+    def _add_edge(self, edge: Edge) -> None:
+        key = edge.key
+        self._edges[key] = edge
+        self._out.setdefault(edge.src, set()).add(key)
+        self._in.setdefault(edge.dst, set()).add(key)
+        if edge.type == RT:
+            self._rt_parent[edge.dst] = edge.src
+            self._rt_children.setdefault(edge.src, set()).add(edge.dst)
+            self._update_root(edge.src)
+            self._update_root(edge.dst)
+            self._invalidate_poses(edge.dst)
+        self._record(lambda: self._unlink_edge(edge))
+
+    def _remove_edge(self, edge: Edge) -> None:
+        if edge.type == RT:
+            self._invalidate_poses(edge.dst)
+        self._unlink_edge(edge)
+        self._record(lambda: self._add_edge(edge))  # rollback records nothing (_undo is None)
+
+    def _unlink_edge(self, edge: Edge) -> None:
+        key = edge.key
+        del self._edges[key]
+        self._out[edge.src].discard(key)
+        self._in[edge.dst].discard(key)
+        if not self._out[edge.src]:
+            del self._out[edge.src]
+        if not self._in[edge.dst]:
+            del self._in[edge.dst]
+        if edge.type == RT:
+            del self._rt_parent[edge.dst]
+            self._rt_children[edge.src].discard(edge.dst)
+            if not self._rt_children[edge.src]:
+                del self._rt_children[edge.src]
+            self._update_root(edge.src)
+            self._update_root(edge.dst)
+
+    def _update_root(self, node_id: int) -> None:
+        if node_id not in self._rt_parent and self._rt_children.get(node_id):
+            self._rt_roots.add(node_id)
+        else:
+            self._rt_roots.discard(node_id)
+
+    # ------------------------------------------------------------------ versions (snapshots)
+    def restore_versions(self, node_versions: Mapping[int, int], edge_versions: Mapping[EdgeKey, int]) -> None:
+        """Set versions as read from a snapshot (loading is not a change)."""
+        for node_id, version in node_versions.items():
+            self._nodes[node_id].version = version
+        for key, version in edge_versions.items():
+            self._edges[key].version = version
