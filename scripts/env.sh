@@ -9,12 +9,14 @@ if [ ! -f "$_dsr_root/install/setup.bash" ] || [ ! -x "$_dsr_root/.venv/bin/pyth
   return 1 2>/dev/null || exit 1
 fi
 
+# colcon's and venv's scripts read unset variables: allow that while sourcing them, even when
+# the caller runs under `set -u` (scripts/test.sh does).
+case $- in *u*) _dsr_nounset=1; set +u ;; *) _dsr_nounset= ;; esac
 # shellcheck disable=SC1091
 source "$_dsr_root/.venv/bin/activate"
 # The venv is the ROS prefix the wheels installed into; colcon's install/ overlays it.
 export AMENT_PREFIX_PATH="$_dsr_root/.venv${AMENT_PREFIX_PATH:+:$AMENT_PREFIX_PATH}"
 export CMAKE_PREFIX_PATH="$_dsr_root/.venv${CMAKE_PREFIX_PATH:+:$CMAKE_PREFIX_PATH}"
-# colcon's setup.bash looks for the python that built it; COLCON_TRACE etc. stay unset.
 # shellcheck disable=SC1091
 source "$_dsr_root/install/setup.bash"
 
@@ -28,4 +30,5 @@ for _dsr_bin in "$_dsr_root"/install/*/lib/*; do
 done
 export PATH
 export DSR_WORKSPACE="$_dsr_root"
-unset _dsr_root _dsr_bin
+[ -n "$_dsr_nounset" ] && set -u
+unset _dsr_root _dsr_bin _dsr_nounset

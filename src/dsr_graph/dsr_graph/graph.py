@@ -10,6 +10,7 @@ Paper, Section II-A. Rules enforced here (each violation names its rule id):
 - ``rt-rigid``: an RT edge holds a rigid transform; only RT edges do.
 - ``rt-single-parent``: a geometric node has at most one RT parent.
 - ``rt-acyclic``: RT edges never form a cycle.
+- ``rt-orphan``: a node with RT children cannot be deleted (its subtree would lose its poses).
 - ``rt-single-tree``: all RT edges form one rooted tree (checked when a transaction ends).
 
 Every mutation is recorded in an undo log while ``atomic()`` is active, so that a failing
@@ -343,9 +344,14 @@ class Graph:
         return node
 
     def delete_node(self, ref: NodeRef) -> None:
-        """Delete a node and every edge that touches it (its RT subtree, if any, must go too, or
-        the transaction fails with ``rt-single-tree``)."""
+        """Delete a node and every edge that touches it. A node with RT children is refused
+        (``rt-orphan``): delete or re-parent them first, so no pose is lost silently."""
         node = self._existing(ref, f"node {ref!r}")
+        children = self._rt_children.get(node.id)
+        if children:
+            names = ", ".join(sorted(repr(self._nodes[c].name) for c in children))
+            _fail("rt-orphan", f"node {node.name!r}",
+                  f"has RT children ({names}); delete or re-parent them first")
         for key in list(self._out.get(node.id, ())) + list(self._in.get(node.id, ())):
             if key in self._edges:
                 self._remove_edge(self._edges[key])

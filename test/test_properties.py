@@ -1,0 +1,84 @@
+"""Random sequences of transactions (valid and not) never break an invariant, and a rejected one
+changes nothing at all (hypothesis)."""
+
+import json
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from dsr_graph import dsr_format
+from dsr_graph.exceptions import TransactionRejected
+from dsr_graph.graph import Graph
+from dsr_graph.transaction import apply_ops, apply_transaction
+from invariants import assert_invariants
+
+NAMES = [f"n{i}" for i in range(6)]
+node_ref = st.one_of(st.sampled_from(NAMES), st.integers(1, 8))
+edge_type = st.sampled_from(["RT", "is", "is_with", "has", "bogus"])
+rt = st.one_of(
+    st.builds(lambda t, e: {"translation": t, "rotation_euler_xyz": e},
+              st.lists(st.floats(-10, 10), min_size=3, max_size=3),
+              st.lists(st.floats(-3, 3), min_size=3, max_size=3)),
+    st.just({"matrix": [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}),  # not rigid
+)
+attrs = st.dictionaries(st.sampled_from(["level", "text", "pos_x", "nonsense"]),
+                        st.one_of(st.integers(-3, 3), st.text(max_size=3), st.floats(-1, 1)), max_size=2)
+
+op = st.one_of(
+    st.builds(lambda n, t, a: {"op": "insert_node", "name": n, "type": t, "attrs": a},
+              st.sampled_from(NAMES), st.sampled_from(["transform", "robot", "alien"]), attrs),
+    st.builds(lambda n: {"op": "delete_node", "node": n}, node_ref),
+    st.builds(lambda n, a: {"op": "set_node_attrs", "node": n, "attrs": a}, node_ref, attrs),
+    st.builds(lambda n: {"op": "remove_node_attrs", "node": n, "names": ["level"]}, node_ref),
+    st.builds(lambda a, b, t, r: {"op": "insert_edge", "from": a, "to": b, "type": t, **({"rt": r} if t == "RT" else {})},
+              node_ref, node_ref, edge_type, rt),
+    st.builds(lambda a, b, t: {"op": "delete_edge", "from": a, "to": b, "type": t}, node_ref, node_ref, edge_type),
+    st.builds(lambda a, b, r: {"op": "set_rt", "from": a, "to": b, "rt": r}, node_ref, node_ref, rt),
+    st.builds(lambda a, b, x: {"op": "set_edge_attrs", "from": a, "to": b, "type": "is", "attrs": x},
+              node_ref, node_ref, attrs),
+)
+precondition = st.one_of(
+    st.builds(lambda n: {"check": "node_exists", "node": n}, node_ref),
+    st.builds(lambda a, b: {"check": "edge_absent", "from": a, "to": b, "type": "is"}, node_ref, node_ref),
+    st.builds(lambda n, v: {"check": "version_equals", "node": n, "version": v}, node_ref, st.integers(1, 3)),
+)
+transaction = st.builds(lambda ops, pre: {"ops": ops, "preconditions": pre},
+                        st.lists(op, min_size=1, max_size=4), st.lists(precondition, max_size=1))
+
+
+def snapshot(graph):
+    return json.dumps(dsr_format.to_json(graph, "snapshot"), sort_keys=True)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(transaction, min_size=1, max_size=25))
+def test_random_transactions_keep_every_invariant(transactions):
+    g = Graph()
+    replica = Graph()
+    accepted = 0
+    for doc in transactions:
+        before = snapshot(g)
+        try:
+            _, canonical = apply_transaction(g, doc)
+        except TransactionRejected as e:
+            assert snapshot(g) == before, f"rejected ({e}) but the graph changed"
+            assert e.violation.rule and e.violation.element and e.violation.message
+        else:
+            accepted += 1
+            apply_ops(replica, json.loads(json.dumps(canonical)))  # a replica replays the delta
+        assert_invariants(g)
+    assert snapshot(replica) == snapshot(g)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(transaction, min_size=1, max_size=15))
+def test_snapshots_round_trip(transactions):
+    g = Graph()
+    for doc in transactions:
+        try:
+            apply_transaction(g, doc)
+        except TransactionRejected:
+            pass
+    doc = json.loads(snapshot(g))
+    restored, seq = dsr_format.snapshot_from_json(doc)
+    assert snapshot(restored) == snapshot(g)
