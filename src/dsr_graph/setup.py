@@ -17,7 +17,10 @@ setup(
         ("share/" + PACKAGE, ["package.xml"]),
     ],
     package_data={PACKAGE: ["data/*.json"]},
-    entry_points={"console_scripts": ["dsr = dsr_graph.cli:main"]},
+    entry_points={"console_scripts": [
+        "dsr = dsr_graph.cli:main",
+        "dsr_server = dsr_graph.server_node:main",
+    ]},
     install_requires=["setuptools"],
     zip_safe=False,
     description=ET.parse(os.path.join(HERE, "package.xml")).getroot().findtext("description"),

@@ -61,3 +61,7 @@ class WorldLoadError(DsrError):
 
 class LookupFailed(DsrError):
     """A query named a node that does not exist or is not part of the geometric tree."""
+
+
+class TimedOutError(DsrError):
+    """Something this process waits for (the server, a snapshot, an answer) did not come in time."""

@@ -63,7 +63,8 @@ KEY_TYPES: Dict[str, Tuple[Callable[[Any], bool], str]] = {
     "names": (lambda v: isinstance(v, list) and all(isinstance(n, str) for n in v), "a list of strings"),
 }
 
-TRANSACTION_KEYS = {"format", "version", "kind", "id", "agent", "priority", "preconditions", "ops"}
+TRANSACTION_KEYS = {"format", "version", "kind", "id", "agent", "priority", "preconditions", "ops",
+                    "claim", "release", "lease"}
 
 
 @dataclass
@@ -75,6 +76,9 @@ class Transaction:
     id: str = ""
     agent: str = ""
     priority: int = 0
+    claim: List[Dict[str, Any]] = field(default_factory=list)  # targets, see claims.py
+    release: Any = field(default_factory=list)  # targets, or "all"
+    lease: Optional[float] = None  # seconds a claim lasts unless released earlier
 
     def to_json(self) -> dict:
         doc: Dict[str, Any] = {"format": FORMAT, "version": VERSION, "kind": "transaction"}
@@ -87,6 +91,12 @@ class Transaction:
         if self.preconditions:
             doc["preconditions"] = self.preconditions
         doc["ops"] = self.ops
+        if self.claim:
+            doc["claim"] = self.claim
+        if self.release:
+            doc["release"] = self.release
+        if self.lease is not None:
+            doc["lease"] = self.lease
         return doc
 
 
@@ -133,8 +143,15 @@ def parse_transaction(doc: Any) -> Transaction:
     priority = doc.get("priority", 0)
     if isinstance(priority, bool) or not isinstance(priority, int):
         _reject("malformed", "transaction", "\"priority\" must be an integer")
-    ops = doc.get("ops")
-    if not isinstance(ops, list) or not ops:
+    claim, release, lease = doc.get("claim", []), doc.get("release", []), doc.get("lease")
+    if not isinstance(claim, list) or not (release == "all" or isinstance(release, list)):
+        _reject("malformed", "transaction", "\"claim\" must be a list of targets; \"release\" a list or \"all\"")
+    if lease is not None and (isinstance(lease, bool) or not isinstance(lease, (int, float)) or not lease > 0):
+        _reject("malformed", "transaction", "\"lease\" must be a positive number of seconds")
+    if (claim or release) and not doc.get("agent"):
+        _reject("malformed", "transaction", "claims need \"agent\": the ROS node name that holds them")
+    ops = doc.get("ops", [])
+    if not isinstance(ops, list) or not (ops or claim or release):
         _reject("malformed", "transaction", "\"ops\" must be a non-empty list of operations")
     checks = doc.get("preconditions", [])
     if not isinstance(checks, list):
@@ -145,6 +162,9 @@ def parse_transaction(doc: Any) -> Transaction:
         id=doc.get("id", ""),
         agent=doc.get("agent", ""),
         priority=priority,
+        claim=claim,
+        release=release,
+        lease=None if lease is None else float(lease),
     )
 
 

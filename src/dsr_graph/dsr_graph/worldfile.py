@@ -65,13 +65,16 @@ def world_document(graph: Graph, fmt: str = "dsr") -> dict:
     raise ValueError(f"format must be one of {FORMATS}, got {fmt!r}")
 
 
-def write_json_atomically(doc: Any, path: Union[str, Path]) -> None:
+def write_json_atomically(doc: Any, path: Union[str, Path], indent: Optional[int] = 2) -> None:
     """Write JSON so that a crash leaves either the old file or the new one, never half of one."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=str(path.parent or "."), prefix=f".{path.name}.", suffix=".tmp")
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes 0600; a world file is an ordinary file
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(doc, f, indent=2)
+            json.dump(doc, f, indent=indent, separators=None if indent else (",", ":"))
             f.write("\n")
             f.flush()
             os.fsync(f.fileno())

@@ -1,0 +1,19 @@
+"""QoS profiles of the DSR topics, chosen on purpose and named (ROS plumbing)."""
+
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+# Deep enough to absorb a burst of a few seconds at benchmark rates; a consumer that still
+# falls behind sees a gap in seq and resynchronises from a snapshot.
+STREAM_DEPTH = 10000
+
+
+def qos_stream() -> QoSProfile:
+    """Ordered change streams (requests, deltas, rejections): reliable, deep, volatile."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=STREAM_DEPTH,
+                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+
+
+def qos_latched() -> QoSProfile:
+    """State (poses, heartbeat): the last value reaches late joiners."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
+                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)

@@ -1,0 +1,55 @@
+"""A short-lived ROS session for command-line tools and tests: its own context and node, and
+bounded waits (never an unbounded spin)."""
+
+from __future__ import annotations
+
+import os
+import time
+from typing import Any, Callable, Optional
+
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+
+from .exceptions import TimedOutError
+
+
+class RosSession:
+    def __init__(self, name: Optional[str] = None):
+        self.context = Context()
+        rclpy.init(context=self.context)
+        self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+
+    def __enter__(self) -> "RosSession":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=1.0)
+        self.node.destroy_node()
+        rclpy.try_shutdown(context=self.context)
+
+    def spin_for(self, seconds: float) -> None:
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=min(0.05, max(0.0, deadline - time.monotonic())))
+
+    def spin_until(self, done: Callable[[], bool], timeout_sec: float, what: str) -> None:
+        """Spin until ``done()``; ``TimedOutError`` naming ``what`` after ``timeout_sec``."""
+        deadline = time.monotonic() + timeout_sec
+        while not done():
+            if time.monotonic() >= deadline:
+                raise TimedOutError(f"timed out after {timeout_sec} s waiting for {what}")
+            self.executor.spin_once(timeout_sec=0.05)
+
+    def call(self, client, request, timeout_sec: float, what: str):
+        if not client.wait_for_service(timeout_sec=timeout_sec):
+            raise TimedOutError(f"no service {client.srv_name} within {timeout_sec} s "
+                                "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+        future = client.call_async(request)
+        self.spin_until(future.done, timeout_sec, what)
+        return future.result()
