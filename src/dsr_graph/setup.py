@@ -20,6 +20,7 @@ setup(
     entry_points={"console_scripts": [
         "dsr = dsr_graph.cli:main",
         "dsr_server = dsr_graph.server_node:main",
+        "dsr_rule_agent = dsr_graph.rule_agent:main",
     ]},
     install_requires=["setuptools"],
     zip_safe=False,

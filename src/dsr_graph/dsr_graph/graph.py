@@ -83,6 +83,7 @@ class Graph:
         self._edges: Dict[EdgeKey, Edge] = {}
         self._out: Dict[int, Set[EdgeKey]] = {}
         self._in: Dict[int, Set[EdgeKey]] = {}
+        self._by_type: Dict[str, Set[EdgeKey]] = {}
         self._rt_parent: Dict[int, int] = {}
         self._rt_children: Dict[int, Set[int]] = {}
         self._rt_roots: Set[int] = set()
@@ -131,6 +132,9 @@ class Graph:
 
     def in_edges(self, ref: NodeRef) -> List[Edge]:
         return [self._edges[k] for k in self._in.get(self.node(ref).id, ())]
+
+    def edges_of_type(self, type: str) -> List[Edge]:
+        return [self._edges[k] for k in self._by_type.get(type, ())]
 
     def edge_count(self) -> int:
         return len(self._edges)
@@ -481,6 +485,7 @@ class Graph:
         self._edges[key] = edge
         self._out.setdefault(edge.src, set()).add(key)
         self._in.setdefault(edge.dst, set()).add(key)
+        self._by_type.setdefault(edge.type, set()).add(key)
         if edge.type == RT:
             self._rt_parent[edge.dst] = edge.src
             self._rt_children.setdefault(edge.src, set()).add(edge.dst)
@@ -504,6 +509,7 @@ class Graph:
             del self._out[edge.src]
         if not self._in[edge.dst]:
             del self._in[edge.dst]
+        self._by_type[edge.type].discard(key)
         if edge.type == RT:
             del self._rt_parent[edge.dst]
             self._rt_children[edge.src].discard(edge.dst)

@@ -15,9 +15,9 @@ from .exceptions import TimedOutError
 
 
 class RosSession:
-    def __init__(self, name: Optional[str] = None):
+    def __init__(self, name: Optional[str] = None, domain_id: Optional[int] = None):
         self.context = Context()
-        rclpy.init(context=self.context)
+        rclpy.init(context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
