@@ -22,3 +22,30 @@ def cortex_dir():
     if not CORTEX_WORLDS.is_dir():
         pytest.fail(f"shared CORTEX worlds not found at {CORTEX_WORLDS} (set DSR_SHARED)")
     return CORTEX_WORLDS
+
+
+class RosWorld:
+    """Processes started by a test plus an in-test ROS session, all in one fresh ROS domain."""
+
+    def __init__(self, tmp_path):
+        from ros_processes import Processes, fresh_domain_id, new_session
+
+        self.domain_id = fresh_domain_id()
+        self.procs = Processes(tmp_path, self.domain_id)
+        self.session = new_session(self.domain_id)
+        self.tmp = tmp_path
+
+    def close(self):
+        try:
+            self.procs.stop_all()
+        finally:
+            self.session.close()
+
+
+@pytest.fixture
+def ros(tmp_path):
+    world = RosWorld(tmp_path)
+    try:
+        yield world
+    finally:
+        world.close()

@@ -31,6 +31,7 @@ from .replica import Replica
 from .vocabulary import Vocabulary
 
 GAP_PATIENCE = 0.3  # seconds a gap may last before a snapshot is fetched (deltas may be in flight)
+SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 
 
 @dataclass
@@ -62,6 +63,7 @@ class DsrAgent:
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
         self._snapshot_future = None
+        self._snapshot_asked = 0.0
         self._gap_since: Optional[float] = None
         self.resyncs = 0
 
@@ -89,8 +91,10 @@ class DsrAgent:
 
     @property
     def ready(self) -> bool:
-        """Synced with the server and able to send (the request topic is matched)."""
-        return self.replica.synced and self._tx_pub.get_subscription_count() > 0
+        """Synced with the server, and both directions matched: requests reach the server and
+        its deltas reach us (before that, a delta would only be recovered by a resync)."""
+        return (self.replica.synced and self._tx_pub.get_subscription_count() > 0
+                and self._delta_sub.get_publisher_count() > 0)
 
     # ------------------------------------------------------------------ sending
     def next_id(self) -> str:
@@ -159,14 +163,22 @@ class DsrAgent:
         now = time.monotonic()
         if self._gap_since is None:
             self._gap_since = now
+        if self._snapshot_future is not None and now - self._snapshot_asked >= SNAPSHOT_RETRY:
+            # lost (e.g. sent to a server that was being restarted): withdraw it and ask again
+            self._snapshot_client.remove_pending_request(self._snapshot_future)
+            self._snapshot_future = None
         if (not self.replica.synced or now - self._gap_since >= GAP_PATIENCE) and self._snapshot_future is None:
             self._request_snapshot()
 
     def _request_snapshot(self) -> None:
-        self._snapshot_future = self._snapshot_client.call_async(GetSnapshot.Request())
-        self._snapshot_future.add_done_callback(self._on_snapshot)
+        self._snapshot_asked = time.monotonic()
+        future = self._snapshot_client.call_async(GetSnapshot.Request())
+        self._snapshot_future = future
+        future.add_done_callback(self._on_snapshot)
 
     def _on_snapshot(self, future) -> None:
+        if future is not self._snapshot_future:
+            return  # an answer to a request already given up on
         self._snapshot_future = None
         try:
             response = future.result()

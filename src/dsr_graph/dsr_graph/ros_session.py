@@ -46,10 +46,19 @@ class RosSession:
                 raise TimedOutError(f"timed out after {timeout_sec} s waiting for {what}")
             self.executor.spin_once(timeout_sec=0.05)
 
-    def call(self, client, request, timeout_sec: float, what: str):
-        if not client.wait_for_service(timeout_sec=timeout_sec):
-            raise TimedOutError(f"no service {client.srv_name} within {timeout_sec} s "
-                                "(is dsr_server running with the same ROS_DOMAIN_ID?)")
-        future = client.call_async(request)
-        self.spin_until(future.done, timeout_sec, what)
-        return future.result()
+    def call(self, client, request, timeout_sec: float, what: str, attempt_sec: float = 1.0):
+        """Call a service, bounded. A request sent while the server is restarting can be lost
+        (DDS still lists the old server), so an unanswered request is withdrawn and sent again
+        every ``attempt_sec`` until ``timeout_sec``."""
+        deadline = time.monotonic() + timeout_sec
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or not client.wait_for_service(timeout_sec=remaining):
+                raise TimedOutError(f"no answer from {client.srv_name} within {timeout_sec} s waiting for {what} "
+                                    "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+            future = client.call_async(request)
+            try:
+                self.spin_until(future.done, min(attempt_sec, max(0.0, deadline - time.monotonic())), what)
+                return future.result()
+            except TimedOutError:
+                client.remove_pending_request(future)

@@ -1,0 +1,258 @@
+"""The DSR server and agents as real processes over ROS 2: apply/get/graph/watch/save/ros,
+ordering, late join, kill -9 and restart, hostile input, poses, claims, racing rules."""
+
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from geometry_msgs.msg import PoseStamped
+from std_msgs.msg import String
+
+from dsr_graph import dsr_format
+from dsr_graph.agent import DsrAgent
+from dsr_graph.qos import qos_latched, qos_stream
+from dsr_graph.worldfile import read_world
+from ros_processes import snapshot_via, wait_for
+
+
+def start(ros, cortex_dir=None, world="Robot_viriato.json", **params):
+    state = ros.tmp / "state"
+    ros.procs.start_server(state, world=(cortex_dir / world) if cortex_dir else None, **params)
+    snap = snapshot_via(ros.session, timeout=20)
+    return state, snap
+
+
+def agent_in_session(ros):
+    agent = DsrAgent()
+    agent.setup(ros.session.node, timeout_sec=15)
+    wait_for(lambda: agent.ready, 15, "the agent to sync", ros.session)
+    return agent
+
+
+def send_and_wait(ros, agent, doc, timeout=10):
+    results = []
+    agent.send(doc, results.append)
+    wait_for(lambda: results, timeout, "a verdict", ros.session)
+    return results[0]
+
+
+def canonical(doc):
+    return json.dumps(doc, sort_keys=True)
+
+
+def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
+    start(ros, cortex_dir)
+    tx = tmp_path / "tx.json"
+    tx.write_text(json.dumps({"ops": [{"op": "insert_node", "name": "speaking", "type": "state"},
+                                      {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]}))
+    r = ros.procs.run("dsr", "apply", tx)
+    assert r.returncode == 0 and r.stdout.strip() == "accepted: seq 1", r.stderr
+    r = ros.procs.run("dsr", "apply", tx)
+    assert r.returncode == 1 and "unique-name" in r.stdout
+    r = ros.procs.run("dsr", "apply", "-", input='{"ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": "x"}}]}')
+    assert r.returncode == 1 and "attribute-type" in r.stdout
+    r = ros.procs.run("dsr", "get", "robot", "port")
+    assert r.returncode == 0 and json.loads(r.stdout) == {"value": 12238, "type": "int", "version": 1, "seq": 1}
+    r = ros.procs.run("dsr", "get", "robot", "nothing")
+    assert r.returncode == 1 and "has no attribute 'nothing'" in r.stderr
+    r = ros.procs.run("dsr", "get", "speaking")
+    assert json.loads(r.stdout)["in"][0]["type"] == "is_not"
+    r = ros.procs.run("dsr", "get", "body", "rt", "--edge", "laser_pose", "RT")
+    assert np.allclose(np.array(json.loads(r.stdout)["value"])[:3, 3], [0, 400, 0])
+    r = ros.procs.run("dsr", "graph")
+    assert r.returncode == 0 and "seq 1: 15 nodes" in r.stdout and "robot -is_not-> speaking" in r.stdout
+    r = ros.procs.run("dsr", "save", tmp_path / "saved.json")
+    assert r.returncode == 0
+    saved = read_world(tmp_path / "saved.json")
+    assert saved.violations == [] and "speaking" in saved.graph
+    r = ros.procs.run("dsr", "ros", "--json")
+    info = json.loads(r.stdout)
+    assert "/dsr_server" in info["nodes"]
+    topics = {t["name"]: t["types"] for t in info["topics"]}
+    assert topics["/dsr/deltas"] == ["std_msgs/msg/String"]
+    assert topics["/dsr/pose/laser1"] == ["geometry_msgs/msg/PoseStamped"]
+    services = {s["name"]: s["types"] for s in info["services"]}
+    assert services["/dsr/get_attribute"] == ["dsr_msgs/srv/GetAttribute"]
+
+
+def test_watch_prints_deltas_in_order(ros):
+    start(ros)
+    watch = ros.procs.start("watch", ["dsr", "watch", "--count", "3", "--duration", "30"])
+    agent = agent_in_session(ros)
+    # Like `ros2 topic echo`, watch sees what is published once it is matched: keep writing
+    # until it has printed three deltas, then check they are consecutive and readable.
+    i = 0
+    deadline = time.monotonic() + 25
+    while watch.poll() is None and time.monotonic() < deadline:
+        assert send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}).accepted
+        i += 1
+        ros.session.spin_for(0.2)
+    assert watch.wait(timeout=5) == 0, ros.procs.log("watch")
+    lines = ros.procs.log("watch").strip().splitlines()
+    seqs = [int(line.split()[1]) for line in lines]
+    assert len(seqs) == 3 and seqs == list(range(seqs[0], seqs[0] + 3))
+    assert f"+node n{seqs[0] - 1}:transform" in lines[0]
+
+
+def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
+    start(ros)
+    agent = agent_in_session(ros)
+    seen = []
+    agent.add_listener(lambda deltas, resynced: seen.extend(d["seq"] for d in deltas))
+    writer = str(Path(__file__).parent / "helpers" / "writer.py")
+    for prefix in ("a", "b"):  # two writer processes racing this one
+        ros.procs.start(f"writer_{prefix}", ["python", writer, prefix, 50])
+    for i in range(50):
+        agent.send({"ops": [{"op": "insert_node", "name": f"c{i}", "type": "transform"}]})
+    wait_for(lambda: all(ros.procs.procs[f"writer_{p}"].poll() is not None for p in "ab"), 60, "the writers", ros.session)
+    assert [ros.procs.log(f"writer_{p}").strip().splitlines()[-1] for p in "ab"] == ["50", "50"]
+    wait_for(lambda: agent.replica.seq >= 150, 20, "150 deltas", ros.session)
+    # one total order: every replica applies consecutive seqs, never out of order or twice
+    assert seen == list(range(seen[0], seen[0] + len(seen))) and seen[-1] == 150
+    mine = dsr_format.to_json(agent.graph, "snapshot", seq=agent.replica.seq)
+    server = snapshot_via(ros.session)
+    server.pop("claims")
+    assert canonical(mine) == canonical(server) and len(agent.graph) == 150
+
+
+def test_late_joiner_gets_the_same_graph(ros, cortex_dir):
+    start(ros, cortex_dir, world="autonomyLab_complete.simscene.json")
+    early = agent_in_session(ros)
+    for i in range(20):
+        send_and_wait(ros, early, {"ops": [{"op": "set_rt", "from": "world", "to": "Wall2",
+                                            "rt": {"translation": [i, 0, 0], "rotation_euler_xyz": [0, 0, 0.1 * i]}}]})
+    late = DsrAgent()
+    late.setup(ros.session.node, timeout_sec=10)  # a second replica in the same node, joining now
+    wait_for(lambda: late.replica.synced, 10, "the late joiner's snapshot", ros.session)
+    send_and_wait(ros, early, {"ops": [{"op": "insert_node", "name": "after", "type": "transform"}]})
+    wait_for(lambda: "after" in late.graph, 10, "the late joiner to follow", ros.session)
+    assert canonical(dsr_format.to_json(late.graph, "snapshot")) == canonical(dsr_format.to_json(early.graph, "snapshot"))
+    assert np.allclose(late.graph.transform("world", "Wall2")[:3, 3], [19, 0, 0])
+
+
+def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
+    state, _ = start(ros, cortex_dir, compact_every=7)
+    agent = agent_in_session(ros)
+    accepted = 0
+    for i in range(25):  # crosses several compactions
+        accepted += send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": f"k{i}", "type": "transform"}]}).accepted
+    assert accepted == 25
+    before = snapshot_via(ros.session)
+    ros.procs.kill9("server")
+    ros.procs.start_server(state, world=cortex_dir / "Robot_giraff.json")  # ignored: state exists
+    after = snapshot_via(ros.session, timeout=20)
+    assert canonical(after) == canonical(before) and after["seq"] == 25
+    wait_for(lambda: agent.ready, 15, "the agent to see the new server", ros.session)
+    result = send_and_wait(ros, agent, {"ops": [{"op": "delete_node", "node": "k0"}]})
+    assert result.accepted and result.seq == 26
+    assert "restored" in ros.procs.log("server") and "not loaded (state exists)" in ros.procs.log("server")
+
+
+def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
+    start(ros, max_request_bytes=100000)
+    rejections = []
+    node = ros.session.node
+    node.create_subscription(String, "dsr/rejections", lambda m: rejections.append(json.loads(m.data)), qos_stream())
+    pub = node.create_publisher(String, "dsr/transactions", qos_stream())
+    wait_for(lambda: pub.get_subscription_count() > 0, 10, "the server's subscription", ros.session)
+    wait_for(lambda: node.count_publishers("dsr/rejections") > 0, 10, "the rejections topic", ros.session)
+    bad = ["", "not json", "[]", "null", '{"ops": 5}', '{"ops": [{"op": "explode"}]}',
+           '{"id": 7, "ops": [{"op": "delete_node"}]}', "x" * 200000, "[" * 50000 + "]" * 50000,
+           '{"ops": [{"op": "insert_node", "name": "a", "type": "robot", "attrs": {"level": 1e999}}]}',
+           '{"id": "mine", "agent": "/t", "ops": [{"op": "delete_node", "node": "nobody"}]}']
+    for text in bad:
+        pub.publish(String(data=text))
+    wait_for(lambda: len(rejections) >= len(bad), 15, "one rejection per bad message", ros.session)
+    assert rejections[-1]["id"] == "mine" and rejections[-1]["reason"]["rule"] == "node-missing"
+    assert any(r["reason"]["rule"] == "too-large" for r in rejections)
+    assert ros.procs.procs["server"].poll() is None
+    assert snapshot_via(ros.session)["seq"] == 0
+
+
+def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
+    start(ros, cortex_dir)
+    world = read_world(cortex_dir / "Robot_viriato.json").graph
+    poses = {}
+    node = ros.session.node
+    for name in ("viriato_mesh", "laser1", "viriato_head_camera_tilt_joint"):
+        node.create_subscription(PoseStamped, f"dsr/pose/{name}", lambda m, n=name: poses.__setitem__(n, m), qos_latched())
+    wait_for(lambda: len(poses) == 3, 15, "three latched poses", ros.session)
+    for name, msg in poses.items():
+        parent = world.rt_parent(name).name
+        assert msg.header.frame_id == parent
+        t = world.transform(parent, name)
+        p, q = msg.pose.position, msg.pose.orientation
+        assert np.allclose([p.x, p.y, p.z], t[:3, 3])
+        from dsr_graph.rigid import from_translation_quaternion
+        assert np.allclose(from_translation_quaternion([p.x, p.y, p.z], [q.w, q.x, q.y, q.z]), t, atol=1e-9)
+    agent = agent_in_session(ros)
+    poses.clear()
+    send_and_wait(ros, agent, {"ops": [{"op": "set_rt", "from": "laser_pose", "to": "laser1",
+                                        "rt": {"translation": [1, 2, 3], "rotation_euler_xyz": [0, 0, math.pi / 2]}}]})
+    wait_for(lambda: "laser1" in poses, 10, "the moved pose", ros.session)
+    q = poses["laser1"].pose.orientation
+    assert np.allclose([q.w, q.z], [math.cos(math.pi / 4), math.sin(math.pi / 4)])
+
+
+def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
+    start(ros, agent_grace=0.5, heartbeat_period=0.2)
+    agent = agent_in_session(ros)
+    assert send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": "person", "type": "person"},
+                                              {"op": "insert_node", "name": "speaking", "type": "state"}]}).accepted
+    # another process claims the person and then dies without releasing
+    holder = ros.procs.run("dsr", "apply", "-", input=json.dumps(
+        {"agent": "/holder_that_dies", "priority": 3, "claim": [{"node": "person"}]}))
+    assert holder.returncode == 0, holder.stdout + holder.stderr
+    r = send_and_wait(ros, agent, {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]})
+    assert not r.accepted and r.reason["rule"] == "claimed"
+    wait_for(lambda: len(agent.replica.claims) == 0, 10, "the dead holder's claim to be freed", ros.session)
+    assert send_and_wait(ros, agent, {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]}).accepted
+    # a live holder (this node) is preempted by a higher priority, and told through the delta
+    released = []
+    agent.add_listener(lambda ds, _: released.extend(c for d in ds for c in d.get("claims", {}).get("released", [])))
+    assert send_and_wait(ros, agent, {"priority": 2, "claim": [{"from": "person", "to": "speaking"}]}).accepted
+    r = ros.procs.run("dsr", "apply", "-", input=json.dumps(
+        {"priority": 9, "ops": [{"op": "insert_edge", "from": "person", "to": "speaking", "type": "is"}]}))
+    assert r.returncode == 0
+    wait_for(lambda: released, 10, "the preemption", ros.session)
+    assert released[0]["reason"] == "preempted" and released[0]["agent"] == agent.name
+
+
+def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
+    start(ros)
+    grammar = ros.tmp / "speech.yaml"
+    grammar.write_text(json.dumps([{
+        "name": "start_speaking",
+        "when": [{"edge": ["robot", "speaking", "is_not"]},
+                 {"edge": ["test", "test_part", "is_in"], "attrs": {"text": "$text", "sentence_id": "$sid"}}],
+        "once_per": ["$sid"],
+        "during": [{"delete_edge": ["robot", "speaking", "is_not"]}, {"insert_edge": ["robot", "speaking", "is"]}],
+        "claim": [{"from": "robot", "to": "speaking"}], "priority": 1,
+        "process": "wait",
+        "after": [{"delete_edge": ["robot", "speaking", "is"]}, {"insert_edge": ["robot", "speaking", "is_not"]}]}]))
+    for name in ("speech_a", "speech_b"):
+        ros.procs.start(name, ["dsr_rule_agent", "--ros-args", "-r", f"__node:={name}",
+                               "-p", f"grammar_file:={grammar}", "-p", "process_time:=0.3"])
+    agent = agent_in_session(ros)
+    deltas = []
+    agent.add_listener(lambda ds, _: deltas.extend(ds))
+    assert send_and_wait(ros, agent, {"ops": [
+        {"op": "insert_node", "name": n, "type": t} for n, t in
+        [("robot", "robot"), ("speaking", "state"), ("test", "test"), ("test_part", "test_part")]] + [
+        {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]}).accepted
+    wait_for(lambda: ros.session.node.count_subscribers("dsr/deltas") >= 3, 20, "both rule agents", ros.session)
+    wait_for(lambda: all(f"running 1 rules" in ros.procs.log(n) for n in ("speech_a", "speech_b")), 20,
+             "both rule agents to be ready")
+    for sid in (1, 2, 3):
+        assert send_and_wait(ros, agent, {"ops": [
+            {"op": "insert_edge" if sid == 1 else "set_edge_attrs", "from": "test", "to": "test_part", "type": "is_in",
+             "attrs": {"text": "Hello", "sentence_id": sid}}]}).accepted
+        wait_for(lambda: sum(1 for d in deltas if any(o["op"] == "insert_edge" and o["to"] == "speaking" and o["type"] == "is_not"
+                                                      for o in d["ops"]) and d["agent"] != agent.name) >= sid,
+                 20, f"sentence {sid} to be spoken and finished", ros.session)
+    starts = [d for d in deltas if any(o["op"] == "insert_edge" and o["type"] == "is" for o in d["ops"])]
+    assert len(starts) == 3, "exactly one agent took each sentence"
+    assert all(d["claims"]["granted"][0]["target"] == {"from": "robot", "to": "speaking"} for d in starts)
