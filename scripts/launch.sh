@@ -1,54 +1,105 @@
 #!/usr/bin/env bash
-# The README's main job. Sets the workspace up if needed, starts the DSR server on a world file
-# (default: worlds/clarc_room.json), shows the graph, then follows every accepted change until
-# Ctrl-C. Every process it starts is stopped when it exits, also on Ctrl-C.
+# The README's main job: CLARC runs one whole Barthel test with a simulated patient.
 #
-#   scripts/launch.sh [--world FILE] [--state-dir DIR] [--fresh]
+# Sets the workspace up if needed, then starts, each as its own process: the DSR server (on
+# worlds/clarc_room.json, fresh state per run), the four agents (PELEA, Speech, Panel, Person),
+# the stand-ins (TTS, microphone, touch screen, Kinect, the patient following a scenario, the
+# CGAmed hospital server) and a monitor that prints one line per step and the result. Stops
+# every process it started when the test ends, on Ctrl-C, or on any error; exits 0 when the test
+# completed and its result was stored.
 #
-#   --world FILE     world to start from (ours or CORTEX); used when the state dir is empty
-#   --state-dir DIR  where the server persists (default: var/dsr_state in this checkout)
-#   --fresh          forget the stored state and start from the world again
+#   scripts/launch.sh [--scenario FILE] [--db PATH] [--realtime] [--scale X]
+#
+#   --scenario FILE  what the patient does (default scenarios/default.yaml)
+#   --db PATH        CGAmed's results store (default ~/.local/share/clarc/cgamed.sqlite)
+#   --realtime       paced like a real session (10-15 minutes); the default is fast (~30 s)
+#   --scale X        any other pace: every time multiplied by X (fast is 0.1)
+#   --timeout S      give up after S seconds (default 600)
+#   --run-dir DIR    where this run's logs, audio and DSR state go (default var/runs/<time>)
+#
+# See the results later: clarc results [--db PATH].
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-world="$root/worlds/clarc_room.json"
-state_dir="$root/var/dsr_state"
-fresh=0
+scenario="$root/scenarios/default.yaml"
+db=""
+scale=0.1
+timeout=600
+run=""
 while [ $# -gt 0 ]; do
   case "$1" in
-    --world) world=$(realpath "$2"); shift 2 ;;
-    --state-dir) state_dir=$(realpath -m "$2"); shift 2 ;;
-    --fresh) fresh=1; shift ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --scenario) scenario=$(realpath "$2"); shift 2 ;;
+    --db) db=$(realpath -m "$2"); shift 2 ;;
+    --realtime) scale=1.0; shift ;;
+    --scale) scale="$2"; shift 2 ;;
+    --timeout) timeout="$2"; shift 2 ;;
+    --run-dir) run=$(realpath -m "$2"); shift 2 ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 
-"$root/scripts/setup.sh"
+"$root/scripts/setup.sh" | grep -v '^\[setup\] ready' || true
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
 
-[ "$fresh" = 1 ] && rm -rf "$state_dir"
-mkdir -p "$state_dir" "$root/var/log"
+# A bad scenario is refused before anything starts, with the line that is wrong.
+patient=$(clarc scenario --patient "$scenario") || exit 2
+[ -n "$db" ] || db=$(python -c 'from clarc_sim.results_store import default_db; print(default_db())')
+
+[ -n "$run" ] || run="$root/var/runs/$(date +%Y%m%d-%H%M%S)-$$"
+mkdir -p "$run/log"
+# Our own ROS domain unless the caller chose one, so two runs on one machine do not meet.
+export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
+export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
 
 pids=()
 cleanup() {
+  local code=$?
   trap - EXIT INT TERM
   for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do
     for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     kill -KILL "$pid" 2>/dev/null || true
   done
+  exit "$code"
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-echo "[launch] dsr_server on $world (state in $state_dir, log in var/log/dsr_server.log)"
-dsr_server --ros-args -p world_file:="$world" -p state_dir:="$state_dir" \
-  > "$root/var/log/dsr_server.log" 2>&1 &
-pids+=($!)
+start() {  # start NAME COMMAND...: a process of the run, logged to var/runs/<time>/log/NAME.log
+  local name=$1; shift
+  "$@" > "$run/log/$name.log" 2>&1 &
+  pids+=($!)
+}
 
-dsr graph --timeout 20 || { echo "[launch] the server did not come up:" >&2; cat "$root/var/log/dsr_server.log" >&2; exit 1; }
-echo "[launch] following accepted changes (dsr watch); in another shell: source scripts/env.sh && dsr apply FILE"
-dsr watch --rejections &
-pids+=($!)
-wait "${pids[0]}"
+echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
+echo "[launch] logs: $run/log; results store: $db"
+start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state"
+dsr graph --timeout 30 > "$run/log/initial_graph.txt" || { echo "[launch] the DSR server did not start:" >&2; cat "$run/log/dsr_server.log" >&2; exit 1; }
+
+scaled=(--ros-args -p time_scale:="$scale")
+start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
+start microphone microphone "${scaled[@]}"
+start touchscreen touchscreen
+start kinect kinect
+start person person "${scaled[@]}"
+start speech speech "${scaled[@]}"
+start panel panel "${scaled[@]}"
+start pelea pelea "${scaled[@]}" -p outbox_dir:="$root/var/pelea_outbox/$ROS_DOMAIN_ID"
+start patient patient "${scaled[@]}" -p scenario:="$scenario"
+start cgamed cgamed --ros-args -p db:="$db" -p start_patient:="$patient"
+
+# The monitor prints the test as it goes and exits when the result is stored.
+set +e
+clarc_monitor --ros-args -p timeout:="$timeout" &
+monitor=$!
+pids+=("$monitor")
+wait "$monitor"
+code=$?
+set -e
+if [ "$code" -eq 0 ]; then
+  echo "[launch] test complete; stored in $db (clarc results --db $db)"
+else
+  echo "[launch] the test did not complete (exit $code); see $run/log" >&2
+fi
+exit "$code"

@@ -24,6 +24,11 @@ A rule (JSON or YAML):
         - delete_edge: [robot, speaking, is]
         - insert_edge: [robot, speaking, finish]
 
+A *percept rule* has ``trigger: <event>`` (and ``given: [$vars]`` the event brings): it fires when
+the agent signals that event (a face seen, a tap on the screen) and its ``when`` holds; this is
+how sensor data enters the graph with the same compare-and-set safety. ``no_node: name`` is a
+negated node pattern.
+
 Op shorthands: insert_edge/delete_edge: [from, to, type] (insert_edge may add attrs as a 4th
 item); set_edge_attrs: [from, to, type, {attrs}]; set_node_attrs: [node, {attrs}];
 remove_node_attrs: [node, [names]]; delete_node: name; any op may also be written as the full
@@ -68,7 +73,7 @@ def substitute(value: Any, bindings: Bindings) -> Any:
 # ------------------------------------------------------------------ patterns
 @dataclass
 class Pattern:
-    kind: str  # "edge", "no_edge" or "node"
+    kind: str  # "edge", "no_edge", "node" or "no_node"
     src: Any = None
     dst: Any = None
     type: Any = None
@@ -92,7 +97,11 @@ class Pattern:
             if extra:
                 raise GrammarError(f"{where}: unknown keys {sorted(extra)}")
             return cls("node", item["node"], None, item.get("type"), dict(item.get("attrs") or {}))
-        raise GrammarError(f"{where}: a pattern has edge, no_edge or node, got {sorted(item)}")
+        if "no_node" in item:
+            if set(item) != {"no_node"} or not isinstance(item["no_node"], str):
+                raise GrammarError(f"{where}: no_node is a node name or $variable")
+            return cls("no_node", item["no_node"])
+        raise GrammarError(f"{where}: a pattern has edge, no_edge, node or no_node, got {sorted(item)}")
 
 
 def _bind(term: Any, actual: Any, bindings: Bindings) -> Optional[Bindings]:
@@ -157,12 +166,16 @@ def _match_one(graph: Graph, p: Pattern, bindings: Bindings) -> Iterator[Binding
 
 def match(graph: Graph, patterns: List[Pattern], bindings: Optional[Bindings] = None) -> Iterator[Bindings]:
     """Every binding under which all patterns hold (positive patterns first, then negations)."""
-    positive = [p for p in patterns if p.kind != "no_edge"]
-    negative = [p for p in patterns if p.kind == "no_edge"]
+    positive = [p for p in patterns if p.kind in ("edge", "node")]
+    negative = [p for p in patterns if p.kind in ("no_edge", "no_node")]
+
+    def holds(n: Pattern, b: Bindings) -> bool:
+        as_positive = Pattern("edge" if n.kind == "no_edge" else "node", n.src, n.dst, n.type, n.attrs)
+        return any(True for _ in _match_one(graph, as_positive, b))
 
     def walk(i: int, b: Bindings) -> Iterator[Bindings]:
         if i == len(positive):
-            if not any(True for n in negative for _ in _match_one(graph, Pattern("edge", n.src, n.dst, n.type, n.attrs), b)):
+            if not any(holds(n, b) for n in negative):
                 yield b
             return
         for extended in _match_one(graph, positive[i], b):
@@ -176,6 +189,10 @@ def preconditions(patterns: List[Pattern], bindings: Bindings) -> List[Dict[str,
     with a wildcard cannot be stated to the server and are checked locally only."""
     checks: List[Dict[str, Any]] = []
     for p in patterns:
+        if p.kind == "no_node":
+            if p.src != WILDCARD:
+                checks.append({"check": "node_absent", "node": substitute(p.src, bindings)})
+            continue
         if p.kind == "node":
             name = substitute(p.src, bindings)
             checks.append({"check": "node_exists", "node": name})
@@ -228,13 +245,15 @@ class Rule:
     once_per: Optional[List[str]] = None
     claim: List[Dict[str, Any]] = field(default_factory=list)
     priority: int = 0
+    trigger: Optional[str] = None  # a percept event: the rule fires when the agent signals it
 
     @classmethod
     def parse(cls, doc: Any) -> "Rule":
         if not isinstance(doc, dict) or not isinstance(doc.get("name"), str):
             raise GrammarError(f"a rule is an object with a \"name\", got {doc!r}")
         name = doc["name"]
-        unknown = set(doc) - {"name", "when", "during", "after", "process", "once_per", "claim", "priority", "doc"}
+        unknown = set(doc) - {"name", "when", "during", "after", "process", "once_per", "claim", "priority", "doc",
+                              "trigger", "given"}
         if unknown:
             raise GrammarError(f"rule {name}: unknown keys {sorted(unknown)}")
         when = [Pattern.parse(p, f"rule {name}: when[{i}]") for i, p in enumerate(doc.get("when") or [])]
@@ -253,13 +272,19 @@ class Rule:
         once_per = doc.get("once_per")
         if once_per is not None and not (isinstance(once_per, list) and all(is_var(v) for v in once_per)):
             raise GrammarError(f"rule {name}: once_per is a list of $variables")
+        trigger = doc.get("trigger")
+        if trigger is not None and not isinstance(trigger, str):
+            raise GrammarError(f"rule {name}: \"trigger\" is the name of a percept event")
+        given = doc.get("given") or []
+        if not (isinstance(given, list) and all(is_var(v) for v in given)) or (given and trigger is None):
+            raise GrammarError(f"rule {name}: \"given\" lists the $variables a \"trigger\" event brings")
         rule = cls(name, when, during, after, doc.get("process"), once_per, list(doc.get("claim") or []),
-                   int(doc.get("priority", 0)))
-        rule._check_bound()
+                   int(doc.get("priority", 0)), trigger)
+        rule._check_bound(set(given))
         return rule
 
-    def _check_bound(self) -> None:
-        bound = set()
+    def _check_bound(self, given: set) -> None:
+        bound = set(given)
         for p in self.when:
             if p.kind == "no_edge":
                 continue
@@ -267,6 +292,7 @@ class Rule:
                 if is_var(term):
                     bound.add(term)
         used = set(_vars(self.during)) | set(_vars(self.claim)) | set(self.once_per or [])
+        used |= {v for p in self.when if p.kind in ("no_edge", "no_node") for v in _vars([p.src, p.dst])}
         missing = used - bound
         if missing:
             raise GrammarError(f"rule {self.name}: {', '.join(sorted(missing))} used but never bound in \"when\"")
@@ -346,6 +372,8 @@ class GrammarEngine:
     def search(self, graph: Graph) -> List[Firing]:
         firings = []
         for rule in self.rules:
+            if rule.trigger is not None:
+                continue  # percept rules fire on their event, see signal()
             for bindings in match(graph, rule.when):
                 key = rule.key(bindings)
                 if (rule.name, key) in self._busy:
@@ -355,6 +383,18 @@ class GrammarEngine:
                 firings.append(Firing(rule, bindings))
                 if rule.once_per is not None:
                     break  # one firing per once_per rule and change
+        return firings
+
+    def signal(self, graph: Graph, event: str, values: Dict[str, Any]) -> List[Firing]:
+        """Percept rules triggered by ``event`` whose pattern holds, with the event's values bound
+        (``values`` keys may omit the ``$``). Events are discrete: no once_per bookkeeping."""
+        given = {(k if k.startswith("$") else "$" + k): v for k, v in values.items()}
+        firings = []
+        for rule in self.rules:
+            if rule.trigger == event:
+                for bindings in match(graph, rule.when, given):
+                    firings.append(Firing(rule, bindings))
+                    break
         return firings
 
     def started(self, firing: Firing) -> None:

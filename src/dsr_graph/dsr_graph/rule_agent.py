@@ -80,7 +80,20 @@ class RuleRunner:
             self.engine.started(firing)
             self.agent.send(firing.during_tx(), lambda result, f=firing: self._on_during(f, result))
 
+    def signal(self, event: str, **values: Any) -> int:
+        """A percept happened (a tap, a face): fire the rules it triggers. Returns how
+        many rules fired (their writes still go through the server's compare-and-set)."""
+        if not self.agent.replica.synced:
+            return 0
+        firings = self.engine.signal(self.agent.graph, event, values)
+        for firing in firings:
+            self.agent.send(firing.during_tx(), lambda result, f=firing: self._on_during(f, result))
+        return len(firings)
+
     def _on_during(self, firing: Firing, result: Result) -> None:
+        if firing.rule.trigger is not None and not result.accepted:
+            self.log.debug(f"rule {firing.rule.name}: percept not taken ({result.error})")
+            return
         self.engine.handled(firing)
         if not result.accepted:
             self.lost += 1

@@ -1,0 +1,10 @@
+"""PELEA, the deliberative agent (paper, Section III-B), in its five parts:
+
+- ``hle``: the High Level Executive, which runs the test: plans, executes, reacts;
+- ``monitoring``: keeps the high-level state and turns deviations into facts for replanning;
+- ``decision_support``: plans with a real automated planner on the PDDL domain of the test;
+- ``high_to_low``: a high-level action as changes to the DSR;
+- ``low_to_high``: the DSR's binary predicates as n-ary facts for Monitoring.
+
+All pure; ``node`` is the ROS plumbing.
+"""

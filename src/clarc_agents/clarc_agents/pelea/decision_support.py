@@ -1,0 +1,81 @@
+"""PELEA's Decision Support: a plan from the current state to the goal, by a real automated
+planner (pyperplan: greedy best-first search with the FF heuristic) on the PDDL domain of the
+test (``data/barthel_domain.pddl``). Pure; no ROS."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass
+from importlib import resources
+from typing import FrozenSet, Iterable, List, Optional, Tuple
+
+from pyperplan import grounding, search
+from pyperplan.heuristics.relaxation import hFFHeuristic
+from pyperplan.pddl.parser import Parser
+
+from ..barthel import ORDER
+
+Fact = str  # "(current feeding)"
+
+
+@dataclass(frozen=True)
+class Step:
+    """One grounded action of a plan, with what it is expected to change."""
+
+    name: str  # "introduce"
+    args: Tuple[str, ...]  # ("feeding",)
+    add: FrozenSet[Fact]
+    delete: FrozenSet[Fact]
+
+    def __str__(self) -> str:
+        return "(" + " ".join((self.name,) + self.args) + ")"
+
+    def apply(self, state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+        return (state - self.delete) | self.add
+
+
+class NoPlan(RuntimeError):
+    """The planner proved the goal unreachable from this state."""
+
+
+def domain_path() -> str:
+    return str(resources.files("clarc_agents").joinpath("data/barthel_domain.pddl"))
+
+
+def problem_pddl(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",), items=ORDER) -> str:
+    items = list(items)
+    static = [f"(next {a} {b})" for a, b in zip(items, items[1:])] + [f"(last {items[-1]})"]
+    init = sorted(set(state) | set(static))
+    return (f"(define (problem barthel-run) (:domain barthel)\n"
+            f"  (:objects {' '.join(items)} - item)\n"
+            f"  (:init {' '.join(init)})\n"
+            f"  (:goal (and {' '.join(goal)})))\n")
+
+
+def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> List[Step]:
+    """The planner's plan from ``state``; ``NoPlan`` if there is none."""
+    fd, problem_file = tempfile.mkstemp(suffix=".pddl", prefix="barthel-problem-")
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(problem_pddl(state, goal))
+        parser = Parser(domain_path(), problem_file)
+        problem = parser.parse_problem(parser.parse_domain())
+    finally:
+        os.unlink(problem_file)
+    task = grounding.ground(problem)
+    solution: Optional[list] = search.greedy_best_first_search(task, hFFHeuristic(task))
+    if solution is None:
+        raise NoPlan(f"no plan reaches {list(goal)} from {sorted(state)}")
+    steps = []
+    for op in solution:
+        name, *args = op.name.strip("()").split()
+        steps.append(Step(name, tuple(args), frozenset(op.add_effects), frozenset(op.del_effects)))
+    return steps
+
+
+def initial_state(person_present: bool, items=ORDER) -> FrozenSet[Fact]:
+    """The state when the clinician presses Start."""
+    facts = {"(started)", "(clinician-ok)", f"(current {items[0]})"} | {f"(pending {i})" for i in items}
+    facts.add("(person-present)" if person_present else "(person-absent)")
+    return frozenset(facts)

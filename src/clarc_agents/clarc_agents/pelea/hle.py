@@ -1,0 +1,363 @@
+"""The High Level Executive: runs a Barthel test (paper, Section III-B). Pure logic behind a small
+``Port`` (send a transaction, start a timer, report, store the result), so the whole course of
+a test can be driven by unit tests with a local graph; ``node.py`` connects it to ROS.
+
+Loop: plan from the current state (Decision Support) -> execute the first action (HighToLow)
+-> watch the DSR (LowToHigh) -> on completion apply the action's effects and go on; on a
+deviation (no answer, words not understood, the person left, two items unanswered) record it
+as facts (Monitoring) and plan again from there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Dict, FrozenSet, List, Optional, Protocol
+
+from dsr_graph.graph import Graph
+
+from .. import sentences
+from ..barthel import ORDER, TestRecord
+from . import decision_support, high_to_low, low_to_high, monitoring
+from .decision_support import Step
+
+# Actions that must not be broken off when the person leaves: the test is over by then.
+CLOSING = ("say-goodbye", "store-result")
+SENTENCE_STEPS = ("ask-to-sit", "greet", "explain", "introduce", "describe-options", "ask", "options-again",
+                  "clarify", "call-clinician", "say-goodbye")
+
+
+@dataclass
+class Times:
+    """Every time of the flow, in seconds of a real session; ``scale`` shrinks them together."""
+
+    scale: float = 1.0
+    answer_timeout: float = 8.0  # an answer window
+    words_per_second: float = 2.5  # to bound how long a sentence may take
+    sentence_slack: float = 5.0
+    store_retry: float = 2.0
+
+    def __call__(self, seconds: float) -> float:
+        return seconds * self.scale
+
+    def sentence_timeout(self, text: str) -> float:
+        return self(3 * len(text.split()) / self.words_per_second + self.sentence_slack) + 2.0
+
+
+class Timer(Protocol):
+    def cancel(self) -> None: ...
+
+
+class Port(Protocol):
+    def send(self, tx: Dict[str, Any], on_done: Optional[Callable[[Any], None]] = None) -> None: ...
+    def after(self, seconds: float, callback: Callable[[], None]) -> Timer: ...
+    def event(self, **fields: Any) -> None: ...
+    def notify_clinician(self, message: str) -> None: ...
+    def store_result(self, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None: ...
+    def now(self) -> str: ...
+
+
+class HighLevelExecutive:
+    def __init__(self, port: Port, times: Times, log):
+        self.port = port
+        self.times = times
+        self.log = log
+        self.graph: Optional[Graph] = None
+        self.running = False
+        self.record: Optional[TestRecord] = None
+        self.state: FrozenSet[str] = frozenset()
+        self.plan: List[Step] = []
+        self.current: Optional[Step] = None
+        self.windows: Dict[str, int] = {}
+        self.replans = 0
+        self._token = 0  # identifies the step in progress; stale callbacks compare it
+        self._wait: Optional[tuple] = None  # what the current step waits for in the graph
+        self._timer: Optional[Timer] = None
+        self._pending_say: Optional[sentences.Sentence] = None
+        self._say_in_flight = False
+
+    # ------------------------------------------------------------------ inputs
+    def start(self, graph: Graph, patient: str) -> bool:
+        """The clinician pressed Start. False if a test is already running."""
+        if self.running:
+            self.log.warning(f"a test is already running (patient {self.record.patient}); start ignored")
+            return False
+        self.graph = graph
+        self.running = True
+        self.record = TestRecord(patient, self.port.now())
+        self.windows = {}
+        self.state = decision_support.initial_state(low_to_high.person_present(graph))
+        self.port.event(event="started", patient=patient)
+        self.port.send(high_to_low.start_test(graph, patient, self.record.started))
+        self._replan("start")
+        return True
+
+    def on_graph(self, graph: Graph) -> None:
+        """The replica changed (or was reloaded)."""
+        self.graph = graph
+        if not self.running:
+            return
+        self._watch_person(graph)
+        if self._pending_say is not None and not self._say_in_flight and low_to_high.channels_idle(graph):
+            self._write_sentence()
+        self._check_wait(graph)
+
+    # ------------------------------------------------------------------ planning and stepping
+    def _replan(self, reason: str) -> None:
+        self._cancel_step()
+        try:
+            self.plan = decision_support.plan(self.state)
+        except decision_support.NoPlan as e:
+            self.log.error(str(e))
+            self.port.event(event="error", message=str(e))
+            self.running = False
+            return
+        self.replans += 1
+        self.port.event(event="plan", reason=reason, steps=len(self.plan), first=str(self.plan[0]) if self.plan else "")
+        self._next()
+
+    def _next(self) -> None:
+        if not self.plan:
+            self.running = False
+            return
+        step = self.plan.pop(0)
+        self.current = step
+        self._token += 1
+        self.port.event(event="step", step=str(step))
+        getattr(self, "_do_" + step.name.replace("-", "_"))(step, *step.args)
+
+    def _complete(self, token: int, state: Optional[FrozenSet[str]] = None) -> None:
+        """The step with ``token`` ended: as planned (``state`` None) or with a deviation."""
+        if token != self._token or self.current is None:
+            return  # a step already abandoned
+        step, self.current = self.current, None
+        self._clear_wait()
+        if state is None:
+            self.state = step.apply(self.state)
+            if self._monitor():
+                self._replan("two items unanswered: call the clinician")
+            else:
+                self._next()
+        else:
+            self.state = state
+            self._replan(f"deviation in {step}")
+
+    def _monitor(self) -> bool:
+        """Deviations visible only at the high level: two unanswered items need the clinician."""
+        if (not self.record.clinician_called and len(self.record.unanswered) >= 2
+                and "(clinician-ok)" in self.state):
+            self.state = monitoring.clinician_needed(self.state)
+            return True
+        return False
+
+    def _cancel_step(self) -> None:
+        self._token += 1
+        self.current = None
+        self._clear_wait()
+        self._pending_say = None
+
+    def _clear_wait(self) -> None:
+        self._wait = None
+        if self._timer is not None:
+            self._timer.cancel()
+            self._timer = None
+
+    # ------------------------------------------------------------------ waiting on the graph
+    def _check_wait(self, graph: Graph) -> None:
+        if self._wait is None:
+            return
+        kind, token = self._wait[0], self._wait[-1]
+        if kind == "sentence" and low_to_high.sentence_done(graph, self._wait[1]):
+            self._complete(token)
+        elif kind == "person" and low_to_high.person_present(graph):
+            self.port.event(event="person_back")
+            self._complete(token)
+        elif kind == "answer":
+            self._on_answer(graph, self._wait[1], self._wait[2], token)
+
+    def _watch_person(self, graph: Graph) -> None:
+        present = low_to_high.person_present(graph)
+        if "(person-present)" in self.state and not present:
+            self.record.person_lost_count += 1
+            self.port.event(event="person_lost")
+            item = self._current_item()
+            if self.current is not None and self.current.name in CLOSING:
+                self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
+                return
+            if self._wait is not None and self._wait[0] == "answer":
+                close = high_to_low.close_answer(graph)
+                if close is not None:
+                    self.port.send(close)
+            self.state = monitoring.person_lost(self.state, item)
+            self._replan("the person left")
+        elif "(person-absent)" in self.state and present:
+            if self.current is not None and self.current.name in ("ask-to-sit", "wait-for-person"):
+                return  # the plan is already about it: wait-for-person completes
+            self.port.event(event="person_back")
+            self.state = monitoring.person_back(self.state)
+            self._replan("the person is back")
+
+    def _current_item(self) -> str:
+        return next((f[len("(current "):-1] for f in self.state if f.startswith("(current ")), ORDER[0])
+
+    # ------------------------------------------------------------------ sentences
+    def _say(self, sentence: sentences.Sentence) -> None:
+        self._pending_say = sentence
+        self.port.event(event="say", text=sentence.text, item=sentence.item)
+        if low_to_high.channels_idle(self.graph):
+            self._write_sentence()
+
+    def _write_sentence(self) -> None:
+        sentence, token = self._pending_say, self._token
+        sid = low_to_high.last_sentence_id(self.graph) + 1
+        self._say_in_flight = True
+
+        def written(result) -> None:
+            self._say_in_flight = False
+            if token != self._token:
+                return
+            if not result.accepted:  # Speech or Panel still busy: retry on the next change
+                self.log.debug(f"sentence not written yet: {result.error}")
+                if self.graph is not None and low_to_high.channels_idle(self.graph):
+                    self._write_sentence()
+                return
+            self._pending_say = None
+            self._wait = ("sentence", sid, token)
+            self._timer = self.port.after(self.times.sentence_timeout(sentence.text),
+                                          lambda: self._sentence_timed_out(token, sentence.text))
+            self._check_wait(self.graph)
+
+        self.port.send(high_to_low.say(self.graph, sentence, sid), written)
+
+    def _sentence_timed_out(self, token: int, text: str) -> None:
+        if token == self._token:
+            self.log.warning(f"no agent finished saying/showing {text!r} in time; going on")
+            self.port.event(event="warning", message=f"sentence not finished in time: {text}")
+            self._complete(token)
+
+    # ------------------------------------------------------------------ the actions
+    def _do_ask_to_sit(self, step: Step) -> None:
+        self._say(sentences.sit_down())
+
+    def _do_wait_for_person(self, step: Step) -> None:
+        self._wait = ("person", self._token)
+        self._check_wait(self.graph)
+
+    def _do_greet(self, step: Step) -> None:
+        self._say(sentences.greet(self.record.patient))
+
+    def _do_explain(self, step: Step) -> None:
+        self._say(sentences.explain())
+
+    def _do_introduce(self, step: Step, item: str) -> None:
+        self.port.event(event="item", item=item, position=ORDER.index(item) + 1)
+        self._say(sentences.introduce(item))
+
+    def _do_describe_options(self, step: Step, item: str) -> None:
+        self._say(sentences.describe_options(item))
+
+    def _do_ask(self, step: Step, item: str) -> None:
+        self._say(sentences.ask(item))
+
+    def _do_options_again(self, step: Step, item: str) -> None:
+        self._say(sentences.options_again(item))
+
+    def _do_clarify(self, step: Step, item: str) -> None:
+        self._say(sentences.clarify(item))
+
+    def _do_await_answer(self, step: Step, item: str) -> None:
+        self._open_window(item, 1)
+
+    def _do_await_answer_again(self, step: Step, item: str) -> None:
+        self._open_window(item, 2)
+
+    def _open_window(self, item: str, window: int) -> None:
+        token = self._token
+        result = self.record.items[item]
+        result.attempts += 1
+        self.port.send(high_to_low.record_item(item, result.attempts))
+        self.port.event(event="listening", item=item, window=window)
+
+        def opened(r) -> None:
+            if token != self._token:
+                return
+            if not r.accepted:  # the person left at this very moment: _watch_person replans
+                self.log.info(f"could not open the answer window: {r.error}")
+                return
+            self._wait = ("answer", item, window, token)
+            self._timer = self.port.after(self.times(self.times.answer_timeout), lambda: self._answer_timed_out(item, window, token))
+            self._check_wait(self.graph)
+
+        self.port.send(high_to_low.open_answer(item), opened)
+
+    def _on_answer(self, graph: Graph, item: str, window: int, token: int) -> None:
+        answer = low_to_high.answer(graph)
+        if answer is None:
+            return
+        self.port.send(high_to_low.consume_answer())
+        if answer.item != item:
+            return
+        if answer.outcome == "answered":
+            self.record.answer(item, answer.points, answer.via)
+            self.port.send(high_to_low.record_item(item, self.record.items[item].attempts, answer.points, answer.via))
+            self.port.event(event="answer", item=item, points=answer.points, via=answer.via)
+            self._complete(token)
+        else:
+            self.port.event(event=answer.outcome, item=item, heard=answer.heard, window=window)
+            self._complete(token, monitoring.window_failed(self.state, item, window, answer.outcome))
+
+    def _answer_timed_out(self, item: str, window: int, token: int) -> None:
+        if token != self._token or self.graph is None:
+            return
+        close = high_to_low.close_answer(self.graph)
+        if close is None:
+            return  # the answer is already there; _check_wait takes it
+
+        def closed(r) -> None:
+            if r.accepted:
+                self.port.event(event="no_answer", item=item, window=window)
+                self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
+            # else an answer won the race: it is in the graph and _check_wait takes it
+
+        self.port.send(close, closed)
+
+    def _do_skip_item(self, step: Step, item: str) -> None:
+        self.record.give_up(item)
+        self.port.send(high_to_low.record_item(item, self.record.items[item].attempts))
+        self.port.event(event="unanswered", item=item)
+        self._complete(self._token)
+
+    def _do_next_item(self, step: Step, item: str, following: str) -> None:
+        self.port.send(high_to_low.current_item(following))
+        self._complete(self._token)
+
+    def _do_call_clinician(self, step: Step) -> None:
+        self.record.clinician_called = True
+        unanswered = ", ".join(self.record.unanswered)
+        self.port.notify_clinician(f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
+                                   f"({unanswered}) in the Barthel test: please come and attend.")
+        self.port.event(event="clinician_called", unanswered=self.record.unanswered)
+        tx = high_to_low.call_clinician(self.graph)
+        if tx is not None:
+            self.port.send(tx)
+        self._say(sentences.call_clinician())
+
+    def _do_say_goodbye(self, step: Step, item: str) -> None:
+        self._say(sentences.goodbye(self.record.patient))
+
+    def _do_store_result(self, step: Step) -> None:
+        token = self._token
+        self.record.finished = self.port.now()
+        result = self.record.to_json()
+
+        def stored(ok: bool, error: str) -> None:
+            if token != self._token:
+                return
+            if not ok:  # the hospital server is down or refused: keep the result and try again
+                self.log.warning(f"result not stored yet ({error}); retrying")
+                self._timer = self.port.after(self.times.store_retry, lambda: self.port.store_result(result, stored))
+                return
+            self.port.send(high_to_low.finish_test(self.graph, self.record.finished))
+            self.port.event(event="finished", result=result)
+            self._complete(token)
+
+        self.port.store_result(result, stored)

@@ -1,0 +1,42 @@
+"""Monitoring: the high-level state of the test and the facts that record deviations, so that
+Decision Support replans from what really happened (pure)."""
+
+from __future__ import annotations
+
+from typing import FrozenSet, Iterable
+
+from .decision_support import Fact
+
+ITEM_PROGRESS = ("pending", "introduced", "described", "asked", "no-answer", "not-understood",
+                 "retry-asked", "failed-again")
+
+
+def _without(state: FrozenSet[Fact], facts: Iterable[Fact]) -> FrozenSet[Fact]:
+    return frozenset(state - set(facts))
+
+
+def person_lost(state: FrozenSet[Fact], item: str) -> FrozenSet[Fact]:
+    """The person left: everything waits for them, and the current item starts over when they
+    are back (it is introduced again)."""
+    state = _without(state, {"(person-present)", "(sit-requested)"} | {f"({p} {item})" for p in ITEM_PROGRESS})
+    if f"(closed {item})" not in state:
+        state |= {f"(pending {item})"}
+    return state | {"(person-absent)"}
+
+
+def person_back(state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+    return _without(state, {"(person-absent)", "(sit-requested)"}) | {"(person-present)"}
+
+
+def window_failed(state: FrozenSet[Fact], item: str, window: int, outcome: str) -> FrozenSet[Fact]:
+    """An answer window ended without an answer: silence (``no_answer``) or words that were not
+    understood (``not_understood``). The first failure leads to a second try; the second, or an
+    explicit skip (``skip``), closes the item unanswered."""
+    state = _without(state, {f"(asked {item})", f"(retry-asked {item})"})
+    if outcome == "skip" or window >= 2:
+        return state | {f"(failed-again {item})"}
+    return state | {f"({'no-answer' if outcome == 'no_answer' else 'not-understood'} {item})"}
+
+
+def clinician_needed(state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+    return _without(state, {"(clinician-ok)"}) | {"(clinician-needed)"}

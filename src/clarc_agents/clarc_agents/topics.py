@@ -1,0 +1,15 @@
+"""Topic names between the CLARC agents and their devices (the stand-ins in clarc_sim, or real
+hardware drivers that speak the same JSON). Relative, so they remap. All std_msgs/String JSON."""
+
+SPEAKER_SAY = "clarc/speaker/say"  # Speech -> TTS: {"id", "text"}
+SPEAKER_STOP = "clarc/speaker/stop"  # Speech -> TTS: {"id"}
+SPEAKER = "clarc/speaker/events"  # TTS -> all: {"id", "text", "event": "start" | "end" | "stopped"}
+ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text"}
+PANEL_DISPLAY = "clarc/panel/display"  # Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
+PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}
+KINECT_PERSON = "clarc/kinect/person"  # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}
+PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
+CGAMED_START = "clarc/cgamed/start"  # CGAmed -> PELEA: {"patient"}
+CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
+CGAMED_NOTIFICATIONS = "clarc/cgamed/notifications"  # CGAmed -> the clinician's phone: {"kind", "message", ...}
+CGAMED_STORE = "clarc/cgamed/store_result"  # service dsr_msgs/srv/StoreResult

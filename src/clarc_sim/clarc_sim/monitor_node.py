@@ -1,0 +1,123 @@
+"""The launch's screen: one readable line per step of the test (what CLARC says, answers, the
+person leaving, the clinician called, replanning), the result at the end. Exits 0 when CGAmed
+has stored the result, 1 if PELEA reports an error or nothing finishes within ``timeout``.
+
+ROS Parameters: timeout (seconds, default 600). Subscriptions: clarc/speaker/events,
+clarc/pelea/events, clarc/cgamed/notifications.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from typing import List, Optional
+
+import rclpy
+from clarc_agents import topics
+from clarc_agents.agent_node import declare_float, get_float
+from dsr_graph.qos import qos_stream
+from rclpy.executors import ExternalShutdownException
+from rclpy.node import Node
+from std_msgs.msg import String
+
+
+def describe_event(event: dict) -> Optional[str]:
+    kind = event.get("event")
+    if kind == "started":
+        return f"Start pressed: Barthel test for {event['patient']}"
+    if kind == "item":
+        return f"--- item {event['position']}/10: {event['item']}"
+    if kind == "answer":
+        return f"answer: {event['item']} = {event['points']} points, by {event['via']}"
+    if kind == "no_answer":
+        return f"no answer to {event['item']} in time (try {event['window']})"
+    if kind == "not_understood":
+        return f"not understood: {event['heard']!r} (try {event['window']})"
+    if kind == "skip":
+        return f"the patient asked to skip {event['item']}"
+    if kind == "unanswered":
+        return f"{event['item']} left unanswered"
+    if kind == "person_lost":
+        return "the person left"
+    if kind == "person_back":
+        return "the person is back"
+    if kind == "clinician_called":
+        return f"the clinician is called ({', '.join(event['unanswered'])} unanswered)"
+    if kind == "plan" and event.get("reason") != "start":
+        return f"PELEA replans: {event['reason']} -> {event['first']} ({event['steps']} actions)"
+    if kind == "plan":
+        return f"PELEA plans {event['steps']} actions"
+    if kind in ("warning", "error"):
+        return f"{kind}: {event['message']}"
+    return None
+
+
+def describe_result(result: dict) -> List[str]:
+    lines = [f"RESULT {result['patient']}: Barthel index {result['total']}/100 ({result['band']} dependency)"]
+    for i in result["items"]:
+        got = "unanswered" if i["points"] is None else f"{i['points']:>2} points by {i['via']}"
+        lines.append(f"  {i['item']:<11} {got}  ({i['attempts']} tries)")
+    lines.append(f"  clinician called: {'yes' if result['clinician_called'] else 'no'}; "
+                 f"person left: {result.get('person_lost_count', 0)} time(s)")
+    return lines
+
+
+class Monitor(Node):
+    def __init__(self):
+        super().__init__("clarc_monitor")
+        declare_float(self, "timeout", 600.0, "seconds before giving up")
+        self.t0 = time.monotonic()
+        self.exit_code: Optional[int] = None
+        self.create_subscription(String, topics.SPEAKER, self.on_speaker, qos_stream())
+        self.create_subscription(String, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
+        self.create_subscription(String, topics.CGAMED_NOTIFICATIONS, self.on_notification, qos_stream())
+
+    def say(self, line: str) -> None:
+        print(f"[{time.monotonic() - self.t0:6.1f}s] {line}", flush=True)
+
+    def on_speaker(self, msg: String) -> None:
+        event = json.loads(msg.data)
+        if event["event"] == "start":
+            self.say(f"CLARC: {event['text']}")
+        elif event["event"] == "stopped":
+            self.say("CLARC stops talking")
+
+    def on_pelea(self, msg: String) -> None:
+        event = json.loads(msg.data)
+        line = describe_event(event)
+        if line:
+            self.say(line)
+        if event.get("event") == "error":
+            self.exit_code = 1
+
+    def on_notification(self, msg: String) -> None:
+        note = json.loads(msg.data)
+        self.say(f"to the clinician: {note['message']}")
+        if note.get("kind") == "result_stored":
+            for line in describe_result(note["result"]):
+                print(line, flush=True)
+            self.exit_code = 0
+
+
+def main(args=None) -> int:
+    rclpy.init(args=args)
+    node = Monitor()
+    code = 1
+    try:
+        deadline = time.monotonic() + get_float(node, "timeout")
+        while node.exit_code is None and time.monotonic() < deadline:
+            rclpy.spin_once(node, timeout_sec=0.1)
+        if node.exit_code is None:
+            node.say(f"the test did not finish within {node.get_parameter('timeout').value} s")
+        code = 1 if node.exit_code is None else node.exit_code
+    except (KeyboardInterrupt, ExternalShutdownException):
+        code = 130
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,6 @@
+"""Topics between the simulated patient and the simulated devices (std_msgs/String JSON).
+The robot side (clarc_agents.topics) never sees these: it only sees the devices."""
+
+PATIENT_VOICE = "clarc/sim/patient/voice"  # patient -> microphone: {"text"}
+PATIENT_TOUCH = "clarc/sim/patient/touch"  # patient -> touch screen: {"points"}
+PATIENT_PRESENCE = "clarc/sim/patient/presence"  # patient -> Kinect (latched): {"present", "face"}
