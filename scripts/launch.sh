@@ -46,6 +46,8 @@ source "$root/scripts/env.sh"
 patient=$(clarc scenario --patient "$scenario") || exit 2
 [ -n "$db" ] || db=$(python -c 'from clarc_sim.results_store import default_db; print(default_db())')
 
+# Results CGAmed has not acknowledged wait in an outbox of their own store, sent again next time.
+outbox="$root/var/pelea_outbox/$(printf '%s' "$db" | sha1sum | cut -c1-12)"
 [ -n "$run" ] || run="$root/var/runs/$(date +%Y%m%d-%H%M%S)-$$"
 mkdir -p "$run/log"
 # Our own ROS domain unless the caller chose one, so two runs on one machine do not meet.
@@ -85,7 +87,7 @@ start kinect kinect
 start person person "${scaled[@]}"
 start speech speech "${scaled[@]}"
 start panel panel "${scaled[@]}"
-start pelea pelea "${scaled[@]}" -p outbox_dir:="$root/var/pelea_outbox/$ROS_DOMAIN_ID"
+start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
 start cgamed cgamed --ros-args -p db:="$db" -p start_patient:="$patient"
 
