@@ -111,7 +111,7 @@ class ItemResult:
 
 
 @dataclass
-class TestRecord:
+class BarthelRecord:
     """What a Barthel test produced, item by item, as it runs."""
 
     patient: str

@@ -16,7 +16,7 @@ from typing import Any, Callable, Dict, FrozenSet, List, Optional, Protocol
 from dsr_graph.graph import Graph
 
 from .. import sentences
-from ..barthel import ORDER, TestRecord
+from ..barthel import ORDER, BarthelRecord
 from . import decision_support, high_to_low, low_to_high, monitoring
 from .decision_support import Step
 
@@ -63,7 +63,7 @@ class HighLevelExecutive:
         self.log = log
         self.graph: Optional[Graph] = None
         self.running = False
-        self.record: Optional[TestRecord] = None
+        self.record: Optional[BarthelRecord] = None
         self.state: FrozenSet[str] = frozenset()
         self.plan: List[Step] = []
         self.current: Optional[Step] = None
@@ -83,7 +83,7 @@ class HighLevelExecutive:
             return False
         self.graph = graph
         self.running = True
-        self.record = TestRecord(patient, self.port.now())
+        self.record = BarthelRecord(patient, self.port.now())
         self.windows = {}
         self.state = decision_support.initial_state(low_to_high.person_present(graph))
         self.port.event(event="started", patient=patient)
