@@ -73,3 +73,41 @@ def test_scenario_through_the_launch(scenario, tmp_path):
         assert stored[key] == value, f"{key}: {stored[key]!r} != {value!r}\n{run.stdout[-4000:]}"
     assert stored["started"] < stored["finished"]
     assert sum(i["points"] or 0 for i in stored["items"]) == stored["total"]
+
+
+def test_ctrl_c_stops_every_process(tmp_path):
+    import signal
+    import time
+
+    from ros_processes import fresh_domain_id
+
+    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    run_dir = tmp_path / "run"
+    launch = subprocess.Popen([str(REPO / "scripts" / "launch.sh"), "--db", str(tmp_path / "db.sqlite"),
+                               "--run-dir", str(run_dir)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              text=True, env=env)
+    deadline = time.monotonic() + 60
+    lines = []
+    while time.monotonic() < deadline:  # wait until the test is under way
+        line = launch.stdout.readline()
+        lines.append(line)
+        if "item 1/10" in line or not line:
+            break
+    assert any("item 1/10" in line for line in lines), "".join(lines)
+    children = subprocess.run(["pgrep", "-P", str(launch.pid)], capture_output=True, text=True).stdout.split()
+    assert len(children) >= 11  # server, 4 agents, 6 stand-ins, monitor
+    launch.send_signal(signal.SIGINT)
+    assert launch.wait(timeout=30) == 130
+    launch.stdout.close()
+    alive = [pid for pid in children if os.path.exists(f"/proc/{pid}")]
+    assert alive == [], f"orphans: {alive}"
+
+
+def test_a_bad_scenario_is_refused_before_anything_starts(tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("patient: Carlos\nitems:\n  feeding: {answer: 7, via: voice}\n")
+    run = subprocess.run([str(REPO / "scripts" / "launch.sh"), "--scenario", str(bad), "--db", str(tmp_path / "db")],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 2
+    assert "bad.yaml:3: feeding: answer 7 is not an option" in run.stderr
+    assert not (tmp_path / "db").exists()
