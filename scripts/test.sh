@@ -3,7 +3,7 @@
 # suite. Extra arguments go to pytest (e.g. scripts/test.sh -k kinematics -x).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-"$root/scripts/setup.sh"
+"$root/scripts/setup.sh" --with-browser
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
 cd "$root"

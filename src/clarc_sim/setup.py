@@ -16,6 +16,7 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
     ],
+    package_data={PACKAGE: ["web/*.html", "web/*.js", "web/*.css"]},
     entry_points={"console_scripts": [
         "clarc = clarc_sim.cli:main",
         "tts = clarc_sim.tts_node:main",

@@ -16,11 +16,12 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
     ],
-    package_data={PACKAGE: ["data/*.json"]},
+    package_data={PACKAGE: ["data/*.json", "web/*.html", "web/*.js", "web/*.css", "web/package*.json"]},
     entry_points={"console_scripts": [
         "dsr = dsr_graph.cli:main",
         "dsr_server = dsr_graph.server_node:main",
         "dsr_rule_agent = dsr_graph.rule_agent:main",
+        "dsr_viewer = dsr_graph.viewer_node:main",
     ]},
     install_requires=["setuptools"],
     zip_safe=False,

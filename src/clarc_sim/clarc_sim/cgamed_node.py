@@ -1,24 +1,31 @@
-"""The CGAmed hospital-server stand-in: the clinician's Start, the results store, and the
-clinician's notifications.
+"""The CGAmed hospital-server stand-in: the clinician's Start, the results store, the
+clinician's notifications, and the clinician's dashboard in the browser (dashboard_app.py).
 
 ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), start_patient
-(if set, press Start for this patient as soon as PELEA listens). Subscriptions:
-clarc/cgamed/notify. Publishers: clarc/cgamed/start, clarc/cgamed/notifications. Services:
+(if set, press Start for this patient as soon as PELEA listens), dashboard (true), host
+(127.0.0.1), port (8081). Subscriptions: clarc/cgamed/notify, clarc/pelea/events,
+clarc/speaker/events. Publishers: clarc/cgamed/start, clarc/cgamed/notifications. Services:
 clarc/cgamed/store_result (dsr_msgs/srv/StoreResult).
 """
 
 from __future__ import annotations
 
 import json
+import sys
+from typing import List, Optional
 
+import rclpy
 from clarc_agents import topics
-from clarc_agents.agent_node import main_for
-from dsr_msgs.srv import StoreResult
+from dsr_graph.exceptions import DsrError
 from dsr_graph.qos import qos_stream
+from dsr_graph.web_bridge import Bridge, Broadcaster
+from dsr_msgs.srv import StoreResult
 from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_msgs.msg import String
 
+from .dashboard_app import TestStatus, make_app
 from .results_store import InvalidResult, ResultsStore, default_db
 
 
@@ -27,15 +34,23 @@ class CgamedStandIn(Node):
         super().__init__("cgamed")
         self.declare_parameter("db", default_db(), ParameterDescriptor(description="SQLite results store", read_only=True))
         self.declare_parameter("start_patient", "", ParameterDescriptor(description="press Start for this patient"))
+        self.declare_parameter("dashboard", True, ParameterDescriptor(description="serve the clinician's dashboard", read_only=True))
+        self.declare_parameter("host", "127.0.0.1", ParameterDescriptor(description="dashboard address", read_only=True))
+        self.declare_parameter("port", 8081, ParameterDescriptor(description="dashboard port", read_only=True))
+        self.status = TestStatus()
+        self.events = Broadcaster()
+        self.bridge = Bridge(self)
         self._start = self.create_publisher(String, topics.CGAMED_START, qos_stream())
         self._notifications = self.create_publisher(String, topics.CGAMED_NOTIFICATIONS, qos_stream())
         self.store = None
         self._start_timer = None
 
     def setup(self) -> None:
-        self.store = ResultsStore(self.get_parameter("db").value)
+        self.store = ResultsStore(self.get_parameter("db").value, shared=True)  # used by the ROS thread
         self.create_service(StoreResult, topics.CGAMED_STORE, self.on_store)
         self.create_subscription(String, topics.CGAMED_NOTIFY, self.on_notify, qos_stream())
+        self.create_subscription(String, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
+        self.create_subscription(String, topics.SPEAKER, self.on_speaker, qos_stream())
         if self.get_parameter("start_patient").value:
             self._start_timer = self.create_timer(0.1, self._press_start_when_heard)
         self.get_logger().info(f"results store: {self.store.path}")
@@ -51,8 +66,27 @@ class CgamedStandIn(Node):
 
     def _tell(self, kind: str, message: str, **extra) -> None:
         self.store.notify(kind, message)
-        self._notifications.publish(String(data=json.dumps({"kind": kind, "message": message, **extra})))
+        note = {"kind": kind, "message": message, **extra}
+        self._notifications.publish(String(data=json.dumps(note)))
+        self.bridge.to_web(self.events.publish, "notification", note)
         self.get_logger().info(f"to the clinician: {message}")
+
+    def on_pelea(self, msg: String) -> None:
+        try:
+            event = json.loads(msg.data)
+        except ValueError:
+            return
+        self.bridge.to_web(self._follow, event)
+
+    def _follow(self, event: dict) -> None:  # web thread
+        self.status.follow(event)
+        self.events.publish("pelea", event)
+
+    def on_speaker(self, msg: String) -> None:
+        try:
+            self.bridge.to_web(self.events.publish, "speaker", json.loads(msg.data))
+        except ValueError:
+            pass
 
     def on_store(self, request: StoreResult.Request, response: StoreResult.Response):
         try:
@@ -80,4 +114,28 @@ class CgamedStandIn(Node):
         super().destroy_node()
 
 
-main = main_for(CgamedStandIn)
+def main(args: Optional[List[str]] = None) -> int:
+    rclpy.init(args=args)
+    node = CgamedStandIn()
+    try:
+        node.setup()
+        if node.get_parameter("dashboard").value:
+            app = make_app(node.get_parameter("db").value, node.status, node.events, node.press_start)
+            if not node.bridge.serve(app, node.get_parameter("host").value, node.get_parameter("port").value,
+                                     on_ready=lambda url: node.get_logger().info(f"clinician's dashboard on {url}")):
+                return 1
+        else:
+            rclpy.spin(node)
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except (DsrError, OSError) as e:
+        node.get_logger().fatal(str(e))
+        return 1
+    finally:
+        node.destroy_node()
+        rclpy.try_shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

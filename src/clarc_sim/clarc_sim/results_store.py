@@ -83,10 +83,12 @@ def check_result(result: Any) -> Dict[str, Any]:
 
 
 class ResultsStore:
-    def __init__(self, path: str):
+    def __init__(self, path: str, shared: bool = False):
+        """``shared``: the connection is made in one thread and used in another (CGAmed makes it
+        at start-up and uses it from its ROS thread); it is still used by one thread at a time."""
         self.path = str(path)
         Path(self.path).parent.mkdir(parents=True, exist_ok=True)
-        self.db = sqlite3.connect(self.path, timeout=10)
+        self.db = sqlite3.connect(self.path, timeout=10, check_same_thread=not shared)
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=FULL")
         self.db.executescript(SCHEMA)

@@ -31,6 +31,9 @@ from ..agent_node import declare_float, get_float, main_for
 from .hle import HighLevelExecutive, Times
 
 
+STORE_TIMEOUT = 5.0  # seconds CGAmed may take to acknowledge a result
+
+
 def default_outbox() -> str:
     base = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
     return os.path.join(base, "clarc", "pelea_outbox")
@@ -123,8 +126,14 @@ class PeleaNode(Node):
             on_done(False, "the CGAmed results service is not available")
             return
         future = self._store.call_async(StoreResult.Request(result_json=json.dumps(result)))
+        # An unanswered call (CGAmed restarting) is withdrawn and reported, so the HLE retries.
+        watchdog = _OneShot(self, STORE_TIMEOUT, lambda: (self._store.remove_pending_request(future),
+                                                          on_done(False, f"no answer within {STORE_TIMEOUT} s")))
 
         def answered(f) -> None:
+            watchdog.cancel()
+            if f.cancelled():
+                return
             try:
                 response = f.result()
             except Exception as e:  # noqa: BLE001 - any failure means: not stored, try again

@@ -1,0 +1,113 @@
+// The clinician's dashboard: Start, the running test live, the results and the history.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+let results = [];
+
+function setRunning(running, finished) {
+  document.body.dataset.running = String(running);
+  $("start").disabled = running;
+  $("state").textContent = running ? "running" : finished ? "finished" : "idle";
+  $("state").className = "badge " + (running ? "running" : finished ? "finished" : "");
+}
+
+function logEvent(text, alert) {
+  const li = document.createElement("li");
+  li.textContent = `${new Date().toLocaleTimeString()}  ${text}`;
+  if (alert) li.classList.add("alert");
+  $("events").prepend(li);
+}
+
+const DESCRIBE = {
+  started: (e) => `Start: ${e.patient}`,
+  item: (e) => `item ${e.position}/10: ${e.item}`,
+  answer: (e) => `${e.item}: ${e.points} points (${e.via})`,
+  no_answer: (e) => `${e.item}: no answer (try ${e.window})`,
+  not_understood: (e) => `${e.item}: not understood "${e.heard}"`,
+  skip: (e) => `${e.item}: skip asked`,
+  unanswered: (e) => `${e.item}: unanswered`,
+  person_lost: () => "the patient left",
+  person_back: () => "the patient is back",
+  clinician_called: (e) => `you are called (${e.unanswered.join(", ")} unanswered)`,
+  finished: (e) => `finished: ${e.result.total}/100 (${e.result.band})`,
+  error: (e) => `error: ${e.message}`,
+};
+const ALERTS = new Set(["person_lost", "clinician_called", "error"]);
+
+function onPelea(e) {
+  const text = DESCRIBE[e.event] ? DESCRIBE[e.event](e) : null;
+  if (text) logEvent(text, ALERTS.has(e.event));
+  if (e.event === "started") { setRunning(true); $("live-patient").textContent = e.patient; $("live-answer").textContent = "–"; }
+  if (e.event === "item") $("live-item").textContent = `${e.position}/10 ${e.item}`;
+  if (e.event === "answer") $("live-answer").textContent = `${e.item}: ${e.points} points by ${e.via}`;
+  if (e.event === "unanswered") $("live-answer").textContent = `${e.item}: unanswered`;
+  if (e.event === "finished" || e.event === "error") { setRunning(false, e.event === "finished"); loadResults(); }
+}
+
+function cell(tr, text) { tr.insertCell().textContent = text; }
+
+function showResult(t) {
+  const div = $("result-detail");
+  div.innerHTML = "";
+  const h = document.createElement("h3");
+  h.textContent = `Test ${t.id}: ${t.patient}, Barthel ${t.total}/100 (${t.band})`;
+  const table = document.createElement("table");
+  table.id = "items";
+  for (const i of t.items) {
+    const tr = table.insertRow();
+    cell(tr, i.item);
+    cell(tr, i.points === null ? "unanswered" : `${i.points} points`);
+    cell(tr, i.via || "–");
+    cell(tr, `${i.attempts} ${i.attempts === 1 ? "try" : "tries"}`);
+  }
+  const history = results.filter((r) => r.patient === t.patient);
+  const p = document.createElement("p");
+  p.textContent = `History of ${t.patient}: ` + history.map((r) => `${r.started.slice(0, 10)} ${r.total}`).join(", ");
+  div.append(h, table, p);
+}
+
+async function loadResults() {
+  results = await (await fetch("/api/results")).json();
+  const body = $("results").tBodies[0];
+  body.innerHTML = "";
+  for (const t of [...results].reverse()) {
+    const tr = body.insertRow();
+    tr.dataset.id = String(t.id);
+    cell(tr, String(t.id));
+    cell(tr, t.patient);
+    cell(tr, t.started.replace("T", " ").slice(0, 19));
+    cell(tr, `${t.total}/100`);
+    cell(tr, t.band);
+    const notes = [];
+    if (t.unanswered.length) notes.push(`${t.unanswered.length} unanswered`);
+    if (t.clinician_called) notes.push("clinician called");
+    if (t.person_lost) notes.push("patient left");
+    cell(tr, notes.join(", "));
+    tr.addEventListener("click", () => showResult(t));
+  }
+  $("patients").innerHTML = "";
+  for (const name of new Set(results.map((r) => r.patient))) $("patients").append(new Option(name));
+  document.body.dataset.results = String(results.length);
+}
+
+$("start").addEventListener("click", async () => {
+  $("start-error").textContent = "";
+  const r = await fetch("/api/start", { method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify({ patient: $("patient").value }) });
+  if (!r.ok) $("start-error").textContent = await r.text();
+});
+
+const events = new EventSource("/api/events");
+events.addEventListener("status", (m) => {
+  const s = JSON.parse(m.data);
+  setRunning(s.running);
+  if (s.patient) $("live-patient").textContent = s.patient;
+  if (s.item) $("live-item").textContent = `${s.position}/10 ${s.item}`;
+});
+events.addEventListener("pelea", (m) => onPelea(JSON.parse(m.data)));
+events.addEventListener("speaker", (m) => {
+  const s = JSON.parse(m.data);
+  if (s.event === "start") $("live-question").textContent = s.text;
+});
+events.addEventListener("notification", (m) => logEvent(`to you: ${JSON.parse(m.data).message}`, false));
+loadResults();

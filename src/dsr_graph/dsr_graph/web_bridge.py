@@ -1,0 +1,103 @@
+"""Serving a web page next to a ROS node: rclpy spins in a background thread, aiohttp serves in
+the main thread's asyncio loop, and ``Broadcaster`` fans events out to every open page as
+Server-Sent Events. ROS callbacks hand data to the web side with ``Bridge.to_web`` (never share
+objects between the threads without it)."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import threading
+from typing import Any, Callable, Optional, Set
+
+from aiohttp import web
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+
+
+class Broadcaster:
+    """Events for every connected page (Server-Sent Events); lives in the asyncio loop."""
+
+    def __init__(self) -> None:
+        self._queues: Set[asyncio.Queue] = set()
+
+    def publish(self, kind: str, data: Any) -> None:
+        text = f"event: {kind}\ndata: {json.dumps(data, separators=(',', ':'))}\n\n"
+        for queue in list(self._queues):
+            if queue.qsize() > 1000:  # a page that stopped reading: drop it, it reconnects
+                self._queues.discard(queue)
+            else:
+                queue.put_nowait(text)
+
+    async def stream(self, request: web.Request, first: Optional[Callable[[], list]] = None) -> web.StreamResponse:
+        response = web.StreamResponse(headers={"Content-Type": "text/event-stream", "Cache-Control": "no-cache"})
+        await response.prepare(request)
+        queue: asyncio.Queue = asyncio.Queue()
+        self._queues.add(queue)
+        try:
+            for kind, data in (first() if first else []):
+                await response.write(f"event: {kind}\ndata: {json.dumps(data)}\n\n".encode())
+            while True:
+                try:
+                    text = await asyncio.wait_for(queue.get(), timeout=15)
+                except asyncio.TimeoutError:
+                    text = ": keep-alive\n\n"
+                await response.write(text.encode())
+        except (ConnectionResetError, asyncio.CancelledError):
+            pass
+        finally:
+            self._queues.discard(queue)
+        return response
+
+
+class Bridge:
+    def __init__(self, node, executor: Optional[SingleThreadedExecutor] = None):
+        self.node = node
+        self.executor = executor or SingleThreadedExecutor(context=node.context)
+        self.executor.add_node(node)
+        self.loop: Optional[asyncio.AbstractEventLoop] = None
+        self._stop: Optional[asyncio.Event] = None
+        self.failed = False
+        self._thread = threading.Thread(target=self._spin, name="rclpy", daemon=True)
+
+    def _spin(self) -> None:
+        try:
+            self.executor.spin()
+        except ExternalShutdownException:
+            pass
+        except Exception as e:  # a failing callback: say so and stop the whole process
+            self.node.get_logger().fatal(f"ROS thread stopped: {e!r}")
+            if self.loop is not None:
+                self.loop.call_soon_threadsafe(self._stop.set)
+
+    def to_web(self, fn: Callable[..., None], *args: Any) -> None:
+        """Run ``fn(*args)`` in the web loop (call from ROS callbacks)."""
+        if self.loop is not None and not self.loop.is_closed():
+            self.loop.call_soon_threadsafe(fn, *args)
+
+    def serve(self, app: web.Application, host: str, port: int, on_ready: Optional[Callable[[str], None]] = None) -> bool:
+        """Spin ROS in the background and serve ``app`` until interrupted (True) or until the ROS
+        thread fails (False)."""
+
+        async def main() -> None:
+            self.loop = asyncio.get_running_loop()
+            self._stop = asyncio.Event()
+            self._thread.start()
+            runner = web.AppRunner(app, access_log=None)
+            await runner.setup()
+            site = web.TCPSite(runner, host, port)
+            await site.start()
+            if on_ready:
+                on_ready(f"http://{host}:{port}/")
+            try:
+                await self._stop.wait()
+                self.failed = True
+            finally:
+                await runner.cleanup()
+
+        try:
+            asyncio.run(main())
+        except KeyboardInterrupt:
+            pass
+        finally:
+            self.executor.shutdown(timeout_sec=1.0)
+        return not self.failed
