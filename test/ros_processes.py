@@ -109,3 +109,21 @@ def snapshot_via(session, timeout=15):
 def new_session(domain_id, name="test_client"):
     os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
     return RosSession(name=name, domain_id=domain_id)
+
+
+def agent_in_session(ros, timeout=15):
+    """A DsrAgent in the test's own ROS session, synced and matched both ways."""
+    from dsr_graph.agent import DsrAgent
+
+    agent = DsrAgent()
+    agent.setup(ros.session.node, timeout_sec=timeout)
+    wait_for(lambda: agent.ready, timeout, "the agent to sync", ros.session)
+    return agent
+
+
+def send_and_wait(ros, agent, doc, timeout=10):
+    """Send a transaction and spin until its verdict (a dsr_graph.agent.Result)."""
+    results = []
+    agent.send(doc, results.append)
+    wait_for(lambda: results, timeout, "a verdict", ros.session)
+    return results[0]

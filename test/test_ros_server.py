@@ -15,7 +15,7 @@ from dsr_graph import dsr_format
 from dsr_graph.agent import DsrAgent
 from dsr_graph.qos import qos_latched, qos_stream
 from dsr_graph.worldfile import read_world
-from ros_processes import snapshot_via, wait_for
+from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
 
 
 def start(ros, cortex_dir=None, world="Robot_viriato.json", **params):
@@ -23,20 +23,6 @@ def start(ros, cortex_dir=None, world="Robot_viriato.json", **params):
     ros.procs.start_server(state, world=(cortex_dir / world) if cortex_dir else None, **params)
     snap = snapshot_via(ros.session, timeout=20)
     return state, snap
-
-
-def agent_in_session(ros):
-    agent = DsrAgent()
-    agent.setup(ros.session.node, timeout_sec=15)
-    wait_for(lambda: agent.ready, 15, "the agent to sync", ros.session)
-    return agent
-
-
-def send_and_wait(ros, agent, doc, timeout=10):
-    results = []
-    agent.send(doc, results.append)
-    wait_for(lambda: results, timeout, "a verdict", ros.session)
-    return results[0]
 
 
 def canonical(doc):

@@ -62,12 +62,14 @@ class Bridge:
     def _spin(self) -> None:
         try:
             self.executor.spin()
-        except ExternalShutdownException:
+        except ExternalShutdownException:  # Ctrl-C / SIGTERM: rclpy's handler shut ROS down
             pass
         except Exception as e:  # a failing callback: say so and stop the whole process
+            self.failed = True
             self.node.get_logger().fatal(f"ROS thread stopped: {e!r}")
-            if self.loop is not None:
-                self.loop.call_soon_threadsafe(self._stop.set)
+        # Either way the web side has nothing left to serve: end the process.
+        if self.loop is not None and not self.loop.is_closed():
+            self.loop.call_soon_threadsafe(self._stop.set)
 
     def to_web(self, fn: Callable[..., None], *args: Any) -> None:
         """Run ``fn(*args)`` in the web loop (call from ROS callbacks)."""
@@ -90,7 +92,6 @@ class Bridge:
                 on_ready(f"http://{host}:{port}/")
             try:
                 await self._stop.wait()
-                self.failed = True
             finally:
                 await runner.cleanup()
 

@@ -22,8 +22,8 @@ const cy = cytoscape({
       "font-size": 9, "text-background-color": "#fff", "text-background-opacity": 0.8 } },
     { selector: "edge.rt", style: { "line-style": "dashed", "line-color": "#3a7bd5", "target-arrow-color": "#3a7bd5",
       width: 2.5, label: "" } },
-    { selector: ".flash", style: { "background-color": "#ff7f11", "line-color": "#ff7f11",
-      "target-arrow-color": "#ff7f11", width: 4, "border-width": 4, "border-color": "#ff7f11" } },
+    { selector: "node.flash", style: { "background-color": "#ff7f11", "border-width": 4, "border-color": "#ffd166" } },
+    { selector: "edge.flash", style: { "line-color": "#ff7f11", "target-arrow-color": "#ff7f11", width: 4 } },
   ],
   elements: [],
 });

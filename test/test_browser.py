@@ -1,0 +1,137 @@
+"""The viewer and the clinician's dashboard in a real browser (headless Chromium + Playwright)."""
+
+import json
+import os
+import subprocess
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+from browser import chromium_page, free_port
+from ros_processes import agent_in_session, fresh_domain_id, send_and_wait, snapshot_via, wait_for
+
+REPO = Path(__file__).resolve().parent.parent
+WORLD = REPO / "worlds" / "clarc_room.json"
+
+
+def http_json(url):
+    with urllib.request.urlopen(url, timeout=5) as r:
+        return json.loads(r.read())
+
+
+@pytest.fixture
+def viewer(ros):
+    ros.procs.start_server(ros.tmp / "state", world=WORLD)
+    snapshot_via(ros.session, timeout=20)
+    port = free_port()
+    ros.procs.start("viewer", ["dsr_viewer", "--ros-args", "-p", f"port:={port}"])
+    url = f"http://127.0.0.1:{port}/"
+
+    def up():
+        try:
+            return http_json(url + "api/graph")["seq"] == 0
+        except OSError:
+            return False
+
+    wait_for(up, 20, "the viewer to serve the graph")
+    return url
+
+
+def test_api_graph_is_the_current_snapshot(ros, viewer):
+    doc = http_json(viewer + "api/graph")
+    assert doc["format"] == "dsr-graph" and doc["kind"] == "snapshot"
+    assert {n["name"] for n in doc["nodes"]} >= {"room", "robot", "kinect", "speaking", "showing"}
+    t = http_json(viewer + "api/transform?from=room&to=kinect")
+    assert t["translation"] == [2100.0, 1500.0, 1200.0] and t["chain"] == ["room", "robot", "kinect"]
+
+
+def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
+    agent = agent_in_session(ros)
+    with chromium_page() as page:
+        page.goto(viewer)
+        page.wait_for_function("Number(document.body.dataset.nodes) === 13", timeout=15000)
+        assert page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 6  # the RT tree, drawn apart
+        page.wait_for_timeout(500)  # the live stream is open
+
+        result = send_and_wait(ros, agent, {"ops": [
+            {"op": "insert_node", "name": "visitor", "type": "person"},
+            {"op": "insert_edge", "from": "kinect", "to": "visitor", "type": "RT",
+             "rt": {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}},
+            {"op": "insert_edge", "from": "visitor", "to": "robot", "type": "is_with"}]})
+        accepted = time.monotonic()
+        assert result.accepted
+        page.wait_for_function("window.dsrViewer.cy.getElementById('n:visitor').nonempty()", timeout=1000)
+        print(f"viewer showed the change {1000 * (time.monotonic() - accepted):.0f} ms after it was accepted")
+        assert page.evaluate("window.dsrViewer.cy.getElementById('e:visitor|is_with|robot').nonempty()")
+        assert page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').hasClass('flash')")
+
+        send_and_wait(ros, agent, {"ops": [{"op": "set_node_attrs", "node": "visitor", "attrs": {"patient": "Carlos"}}]})
+        page.wait_for_function("document.body.dataset.seq === '2'", timeout=3000)
+        assert page.locator("#deltas li").count() == 2
+
+        # the inspector: attributes, version, pose in another node's frame
+        page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').emit('tap')")
+        page.wait_for_selector("#node-table")
+        table = page.inner_text("#node-table")
+        assert "version\t2" in table and "patient\tCarlos" in table
+        page.select_option("#frame", "room")
+        page.wait_for_function("document.getElementById('pose').dataset.translation &&"
+                               " JSON.parse(document.getElementById('pose').dataset.translation)[0] === 3000", timeout=3000)
+
+        # scrub back to seq 0: the visitor is not there yet; back to live: it is
+        page.locator("#scrub").fill("0")
+        page.wait_for_function("document.body.dataset.shownSeq === '0'", timeout=3000)
+        assert page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').empty()")
+        assert "past" in page.inner_text("#status")
+        page.click("#deltas li[data-seq='1']")
+        page.wait_for_function("document.body.dataset.shownSeq === '1'", timeout=3000)
+        assert page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').nonempty()")
+        page.click("#live")
+        page.wait_for_function("document.body.dataset.live === 'true' && document.body.dataset.shownSeq === '2'", timeout=3000)
+
+
+def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
+    db = tmp_path / "cgamed.sqlite"
+    port = free_port()
+    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    launch = subprocess.Popen([str(REPO / "scripts" / "launch.sh"), "--wait-start", "--db", str(db), "--timeout", "150",
+                               "--run-dir", str(tmp_path / "run"), "--viewer-port", str(free_port()),
+                               "--dashboard-port", str(port)],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    try:
+        url = f"http://127.0.0.1:{port}/"
+
+        def up():
+            try:
+                return http_json(url + "api/status")["running"] is False
+            except OSError:
+                return False
+
+        wait_for(up, 60, "the dashboard")
+        with chromium_page() as page:
+            page.goto(url)
+            page.click("#start")  # no patient chosen yet
+            page.wait_for_function("document.getElementById('start-error').textContent.includes('choose a patient')")
+            page.fill("#patient", "Carlos")
+            page.click("#start")
+            page.wait_for_selector("body[data-running=true]", timeout=20000)
+            page.wait_for_function("document.getElementById('live-item').textContent.includes('/10')", timeout=30000)
+            page.wait_for_selector("body[data-running=false]", timeout=120000)
+            page.wait_for_function("Number(document.body.dataset.results) === 1", timeout=10000)
+            events = page.inner_text("#events")
+            assert "the patient left" in events and "finished: 80/100 (moderate)" in events
+            page.click("#results tbody tr")
+            page.wait_for_selector("#items")
+            items = page.inner_text("#items")
+            assert "grooming\tunanswered" in items and "stairs\t5 points\ttouch" in items
+        out, _ = launch.communicate(timeout=60)
+        assert launch.returncode == 0, out[-3000:]
+    finally:
+        if launch.poll() is None:
+            launch.terminate()
+            launch.wait(timeout=30)
+    stored = json.loads(subprocess.run(["clarc", "results", "--db", str(db), "--json"], capture_output=True,
+                                       text=True, timeout=60).stdout)
+    assert [t["patient"] for t in stored] == ["Carlos"] and stored[0]["total"] == 80
