@@ -66,9 +66,16 @@ export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
 
 pids=()
+names=()
 cleanup() {
   local code=$?
   trap - EXIT INT TERM
+  # For the benchmarks: CPU seconds of every process of the run (CLARC_CPU_REPORT=FILE).
+  if [ -n "${CLARC_CPU_REPORT:-}" ]; then
+    for i in "${!pids[@]}"; do
+      echo "${names[$i]} $(ps -o times= -p "${pids[$i]}" 2>/dev/null | tr -d ' ' || echo 0)"
+    done > "$CLARC_CPU_REPORT"
+  fi
   for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do
     for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
@@ -83,6 +90,7 @@ start() {  # start NAME COMMAND...: a process of the run, logged to var/runs/<ti
   local name=$1; shift
   "$@" > "$run/log/$name.log" 2>&1 &
   pids+=($!)
+  names+=("$name")
 }
 
 echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
@@ -114,6 +122,7 @@ set +e
 clarc_monitor --ros-args -p timeout:="$timeout" &
 monitor=$!
 pids+=("$monitor")
+names+=(clarc_monitor)
 wait "$monitor"
 code=$?
 set -e

@@ -48,6 +48,9 @@ from .vocabulary import RT, Vocabulary
 from .worldfile import read_world
 
 
+MAX_BATCH = 256  # requests made durable by one fdatasync
+
+
 def default_state_dir(node_name: str) -> str:
     base = os.environ.get("XDG_STATE_HOME") or os.path.join(os.path.expanduser("~"), ".local", "state")
     return os.path.join(base, "dsr", node_name)
@@ -106,7 +109,8 @@ class DsrServer(Node):
         self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
-        self.create_subscription(String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream())
+        self._requests = self.create_subscription(String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream())
+        self._publish_poses = bool(self._param("publish_poses"))
         self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
         self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
         self.create_service(GetSnapshot, topic_names.GET_SNAPSHOT, self.on_get_snapshot)
@@ -123,16 +127,29 @@ class DsrServer(Node):
 
     # ------------------------------------------------------------------ transactions
     def on_transaction(self, msg: String) -> None:
-        try:
-            result = self.core.submit(msg.data)
-        except Exception as e:  # a bug must not take the server down with it
-            self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
-            return
-        if isinstance(result, Rejection):
-            self._rejections.publish(String(data=json.dumps(result.to_json())))
-            self.get_logger().debug(f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}")
-            return
-        self._accept([result])
+        # Group commit: take the requests already waiting too, so that one fdatasync covers them
+        # all under load; alone, a request costs the same as before.
+        texts = [msg.data]
+        with self._requests.handle:
+            while len(texts) < MAX_BATCH:
+                taken = self._requests.handle.take_message(String, False)
+                if taken is None:
+                    break
+                texts.append(taken[0].data)
+        accepted = []
+        for text in texts:
+            try:
+                result = self.core.submit(text)
+            except Exception as e:  # a bug must not take the server down with it
+                self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
+                continue
+            if isinstance(result, Rejection):
+                self._rejections.publish(String(data=json.dumps(result.to_json())))
+                self.get_logger().debug(f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}")
+            else:
+                accepted.append(result)
+        if accepted:
+            self._accept(accepted)
 
     def _accept(self, deltas: List[Dict[str, Any]]) -> None:
         """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
@@ -146,7 +163,7 @@ class DsrServer(Node):
             raise SystemExit(3) from e
         for delta in deltas:
             self._deltas.publish(String(data=json.dumps(delta, separators=(",", ":"))))
-            if self._param("publish_poses"):
+            if self._publish_poses:
                 for name in _moved_nodes(delta):
                     self._publish_pose(name)
         if self.store.needs_compaction():

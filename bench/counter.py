@@ -1,0 +1,42 @@
+"""A subscribing agent for the throughput benchmark: a DsrAgent replica (or, with --raw, a
+plain String subscription) that prints how many deltas it applied and when, then exits.
+Usage: counter.py N [--raw TOPIC]"""
+
+import json
+import sys
+import time
+
+from std_msgs.msg import String
+
+from dsr_graph.agent import DsrAgent
+from dsr_graph.qos import qos_stream
+from dsr_graph.ros_session import RosSession
+
+
+def main() -> int:
+    n = int(sys.argv[1])
+    raw = sys.argv[3] if len(sys.argv) > 3 and sys.argv[2] == "--raw" else None
+    seen = {"count": 0, "first": None, "last": None}
+
+    def count(k: int) -> None:
+        now = time.time()
+        seen["first"] = seen["first"] or now
+        seen["count"] += k
+        seen["last"] = now
+
+    with RosSession() as ros:
+        if raw:
+            ros.node.create_subscription(String, raw, lambda m: count(1), qos_stream())
+        else:
+            agent = DsrAgent()
+            agent.setup(ros.node, timeout_sec=30)
+            agent.add_listener(lambda deltas, resynced: count(len(deltas)))
+            ros.spin_until(lambda: agent.ready, 30, "the server")
+        print("ready", flush=True)
+        ros.spin_until(lambda: seen["count"] >= n, 300, f"{n} messages")
+    print(json.dumps(seen), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
