@@ -1,6 +1,6 @@
-"""A subscribing agent for the throughput benchmark: a DsrAgent replica (or, with --raw, a
-plain String subscription) that prints how many deltas it applied and when, then exits.
-Usage: counter.py N [--raw TOPIC]"""
+"""A subscribing agent for the throughput benchmark: a DsrAgent replica that waits until its
+replica reaches seq N (or, with --raw, a plain String subscription that waits for N messages),
+prints when the first and the last arrived, then exits. Usage: counter.py N [--raw TOPIC]"""
 
 import json
 import sys
@@ -30,10 +30,13 @@ def main() -> int:
         else:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=30)
-            agent.add_listener(lambda deltas, resynced: count(len(deltas)))
+            # by seq, not by count: a replica that resynchronised from a snapshot skipped deltas
+            agent.add_listener(lambda deltas, resynced: count(agent.replica.seq - seen["count"]))
             ros.spin_until(lambda: agent.ready, 30, "the server")
         print("ready", flush=True)
-        ros.spin_until(lambda: seen["count"] >= n, 300, f"{n} messages")
+        ros.spin_until(lambda: seen["count"] >= n, 120, f"{n} messages")
+    if not raw:
+        seen["resyncs"] = agent.resyncs
     print(json.dumps(seen), flush=True)
     return 0
 

@@ -21,6 +21,7 @@ import uuid
 from dataclasses import dataclass
 from typing import Any, Callable, Dict, List, Optional
 
+import orjson
 from dsr_msgs.srv import GetSnapshot
 from std_msgs.msg import String
 
@@ -182,7 +183,7 @@ class DsrAgent:
         self._snapshot_future = None
         try:
             response = future.result()
-            applied = self.replica.load_snapshot(json.loads(response.snapshot_json))
+            applied = self.replica.load_snapshot(orjson.loads(response.snapshot_json))
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return

@@ -31,6 +31,7 @@ import sys
 import time
 from typing import Any, Dict, List, Optional
 
+import orjson
 import rclpy
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 from geometry_msgs.msg import PoseStamped
@@ -70,6 +71,7 @@ class DsrServer(Node):
         self.core: Optional[ServerCore] = None
         self.store: Optional[StateStore] = None
         self._pose_pubs: Dict[str, Any] = {}
+        self._snapshot_cache = (-1, "")
         self._missing_since: Dict[str, float] = {}
 
     def _declare(self, name: str, default: Any, description: str, read_only: bool) -> None:
@@ -241,8 +243,10 @@ class DsrServer(Node):
         return response
 
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
-        response.seq = self.core.seq
-        response.snapshot_json = json.dumps(self.core.snapshot(), separators=(",", ":"))
+        # Late joiners often come together (a launch): encode a seq's snapshot once.
+        if self._snapshot_cache[0] != self.core.seq:
+            self._snapshot_cache = (self.core.seq, orjson.dumps(self.core.snapshot()).decode())
+        response.seq, response.snapshot_json = self._snapshot_cache
         return response
 
 
