@@ -1,6 +1,5 @@
 """The Speech, Panel and Person grammars on a local graph (the CLARC room), rule by rule."""
 
-import json
 from pathlib import Path
 
 import pytest

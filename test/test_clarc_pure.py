@@ -1,7 +1,6 @@
 """CLARC's pure pieces: Barthel scoring, answer understanding, scenario files, the patient's
 script, and the results store."""
 
-import json
 import sqlite3
 
 import pytest

@@ -4,7 +4,6 @@ T(a,b) = T(b,a)^-1 on random trees (hypothesis), against a naive path recomputat
 import math
 
 import numpy as np
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 

@@ -7,7 +7,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
@@ -230,7 +229,7 @@ def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
         [("robot", "robot"), ("speaking", "state"), ("test", "test"), ("test_part", "test_part")]] + [
         {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]}).accepted
     wait_for(lambda: ros.session.node.count_subscribers("dsr/deltas") >= 3, 20, "both rule agents", ros.session)
-    wait_for(lambda: all(f"running 1 rules" in ros.procs.log(n) for n in ("speech_a", "speech_b")), 20,
+    wait_for(lambda: all("running 1 rules" in ros.procs.log(n) for n in ("speech_a", "speech_b")), 20,
              "both rule agents to be ready")
     for sid in (1, 2, 3):
         assert send_and_wait(ros, agent, {"ops": [

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from dsr_graph import cortex, dsr_format
+from dsr_graph import cortex
 from dsr_graph.exceptions import WorldLoadError
 from dsr_graph.worldfile import parse_world, read_world, world_document
 from invariants import assert_invariants

@@ -3,7 +3,6 @@ was answered (accepted or not), printing how many were accepted. Usage: writer.p
 
 import sys
 
-import rclpy
 
 from dsr_graph.agent import DsrAgent
 from dsr_graph.ros_session import RosSession

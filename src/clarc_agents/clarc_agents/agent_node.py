@@ -4,16 +4,13 @@ RuleRunner on its grammar file (``grammars/<name>.yaml``); subclasses give the p
 from __future__ import annotations
 
 import abc
-import sys
 from importlib import resources
 from typing import Dict, List, Optional
 
-import rclpy
 from dsr_graph.agent import DsrAgent
-from dsr_graph.exceptions import DsrError
+from dsr_graph.node_main import run_node, setup_and_spin
 from dsr_graph.rule_agent import Process, RuleRunner, load_grammar_file
 from rcl_interfaces.msg import ParameterDescriptor
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 
@@ -62,20 +59,7 @@ class GrammarAgentNode(Node, abc.ABC):
 
 def run(node_class, args: Optional[List[str]] = None) -> int:
     """The main() of every CLARC node: init, setup, spin, clean shutdown."""
-    rclpy.init(args=args)
-    node = node_class()
-    try:
-        node.setup()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    except DsrError as e:
-        node.get_logger().fatal(str(e))
-        return 1
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    return run_node(node_class, setup_and_spin, args)
 
 
 def main_for(node_class):

@@ -16,12 +16,11 @@ from typing import List, Optional
 
 import rclpy
 from clarc_agents import topics
-from dsr_graph.exceptions import DsrError
+from dsr_graph.node_main import run_node
 from dsr_graph.qos import qos_stream
 from dsr_graph.web_bridge import Bridge, Broadcaster
 from dsr_msgs.srv import StoreResult
 from rcl_interfaces.msg import ParameterDescriptor
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_msgs.msg import String
 
@@ -115,26 +114,17 @@ class CgamedStandIn(Node):
 
 
 def main(args: Optional[List[str]] = None) -> int:
-    rclpy.init(args=args)
-    node = CgamedStandIn()
-    try:
+    def body(node: CgamedStandIn) -> int:
         node.setup()
-        if node.get_parameter("dashboard").value:
-            app = make_app(node.get_parameter("db").value, node.status, node.events, node.press_start)
-            if not node.bridge.serve(app, node.get_parameter("host").value, node.get_parameter("port").value,
-                                     on_ready=lambda url: node.get_logger().info(f"clinician's dashboard on {url}")):
-                return 1
-        else:
+        if not node.get_parameter("dashboard").value:
             rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    except (DsrError, OSError) as e:
-        node.get_logger().fatal(str(e))
-        return 1
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+            return 0
+        app = make_app(node.get_parameter("db").value, node.status, node.events, node.press_start)
+        ok = node.bridge.serve(app, node.get_parameter("host").value, node.get_parameter("port").value,
+                               on_ready=lambda url: node.get_logger().info(f"clinician's dashboard on {url}"))
+        return 0 if ok else 1
+
+    return run_node(CgamedStandIn, body, args)
 
 
 if __name__ == "__main__":

@@ -184,29 +184,25 @@ def load_grammar_file(path: str) -> List[Rule]:
 def main(args: Optional[List[str]] = None) -> int:
     import rclpy
     from rcl_interfaces.msg import ParameterDescriptor
-    from rclpy.executors import ExternalShutdownException
 
-    rclpy.init(args=args)
-    node = rclpy.create_node("dsr_rule_agent")
-    try:
+    from .node_main import run_node
+
+    def make():
+        node = rclpy.create_node("dsr_rule_agent")
         node.declare_parameter("grammar_file", "", ParameterDescriptor(description="YAML/JSON list of rules", read_only=True))
         node.declare_parameter("process_time", 0.2, ParameterDescriptor(description="seconds the wait process takes"))
         node.declare_parameter("setup_timeout", 10.0, ParameterDescriptor(description="seconds to wait for the server", read_only=True))
+        return node
+
+    def body(node) -> None:
         rules = load_grammar_file(node.get_parameter("grammar_file").value)
         agent = DsrAgent()
         agent.setup(node, timeout_sec=node.get_parameter("setup_timeout").value)
         RuleRunner(agent, rules, _generic_processes(node), node.get_logger()).setup()
         node.get_logger().info(f"running {len(rules)} rules as {agent.name}")
         rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    except Exception as e:
-        node.get_logger().fatal(str(e))
-        return 1
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+
+    return run_node(make, body, args)
 
 
 if __name__ == "__main__":

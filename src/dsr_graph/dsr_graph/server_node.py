@@ -32,16 +32,15 @@ import time
 from typing import Any, Dict, List, Optional
 
 import orjson
-import rclpy
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 from geometry_msgs.msg import PoseStamped
 from rcl_interfaces.msg import ParameterDescriptor
-from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 from std_msgs.msg import String
 
 from . import queries, rigid, topic_names
 from .graph import Graph
+from .node_main import run_node, setup_and_spin
 from .qos import qos_latched, qos_stream
 from .server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
 from .state_store import StateStore
@@ -257,21 +256,13 @@ def _moved_nodes(delta: Dict[str, Any]) -> List[str]:
 
 
 def main(args: Optional[List[str]] = None) -> int:
-    rclpy.init(args=args)
-    node = DsrServer()
-    try:
-        node.setup()
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
-    except Exception as e:  # start-up problems (locked state dir, unreadable world): say so
-        node.get_logger().fatal(str(e))
-        return 1
-    finally:
-        node.close()
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+    def body(node: DsrServer) -> None:
+        try:
+            setup_and_spin(node)
+        finally:
+            node.close()
+
+    return run_node(DsrServer, body, args)
 
 
 if __name__ == "__main__":

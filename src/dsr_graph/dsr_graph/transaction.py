@@ -17,7 +17,6 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Tuple
 from . import rigid
 from .exceptions import RuleViolation, TransactionRejected, Violation
 from .graph import Edge, Graph, Node, NodeRef
-from .vocabulary import RT
 
 FORMAT = "dsr-graph"
 VERSION = 1

@@ -17,8 +17,8 @@ from rcl_interfaces.msg import ParameterDescriptor
 from . import dsr_format
 from .agent import DsrAgent
 from .describe import delta_text
-from .exceptions import DsrError
 from .history import History, SeqUnavailable
+from .node_main import run_node
 from .viewer_app import make_app
 from .web_bridge import Bridge, Broadcaster
 
@@ -64,23 +64,12 @@ class Viewer:
 
 
 def main(args: Optional[List[str]] = None) -> int:
-    rclpy.init(args=args)
-    node = rclpy.create_node("dsr_viewer")
-    try:
+    def body(node) -> int:
         viewer = Viewer(node)
         viewer.setup()
-        if not viewer.serve():
-            return 1
-    except DsrError as e:
-        node.get_logger().fatal(str(e))
-        return 1
-    except OSError as e:  # the port is taken
-        node.get_logger().fatal(f"cannot serve: {e}")
-        return 1
-    finally:
-        node.destroy_node()
-        rclpy.try_shutdown()
-    return 0
+        return 0 if viewer.serve() else 1
+
+    return run_node(lambda: rclpy.create_node("dsr_viewer"), body, args)
 
 
 if __name__ == "__main__":
