@@ -72,8 +72,10 @@ cleanup() {
   trap - EXIT INT TERM
   # For the benchmarks: CPU seconds of every process of the run (CLARC_CPU_REPORT=FILE).
   if [ -n "${CLARC_CPU_REPORT:-}" ]; then
-    for i in "${!pids[@]}"; do
-      echo "${names[$i]} $(ps -o times= -p "${pids[$i]}" 2>/dev/null | tr -d ' ' || echo 0)"
+    local tck
+    tck=$(getconf CLK_TCK)
+    for i in "${!pids[@]}"; do  # user + system time, in clock ticks, of each process
+      awk -v n="${names[$i]}" -v t="$tck" '{printf "%s %.2f\n", n, ($14 + $15) / t}' "/proc/${pids[$i]}/stat" 2>/dev/null || true
     done > "$CLARC_CPU_REPORT"
   fi
   for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done

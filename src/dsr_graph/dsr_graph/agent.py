@@ -31,7 +31,7 @@ from .qos import qos_latched, qos_stream
 from .replica import Replica
 from .vocabulary import Vocabulary
 
-GAP_PATIENCE = 0.3  # seconds a gap may last before a snapshot is fetched (deltas may be in flight)
+GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 
 
@@ -66,6 +66,7 @@ class DsrAgent:
         self._snapshot_future = None
         self._snapshot_asked = 0.0
         self._gap_since: Optional[float] = None
+        self._progress = (0, 0.0)  # (seq, when it was reached): a replica still advancing is behind, not broken
         self.resyncs = 0
 
     # ------------------------------------------------------------------ set-up
@@ -158,11 +159,19 @@ class DsrAgent:
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
         self._flush_outbox()
+        now = time.monotonic()
+        if self.replica.seq != self._progress[0]:
+            self._progress = (self.replica.seq, now)
         if not self.replica.needs_resync:
             self._gap_since = None
             return
-        now = time.monotonic()
         if self._gap_since is None:
+            self._gap_since = now
+        # The heartbeat says the server is ahead: a hole (a later delta came, an earlier did not)
+        # or a replica that stopped advancing means deltas were lost; one still applying deltas
+        # is only behind, and a snapshot would slow it down further.
+        stalled = now - self._progress[1] >= GAP_PATIENCE
+        if self.replica.synced and not self.replica.has_hole and not stalled:
             self._gap_since = now
         if self._snapshot_future is not None and now - self._snapshot_asked >= SNAPSHOT_RETRY:
             # lost (e.g. sent to a server that was being restarted): withdraw it and ask again

@@ -32,8 +32,15 @@ class Replica:
 
     @property
     def needs_resync(self) -> bool:
-        """True when a snapshot is needed: never synced, or a delta is known to be missing."""
+        """True when a snapshot may be needed: never synced, or the server is ahead of us. Being
+        ahead can mean deltas are still on their way (``has_hole`` and ``behind`` tell apart a
+        hole from a queue: see DsrAgent's patience)."""
         return not self.synced or self.server_seq > self.seq
+
+    @property
+    def has_hole(self) -> bool:
+        """A later delta arrived while an earlier one did not: one is missing for sure."""
+        return bool(self._pending) and self.synced
 
     def receive(self, delta: Dict[str, Any]) -> List[Dict[str, Any]]:
         """Take a delta off the wire; returns the deltas actually applied now, in order."""
