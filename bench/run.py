@@ -383,11 +383,11 @@ def bench_kinematics(depths: List[int], queries: int) -> Dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- 5. the Barthel run
-def bench_barthel(work: Path) -> Dict[str, Any]:
+def bench_barthel(work: Path, scale: float) -> Dict[str, Any]:
     report = work / "cpu.txt"
     env = dict(os.environ, CLARC_CPU_REPORT=str(report))
     t = time.perf_counter()
-    run = subprocess.run([str(ROOT / "scripts" / "launch.sh"), "--db", str(work / "bench.sqlite"),
+    run = subprocess.run([str(ROOT / "scripts" / "launch.sh"), "--db", str(work / "bench.sqlite"), "--scale", str(scale),
                           "--run-dir", str(work / "barthel_run"), "--viewer-port", "0", "--dashboard-port", "0"],
                          capture_output=True, text=True, env=env, timeout=600)
     wall = time.perf_counter() - t
@@ -400,7 +400,7 @@ def bench_barthel(work: Path) -> Dict[str, Any]:
     for line in run.stdout.splitlines():
         if line.startswith("[") and "s]" in line:
             test_s = float(line[1:line.index("s]")])
-    return {"completed": run.returncode == 0, "wall_s": wall, "test_s": test_s, "cpu_s": cpu,
+    return {"completed": run.returncode == 0, "pace": scale, "wall_s": wall, "test_s": test_s, "cpu_s": cpu,
             "cpu_total_s": sum(cpu.values())}
 
 
@@ -437,15 +437,16 @@ def table(report: Dict[str, Any]) -> str:
         lines.append(f"  target {kin['targets']}: {'met' if kin['met'] else 'NOT met'}")
     b = report.get("barthel")
     if b:
-        lines.append(f"barthel run: completed {b['completed']}, test {b['test_s']} s, launch wall {b['wall_s']:.1f} s, "
-                     f"CPU {b['cpu_total_s']:.1f} s in all")
+        lines.append(f"barthel run (pace x{b['pace']}): completed {b['completed']}, test {b['test_s']} s, "
+                     f"launch wall {b['wall_s']:.1f} s, CPU {b['cpu_total_s']:.1f} s in all")
         lines.append("  " + ", ".join(f"{k} {v:.1f}s" for k, v in sorted(b["cpu_s"].items(), key=lambda kv: -kv[1])))
     return "\n".join(lines)
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="about a minute: fewer samples, sizes and agents")
+    parser.add_argument("--quick", action="store_true",
+                        help="about 90 s: fewer samples, sizes up to 10k, 1 and 8 agents, a Barthel run at pace x0.05")
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")
     args = parser.parse_args()
@@ -463,11 +464,11 @@ def main() -> int:
         if "latency" in sections:
             report["latency"] = bench_latency(work, domain, 200 if quick else 2000)
         if "throughput" in sections:
-            report["throughput"] = bench_throughput(work, domain, 2000 if quick else 5000, 100, [1, 8] if quick else [1, 4, 8])
+            report["throughput"] = bench_throughput(work, domain, 1000 if quick else 5000, 100, [1, 8] if quick else [1, 4, 8])
         if "scale" in sections:
             report["scale"] = bench_scale(work, domain, [1000, 10000] if quick else [1000, 10000, 100000], 2000 if quick else 10000)
-        if "barthel" in sections and not quick:
-            report["barthel"] = bench_barthel(work)
+        if "barthel" in sections:
+            report["barthel"] = bench_barthel(work, 0.05 if quick else 0.1)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(report, indent=2))
     print(table(report))

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The DSR benchmarks, each figure next to its baseline measured in the same run (bench/run.py).
 #   scripts/bench.sh [--quick] [--out FILE] [--only SECTION...]
-# --quick finishes in about a minute; the full run takes several minutes and adds 100k nodes,
-# 4 agents and the Barthel run. Report: bench-results/bench.json, and a table on stdout.
+# --quick finishes in about 90 s; the full run takes about 8 minutes and adds 100k nodes,
+# 4 agents and more samples. Report: bench-results/bench.json, and a table on stdout.
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/scripts/setup.sh" >/dev/null

@@ -9,6 +9,7 @@ Transactions share the header; see ``transaction.py``.
 
 from __future__ import annotations
 
+from operator import attrgetter
 from typing import Any, Dict, List, Optional, Tuple
 
 from . import rigid
@@ -31,16 +32,15 @@ def to_json(graph: Graph, kind: str = "world", seq: Optional[int] = None) -> Dic
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}")
     with_versions = kind == "snapshot"
-    nodes = []
-    for node in sorted(graph.nodes(), key=lambda n: n.id):
-        item: Dict[str, Any] = {"id": node.id, "name": node.name, "type": node.type, "attrs": node.attrs}
-        if with_versions:
-            item["version"] = node.version
-        nodes.append(item)
+    ordered = sorted(graph.nodes(), key=attrgetter("id"))
+    names = {n.id: n.name for n in ordered}  # edge ends by name, without a lookup per edge
+    if with_versions:
+        nodes = [{"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs, "version": n.version} for n in ordered]
+    else:
+        nodes = [{"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs} for n in ordered]
     edges = []
-    for edge in sorted(graph.edges(), key=lambda e: (e.src, e.dst, e.type)):
-        item = {"from": graph.node(edge.src).name, "to": graph.node(edge.dst).name, "type": edge.type,
-                "attrs": edge.attrs}
+    for edge in sorted(graph.edges(), key=attrgetter("key")):
+        item = {"from": names[edge.src], "to": names[edge.dst], "type": edge.type, "attrs": edge.attrs}
         if edge.rt is not None:
             item["rt"] = rigid.to_json(edge.rt)
         if with_versions:

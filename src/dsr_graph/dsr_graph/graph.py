@@ -492,7 +492,8 @@ class Graph:
             self._update_root(edge.src)
             self._update_root(edge.dst)
             self._invalidate_poses(edge.dst)
-        self._record(lambda: self._unlink_edge(edge))
+        if self._undo is not None:
+            self._undo.append(lambda: self._unlink_edge(edge))
 
     def _remove_edge(self, edge: Edge) -> None:
         if edge.type == RT:
@@ -528,17 +529,19 @@ class Graph:
     def restore(self, nodes: Sequence[Mapping[str, Any]], edges: Sequence[Mapping[str, Any]]) -> None:
         """Load a snapshot written by a DSR server, which only ever holds a valid graph, without
         checking each element again (a late joiner of a 100k-node graph would spend seconds on
-        it). The indexes are built by the same primitives as every other change."""
+        it). The attribute dicts of the freshly parsed document are taken over, not copied; the
+        indexes are built by the same primitive as every other change."""
+        ids = self._ids
         for n in nodes:
-            node = Node(n["id"], n["name"], n["type"], dict(n.get("attrs") or {}), n.get("version", 1))
+            node = Node(n["id"], n["name"], n["type"], n.get("attrs") or {}, n.get("version", 1))
             self._nodes[node.id] = node
-            self._ids[node.name] = node.id
-            self._next_id = max(self._next_id, node.id + 1)
+            ids[node.name] = node.id
+        if self._nodes:
+            self._next_id = max(self._next_id, max(self._nodes) + 1)
         for e in edges:
             rt = e.get("rt")
             matrix = np.array(rt["matrix"], dtype=float) if rt is not None else None
-            self._add_edge(Edge(self._ids[e["from"]], self._ids[e["to"]], e["type"], dict(e.get("attrs") or {}),
-                                matrix, e.get("version", 1)))
+            self._add_edge(Edge(ids[e["from"]], ids[e["to"]], e["type"], e.get("attrs") or {}, matrix, e.get("version", 1)))
 
     # ------------------------------------------------------------------ versions (snapshots)
     def restore_versions(self, node_versions: Mapping[int, int], edge_versions: Mapping[EdgeKey, int]) -> None:
