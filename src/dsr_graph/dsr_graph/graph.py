@@ -139,10 +139,6 @@ class Graph:
     def edge_count(self) -> int:
         return len(self._edges)
 
-    def describe_node(self, node_id: int) -> str:
-        node = self._nodes.get(node_id)
-        return f"node {node.name!r}" if node else f"node #{node_id}"
-
     def describe_edge(self, src: int, dst: int, type: str) -> str:
         def name(i: int) -> str:
             n = self._nodes.get(i)
@@ -168,11 +164,6 @@ class Graph:
         """A node is geometric when an RT edge touches it (it is part of the kinematic tree)."""
         node_id = self.node(ref).id
         return node_id in self._rt_parent or bool(self._rt_children.get(node_id))
-
-    def pose_in_root(self, ref: NodeRef) -> np.ndarray:
-        """The node's pose in the root's frame (cached; cache entries die with any RT change above)."""
-        node_id = self._geometric_id(ref)
-        return self._pose(node_id).copy()
 
     def transform(self, frm: NodeRef, to: NodeRef) -> np.ndarray:
         """The kinematic chain C(frm, to): a 4x4 matrix mapping coordinates in frame ``to`` into

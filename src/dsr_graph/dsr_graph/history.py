@@ -27,6 +27,7 @@ class History:
         self._checkpoints: List[int] = []  # seqs, ascending
         self._snapshots: Dict[int, str] = {}  # seq -> snapshot JSON text
         self.deltas: List[Dict[str, Any]] = []  # consecutive runs after checkpoints
+        self._seqs: List[int] = []  # the deltas' seqs, for bisecting without rebuilding a list
 
     def reset(self, snapshot: Dict[str, Any]) -> None:
         """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint."""
@@ -39,6 +40,7 @@ class History:
         apply_ops(self.graph, delta["ops"])
         self.seq = delta["seq"]
         self.deltas.append(delta)
+        self._seqs.append(delta["seq"])
         if len(self.deltas) > MAX_DELTAS:
             self._forget()
         if self.seq - self._checkpoints[-1] >= CHECKPOINT_EVERY:
@@ -55,7 +57,7 @@ class History:
             return self.graph
         base = self._checkpoints[bisect.bisect_right(self._checkpoints, seq) - 1]
         graph, _ = dsr_format.snapshot_from_json(json.loads(self._snapshots[base]), self.vocabulary, trusted=True)
-        start = bisect.bisect_right([d["seq"] for d in self.deltas], base)
+        start = bisect.bisect_right(self._seqs, base)
         for delta in self.deltas[start:]:
             if delta["seq"] > seq:
                 break
@@ -63,10 +65,12 @@ class History:
                 raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
             apply_ops(graph, delta["ops"])
             base = delta["seq"]
+        if base != seq:  # the deltas stop short of seq: it lies in a gap
+            raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
         return graph
 
     def since(self, seq: int, limit: int = 1000) -> List[Dict[str, Any]]:
-        start = bisect.bisect_right([d["seq"] for d in self.deltas], seq)
+        start = bisect.bisect_right(self._seqs, seq)
         return self.deltas[start:start + limit]
 
     def _checkpoint(self, text: str) -> None:
@@ -82,3 +86,4 @@ class History:
                 del self._snapshots[s]
         self._checkpoints = keep
         self.deltas = [d for d in self.deltas if d["seq"] > keep[0]]
+        self._seqs = [d["seq"] for d in self.deltas]

@@ -210,8 +210,8 @@ class DsrServer(Node):
         if not holders:
             self._missing_since.clear()
             return []
-        live = {(ns.rstrip("/") + "/" + name) for name, ns in self.get_node_names_and_namespaces()}
-        live |= {name for name, _ in self.get_node_names_and_namespaces()}
+        graph = self.get_node_names_and_namespaces()  # one query of the ROS graph per heartbeat
+        live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {name for name, _ in graph}
         gone = []
         for agent in holders:
             if agent in live:
