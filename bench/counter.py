@@ -8,9 +8,9 @@ import time
 
 from std_msgs.msg import String
 
-from dsr_graph.agent import DsrAgent
-from dsr_graph.qos import qos_stream
-from dsr_graph.ros_session import RosSession
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.session import RosSession
 
 
 def main() -> int:

@@ -7,7 +7,7 @@ import rclpy
 from rclpy.executors import ExternalShutdownException
 from std_msgs.msg import String
 
-from dsr_graph.qos import qos_stream
+from dsr_graph.ros.qos import qos_stream
 
 
 def main() -> int:

@@ -28,12 +28,13 @@ from typing import Any, Dict, List
 import numpy as np
 from std_msgs.msg import String
 
-from dsr_graph import dsr_format, rigid
-from dsr_graph.agent import DsrAgent
-from dsr_graph.graph import Graph
-from dsr_graph.qos import qos_stream
-from dsr_graph.ros_session import RosSession
-from dsr_graph.transaction import apply_ops
+from dsr_graph.formats import dsr_json
+from dsr_graph.model import rigid
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.model.graph import Graph
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.session import RosSession
+from dsr_graph.model.transaction import apply_ops
 
 ROOT = Path(__file__).resolve().parent.parent
 HERE = Path(__file__).resolve().parent
@@ -298,7 +299,7 @@ def bench_scale(work: Path, domain: int, sizes: List[int], ops: int) -> Dict[str
                 apply_ops(g, [{"op": "insert_edge", "from": a, "to": b, "type": "is"}])
                 apply_ops(g, [{"op": "delete_edge", "from": a, "to": b, "type": "is"}])
         edge_us = (time.perf_counter() - t) / ops * 1e6
-        snapshot = dsr_format.to_json(g, "snapshot", seq=0)
+        snapshot = dsr_json.to_json(g, "snapshot", seq=0)
         text = json.dumps(snapshot, separators=(",", ":"))
         world = work / f"world_{n}.json"
         world.write_text(text)

@@ -55,7 +55,7 @@ source "$root/scripts/env.sh"
 
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2
-[ -n "$db" ] || db=$(python -c 'from clarc_sim.results_store import default_db; print(default_db())')
+[ -n "$db" ] || db=$(python -c 'from clarc_sim.hospital.results_store import default_db; print(default_db())')
 
 # Results CGAmed has not acknowledged wait in an outbox of their own store, sent again next time.
 outbox="$root/var/pelea_outbox/$(printf '%s' "$db" | sha1sum | cut -c1-12)"

@@ -3,7 +3,7 @@ graph's incremental bookkeeping), for tests."""
 
 import numpy as np
 
-from dsr_graph.values import coerce
+from dsr_graph.model.values import coerce
 
 RT = "RT"
 

@@ -11,7 +11,7 @@ import subprocess
 import time
 from pathlib import Path
 
-from dsr_graph.ros_session import RosSession
+from dsr_graph.ros.session import RosSession
 
 _next = itertools.count()
 
@@ -113,7 +113,7 @@ def new_session(domain_id, name="test_client"):
 
 def agent_in_session(ros, timeout=15):
     """A DsrAgent in the test's own ROS session, synced and matched both ways."""
-    from dsr_graph.agent import DsrAgent
+    from dsr_graph.ros.agent import DsrAgent
 
     agent = DsrAgent()
     agent.setup(ros.session.node, timeout_sec=timeout)

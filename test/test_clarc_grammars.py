@@ -4,21 +4,20 @@ from pathlib import Path
 
 import pytest
 
-from clarc_agents.agent_node import grammar_path
+from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea import high_to_low
-from clarc_agents.sentences import ask, sit_down
+from clarc_agents.barthel.sentences import ask, sit_down
 from dsr_graph.exceptions import TransactionRejected
-from dsr_graph.grammar import GrammarEngine
-from dsr_graph.rule_agent import load_grammar_file
-from dsr_graph.transaction import apply_ops
-from dsr_graph.worldfile import read_world
+from dsr_graph.rules.engine import GrammarEngine
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.formats.world_files import read_world
 
 ROOM = Path(__file__).resolve().parent.parent / "worlds" / "clarc_room.json"
 POSE = {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
 
 
 def engine(name):
-    return GrammarEngine(load_grammar_file(grammar_path(name)))
+    return GrammarEngine(load_grammar(name))
 
 
 def run(graph, tx):

@@ -3,7 +3,7 @@ the start and from each kind of deviation."""
 
 import pytest
 
-from clarc_agents.barthel import ORDER
+from clarc_agents.barthel.items import ORDER
 from clarc_agents.pelea import monitoring
 from clarc_agents.pelea.decision_support import NoPlan, initial_state, plan
 

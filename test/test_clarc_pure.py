@@ -5,11 +5,13 @@ import sqlite3
 
 import pytest
 
-from clarc_agents.answers import understand
-from clarc_agents.barthel import BY_KEY, ITEMS, MAX_TOTAL, ORDER, BarthelRecord, band
-from clarc_sim.patient_script import ASK, GARBLED, PatientScript
-from clarc_sim.results_store import InvalidResult, ResultsStore
-from clarc_sim.scenario import ScenarioError, parse
+from clarc_agents.barthel.answers import understand
+from clarc_agents.barthel.items import BY_KEY, ITEMS, MAX_TOTAL, ORDER, band
+from clarc_agents.barthel.record import BarthelRecord
+from clarc_sim.patient.script import ASK, GARBLED, PatientScript
+from clarc_agents.exceptions import InvalidResult, ScenarioError
+from clarc_sim.hospital.results_store import ResultsStore
+from clarc_sim.patient.scenario import parse
 
 
 def test_barthel_items_and_points_follow_mahoney_and_barthel():

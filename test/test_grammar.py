@@ -4,9 +4,12 @@ of the during write, and the engine's once-per bookkeeping (Algorithm 2 without 
 import pytest
 
 from dsr_graph.exceptions import TransactionRejected
-from dsr_graph.grammar import GrammarEngine, GrammarError, Rule, load_rules, match
-from dsr_graph.graph import Graph
-from dsr_graph.transaction import apply_ops
+from dsr_graph.exceptions import GrammarError
+from dsr_graph.rules.engine import GrammarEngine
+from dsr_graph.rules.matching import match
+from dsr_graph.rules.syntax import Rule, load_rules
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
 
 SPEECH = [
     {"name": "start_speaking",

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from dsr_graph.exceptions import LookupFailed, RuleViolation
-from dsr_graph.graph import Graph
-from dsr_graph.vocabulary import Vocabulary
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.vocabulary import Vocabulary
 from invariants import assert_invariants
 
 IDENTITY = {"matrix": np.eye(4).tolist()}

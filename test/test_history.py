@@ -4,10 +4,12 @@ import json
 
 import pytest
 
-from dsr_graph import dsr_format, history
-from dsr_graph.graph import Graph
-from dsr_graph.history import History, SeqUnavailable
-from dsr_graph.server_core import ServerCore
+from dsr_graph.formats import dsr_json
+from dsr_graph.protocol import history
+from dsr_graph.model.graph import Graph
+from dsr_graph.exceptions import SeqUnavailable
+from dsr_graph.protocol.history import History
+from dsr_graph.protocol.server_core import ServerCore
 
 
 def deltas(n):
@@ -40,7 +42,7 @@ def test_a_gap_after_a_resync_is_refused_not_guessed():
     h.add(ds[0])
     with pytest.raises(SeqUnavailable):
         h.add(ds[2])  # seq 2 never came
-    later, _ = dsr_format.snapshot_from_json(json.loads(json.dumps(start)))  # build the state at seq 4
+    later, _ = dsr_json.snapshot_from_json(json.loads(json.dumps(start)))  # build the state at seq 4
     core = ServerCore(later)
     for d in ds[:4]:
         core.replay(d)

@@ -7,9 +7,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dsr_graph import rigid
-from dsr_graph.graph import Graph
-from dsr_graph.transaction import apply_ops
+from dsr_graph.model import rigid
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
 
 
 def pose(translation, euler=(0, 0, 0)):
@@ -67,7 +67,7 @@ def test_the_cache_follows_moves():
 
 def test_describe_gives_matrix_translation_and_a_unit_quaternion():
     m = rigid.from_translation_euler([1, 2, 3], [0, 0, math.pi])
-    d = rigid.describe(m)
+    d = rigid.pose_json(m)
     assert d["translation"] == [1.0, 2.0, 3.0]
     w, x, y, z = d["quaternion_wxyz"]
     assert w >= 0 and math.isclose(w * w + x * x + y * y + z * z, 1.0)

@@ -6,10 +6,10 @@ import json
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dsr_graph import dsr_format
+from dsr_graph.formats import dsr_json
 from dsr_graph.exceptions import TransactionRejected
-from dsr_graph.graph import Graph
-from dsr_graph.transaction import apply_ops, apply_transaction
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops, apply_transaction
 from invariants import assert_invariants
 
 NAMES = [f"n{i}" for i in range(6)]
@@ -47,7 +47,7 @@ transaction = st.builds(lambda ops, pre: {"ops": ops, "preconditions": pre},
 
 
 def snapshot(graph):
-    return json.dumps(dsr_format.to_json(graph, "snapshot"), sort_keys=True)
+    return json.dumps(dsr_json.to_json(graph, "snapshot"), sort_keys=True)
 
 
 @settings(max_examples=300, deadline=None)
@@ -80,9 +80,9 @@ def test_snapshots_round_trip(transactions):
         except TransactionRejected:
             pass
     doc = json.loads(snapshot(g))
-    restored, seq = dsr_format.snapshot_from_json(doc)
+    restored, seq = dsr_json.snapshot_from_json(doc)
     assert snapshot(restored) == snapshot(g)
-    trusted, _ = dsr_format.snapshot_from_json(json.loads(snapshot(g)), trusted=True)  # a replica's fast path
+    trusted, _ = dsr_json.snapshot_from_json(json.loads(snapshot(g)), trusted=True)  # a replica's fast path
     assert snapshot(trusted) == snapshot(g)
     assert_invariants(trusted)
     if g.rt_root() is not None:  # its indexes work: the kinematic chain and the root

@@ -4,11 +4,12 @@ import json
 
 import pytest
 
-from dsr_graph import dsr_format
-from dsr_graph.graph import Graph
-from dsr_graph.replica import Replica
-from dsr_graph.server_core import ServerCore
-from dsr_graph.state_store import CorruptState, StateDirLocked, StateStore
+from dsr_graph.formats import dsr_json
+from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.replica import Replica
+from dsr_graph.protocol.server_core import ServerCore
+from dsr_graph.exceptions import CorruptState, StateDirLocked
+from dsr_graph.formats.state_store import StateStore
 
 
 def make_deltas(n):
@@ -46,7 +47,7 @@ def test_snapshot_then_newer_buffered_deltas():
     for d in deltas:  # all arrive before the snapshot answer
         r.receive(d)
     assert [d["seq"] for d in r.load_snapshot(mid.snapshot())] == [4, 5]
-    mine = dsr_format.to_json(r.graph, "snapshot", seq=r.seq)
+    mine = dsr_json.to_json(r.graph, "snapshot", seq=r.seq)
     mine["claims"] = r.claims.to_json()
     assert json.dumps(mine, sort_keys=True) == json.dumps(server.snapshot(), sort_keys=True)
 

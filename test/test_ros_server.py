@@ -10,10 +10,10 @@ import numpy as np
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
-from dsr_graph import dsr_format
-from dsr_graph.agent import DsrAgent
-from dsr_graph.qos import qos_latched, qos_stream
-from dsr_graph.worldfile import read_world
+from dsr_graph.formats import dsr_json
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.formats.world_files import read_world
 from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
 
 
@@ -97,7 +97,7 @@ def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
     wait_for(lambda: agent.replica.seq >= 150, 20, "150 deltas", ros.session)
     # one total order: every replica applies consecutive seqs, never out of order or twice
     assert seen == list(range(seen[0], seen[0] + len(seen))) and seen[-1] == 150
-    mine = dsr_format.to_json(agent.graph, "snapshot", seq=agent.replica.seq)
+    mine = dsr_json.to_json(agent.graph, "snapshot", seq=agent.replica.seq)
     server = snapshot_via(ros.session)
     server.pop("claims")
     assert canonical(mine) == canonical(server) and len(agent.graph) == 150
@@ -114,7 +114,7 @@ def test_late_joiner_gets_the_same_graph(ros, cortex_dir):
     wait_for(lambda: late.replica.synced, 10, "the late joiner's snapshot", ros.session)
     send_and_wait(ros, early, {"ops": [{"op": "insert_node", "name": "after", "type": "transform"}]})
     wait_for(lambda: "after" in late.graph, 10, "the late joiner to follow", ros.session)
-    assert canonical(dsr_format.to_json(late.graph, "snapshot")) == canonical(dsr_format.to_json(early.graph, "snapshot"))
+    assert canonical(dsr_json.to_json(late.graph, "snapshot")) == canonical(dsr_json.to_json(early.graph, "snapshot"))
     assert np.allclose(late.graph.transform("world", "Wall2")[:3, 3], [19, 0, 0])
 
 
@@ -171,7 +171,7 @@ def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
         t = world.transform(parent, name)
         p, q = msg.pose.position, msg.pose.orientation
         assert np.allclose([p.x, p.y, p.z], t[:3, 3])
-        from dsr_graph.rigid import from_translation_quaternion
+        from dsr_graph.model.rigid import from_translation_quaternion
         assert np.allclose(from_translation_quaternion([p.x, p.y, p.z], [q.w, q.x, q.y, q.z]), t, atol=1e-9)
     agent = agent_in_session(ros)
     poses.clear()

@@ -4,9 +4,9 @@ import json
 
 import pytest
 
-from dsr_graph.graph import Graph
-from dsr_graph.server_core import Rejection, ServerCore
-from dsr_graph.transaction import apply_ops
+from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.server_core import Rejection, ServerCore
+from dsr_graph.model.transaction import apply_ops
 
 
 def core():

@@ -6,10 +6,10 @@ import json
 
 import pytest
 
-from dsr_graph import dsr_format
+from dsr_graph.formats import dsr_json
 from dsr_graph.exceptions import TransactionRejected
-from dsr_graph.graph import Graph
-from dsr_graph.transaction import apply_ops, apply_transaction, parse_transaction
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops, apply_transaction, parse_transaction
 from invariants import assert_invariants
 
 
@@ -17,7 +17,7 @@ IDENTITY = [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
 
 
 def state(graph):
-    return json.dumps(dsr_format.to_json(graph, "snapshot"), sort_keys=True)
+    return json.dumps(dsr_json.to_json(graph, "snapshot"), sort_keys=True)
 
 
 @pytest.fixture

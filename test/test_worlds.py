@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from dsr_graph import cortex
+from dsr_graph.formats import cortex
 from dsr_graph.exceptions import WorldLoadError
-from dsr_graph.worldfile import parse_world, read_world, world_document
+from dsr_graph.formats.world_files import parse_world, read_world, world_document
 from invariants import assert_invariants
 
 EXPECTED = {  # file -> the violations a careful reader finds in it

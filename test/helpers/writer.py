@@ -4,8 +4,8 @@ was answered (accepted or not), printing how many were accepted. Usage: writer.p
 import sys
 
 
-from dsr_graph.agent import DsrAgent
-from dsr_graph.ros_session import RosSession
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.session import RosSession
 
 
 def main() -> int:

@@ -1,4 +1,6 @@
-"""Typed errors of the DSR graph. Every rejection names the element and the rule it broke."""
+"""Every error of dsr_graph, in one place. Each derives from ``DsrError`` (so does every error of
+the CLARC packages, in ``clarc_agents.exceptions``): a node's main turns any of them into one
+fatal line and exit code 1. A rejection names the element and the rule it broke."""
 
 from __future__ import annotations
 
@@ -65,3 +67,27 @@ class LookupFailed(DsrError):
 
 class TimedOutError(DsrError):
     """Something this process waits for (the server, a snapshot, an answer) did not come in time."""
+
+
+class GrammarError(DsrError):
+    """A rule is malformed; the message names the rule and the part."""
+
+
+class NotRigidError(DsrError, ValueError):
+    """The matrix or pose description is not a rigid transform; the message says why."""
+
+
+class ValueTypeError(DsrError, ValueError):
+    """A value does not fit its declared attribute type."""
+
+
+class SeqUnavailable(DsrError, LookupError):
+    """The graph at that seq is not in the history (before the viewer started, or in a gap)."""
+
+
+class StateDirLocked(DsrError):
+    """Another server holds this state directory."""
+
+
+class CorruptState(DsrError):
+    """The stored state cannot be read back consistently; the message says where."""

@@ -14,7 +14,8 @@ from pyperplan import grounding, search
 from pyperplan.heuristics.relaxation import hFFHeuristic
 from pyperplan.pddl.parser import Parser
 
-from ..barthel import ORDER
+from clarc_agents.barthel.items import ORDER
+from clarc_agents.exceptions import NoPlan
 
 Fact = str  # "(current feeding)"
 
@@ -34,9 +35,6 @@ class Step:
     def apply(self, state: FrozenSet[Fact]) -> FrozenSet[Fact]:
         return (state - self.delete) | self.add
 
-
-class NoPlan(RuntimeError):
-    """The planner proved the goal unreachable from this state."""
 
 
 def domain_path() -> str:

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from typing import Any, Dict, List, Optional
 
-from dsr_graph.graph import Graph
+from dsr_graph.model.graph import Graph
 
-from ..barthel import ORDER
-from ..sentences import Sentence
+from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.sentences import Sentence
 
 
 def _reset_channel(graph: Graph, channel: str) -> List[Dict[str, Any]]:

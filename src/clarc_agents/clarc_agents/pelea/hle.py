@@ -11,19 +11,18 @@ as facts (Monitoring) and plan again from there.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, FrozenSet, List, Optional, Protocol
+from typing import Any, Callable, Dict, FrozenSet, List, Optional, Protocol, Union
 
-from dsr_graph.graph import Graph
+from dsr_graph.model.graph import Graph
 
-from .. import sentences
-from ..barthel import ORDER, BarthelRecord
-from . import decision_support, high_to_low, low_to_high, monitoring
-from .decision_support import Step
+from clarc_agents.barthel import sentences
+from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.record import BarthelRecord
+from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
+from clarc_agents.pelea.decision_support import Step
 
 # Actions that must not be broken off when the person leaves: the test is over by then.
 CLOSING = ("say-goodbye", "store-result")
-SENTENCE_STEPS = ("ask-to-sit", "greet", "explain", "introduce", "describe-options", "ask", "options-again",
-                  "clarify", "call-clinician", "say-goodbye")
 
 
 @dataclass
@@ -41,6 +40,34 @@ class Times:
 
     def sentence_timeout(self, text: str) -> float:
         return self(3 * len(text.split()) / self.words_per_second + self.sentence_slack) + 2.0
+
+
+# ------------------------------------------------------------------ what a step waits for
+@dataclass(frozen=True)
+class SentenceWait:
+    """Speech and Panel both finished sentence ``sid``."""
+
+    sid: int
+    token: int
+
+
+@dataclass(frozen=True)
+class PersonWait:
+    """The person is in front of the robot again."""
+
+    token: int
+
+
+@dataclass(frozen=True)
+class AnswerWait:
+    """An answer (or a failed answer window) for ``item``, in its first or second ``window``."""
+
+    item: str
+    window: int
+    token: int
+
+
+Wait = Union[SentenceWait, PersonWait, AnswerWait]
 
 
 class Timer(Protocol):
@@ -67,10 +94,8 @@ class HighLevelExecutive:
         self.state: FrozenSet[str] = frozenset()
         self.plan: List[Step] = []
         self.current: Optional[Step] = None
-        self.windows: Dict[str, int] = {}
-        self.replans = 0
         self._token = 0  # identifies the step in progress; stale callbacks compare it
-        self._wait: Optional[tuple] = None  # what the current step waits for in the graph
+        self._wait: Optional[Wait] = None  # what the current step waits for in the graph
         self._timer: Optional[Timer] = None
         self._pending_say: Optional[sentences.Sentence] = None
         self._say_in_flight = False
@@ -84,7 +109,6 @@ class HighLevelExecutive:
         self.graph = graph
         self.running = True
         self.record = BarthelRecord(patient, self.port.now())
-        self.windows = {}
         self.state = decision_support.initial_state(low_to_high.person_present(graph))
         self.port.event(event="started", patient=patient)
         self.port.send(high_to_low.start_test(graph, patient, self.record.started))
@@ -111,7 +135,6 @@ class HighLevelExecutive:
             self.port.event(event="error", message=str(e))
             self.running = False
             return
-        self.replans += 1
         self.port.event(event="plan", reason=reason, steps=len(self.plan), first=str(self.plan[0]) if self.plan else "")
         self._next()
 
@@ -123,7 +146,13 @@ class HighLevelExecutive:
         self.current = step
         self._token += 1
         self.port.event(event="step", step=str(step))
-        getattr(self, "_do_" + step.name.replace("-", "_"))(step, *step.args)
+        handler = self.ACTIONS.get(step.name)
+        if handler is None:  # a domain with an action this executive cannot carry out
+            self.log.error(f"no handler for the plan's action {step}")
+            self.port.event(event="error", message=f"PELEA cannot carry out {step}")
+            self.running = False
+            return
+        handler(self, step, *step.args)
 
     def _complete(self, token: int, state: Optional[FrozenSet[str]] = None) -> None:
         """The step with ``token`` ended: as planned (``state`` None) or with a deviation."""
@@ -163,16 +192,14 @@ class HighLevelExecutive:
 
     # ------------------------------------------------------------------ waiting on the graph
     def _check_wait(self, graph: Graph) -> None:
-        if self._wait is None:
-            return
-        kind, token = self._wait[0], self._wait[-1]
-        if kind == "sentence" and low_to_high.sentence_done(graph, self._wait[1]):
-            self._complete(token)
-        elif kind == "person" and low_to_high.person_present(graph):
+        wait = self._wait
+        if isinstance(wait, SentenceWait) and low_to_high.sentence_done(graph, wait.sid):
+            self._complete(wait.token)
+        elif isinstance(wait, PersonWait) and low_to_high.person_present(graph):
             self.port.event(event="person_back")
-            self._complete(token)
-        elif kind == "answer":
-            self._on_answer(graph, self._wait[1], self._wait[2], token)
+            self._complete(wait.token)
+        elif isinstance(wait, AnswerWait):
+            self._on_answer(graph, wait)
 
     def _watch_person(self, graph: Graph) -> None:
         present = low_to_high.person_present(graph)
@@ -183,7 +210,7 @@ class HighLevelExecutive:
             if self.current is not None and self.current.name in CLOSING:
                 self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
                 return
-            if self._wait is not None and self._wait[0] == "answer":
+            if isinstance(self._wait, AnswerWait):
                 close = high_to_low.close_answer(graph)
                 if close is not None:
                     self.port.send(close)
@@ -221,7 +248,7 @@ class HighLevelExecutive:
                     self._write_sentence()
                 return
             self._pending_say = None
-            self._wait = ("sentence", sid, token)
+            self._wait = SentenceWait(sid, token)
             self._timer = self.port.after(self.times.sentence_timeout(sentence.text),
                                           lambda: self._sentence_timed_out(token, sentence.text))
             self._check_wait(self.graph)
@@ -234,40 +261,40 @@ class HighLevelExecutive:
             self.port.event(event="warning", message=f"sentence not finished in time: {text}")
             self._complete(token)
 
-    # ------------------------------------------------------------------ the actions
-    def _do_ask_to_sit(self, step: Step) -> None:
+    # ------------------------------------------------------------------ the actions of the plan
+    def _ask_to_sit(self, step: Step) -> None:
         self._say(sentences.sit_down())
 
-    def _do_wait_for_person(self, step: Step) -> None:
-        self._wait = ("person", self._token)
+    def _wait_for_person(self, step: Step) -> None:
+        self._wait = PersonWait(self._token)
         self._check_wait(self.graph)
 
-    def _do_greet(self, step: Step) -> None:
+    def _greet(self, step: Step) -> None:
         self._say(sentences.greet(self.record.patient))
 
-    def _do_explain(self, step: Step) -> None:
+    def _explain(self, step: Step) -> None:
         self._say(sentences.explain())
 
-    def _do_introduce(self, step: Step, item: str) -> None:
+    def _introduce(self, step: Step, item: str) -> None:
         self.port.event(event="item", item=item, position=ORDER.index(item) + 1)
         self._say(sentences.introduce(item))
 
-    def _do_describe_options(self, step: Step, item: str) -> None:
+    def _describe_options(self, step: Step, item: str) -> None:
         self._say(sentences.describe_options(item))
 
-    def _do_ask(self, step: Step, item: str) -> None:
+    def _ask(self, step: Step, item: str) -> None:
         self._say(sentences.ask(item))
 
-    def _do_options_again(self, step: Step, item: str) -> None:
+    def _options_again(self, step: Step, item: str) -> None:
         self._say(sentences.options_again(item))
 
-    def _do_clarify(self, step: Step, item: str) -> None:
+    def _clarify(self, step: Step, item: str) -> None:
         self._say(sentences.clarify(item))
 
-    def _do_await_answer(self, step: Step, item: str) -> None:
+    def _await_answer(self, step: Step, item: str) -> None:
         self._open_window(item, 1)
 
-    def _do_await_answer_again(self, step: Step, item: str) -> None:
+    def _await_answer_again(self, step: Step, item: str) -> None:
         self._open_window(item, 2)
 
     def _open_window(self, item: str, window: int) -> None:
@@ -283,13 +310,14 @@ class HighLevelExecutive:
             if not r.accepted:  # the person left at this very moment: _watch_person replans
                 self.log.info(f"could not open the answer window: {r.error}")
                 return
-            self._wait = ("answer", item, window, token)
+            self._wait = AnswerWait(item, window, token)
             self._timer = self.port.after(self.times(self.times.answer_timeout), lambda: self._answer_timed_out(item, window, token))
             self._check_wait(self.graph)
 
         self.port.send(high_to_low.open_answer(item), opened)
 
-    def _on_answer(self, graph: Graph, item: str, window: int, token: int) -> None:
+    def _on_answer(self, graph: Graph, wait: AnswerWait) -> None:
+        item, window, token = wait.item, wait.window, wait.token
         answer = low_to_high.answer(graph)
         if answer is None:
             return
@@ -320,17 +348,17 @@ class HighLevelExecutive:
 
         self.port.send(close, closed)
 
-    def _do_skip_item(self, step: Step, item: str) -> None:
+    def _skip_item(self, step: Step, item: str) -> None:
         self.record.give_up(item)
         self.port.send(high_to_low.record_item(item, self.record.items[item].attempts))
         self.port.event(event="unanswered", item=item)
         self._complete(self._token)
 
-    def _do_next_item(self, step: Step, item: str, following: str) -> None:
+    def _next_item(self, step: Step, item: str, following: str) -> None:
         self.port.send(high_to_low.current_item(following))
         self._complete(self._token)
 
-    def _do_call_clinician(self, step: Step) -> None:
+    def _call_clinician(self, step: Step) -> None:
         self.record.clinician_called = True
         unanswered = ", ".join(self.record.unanswered)
         self.port.notify_clinician(f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
@@ -341,10 +369,10 @@ class HighLevelExecutive:
             self.port.send(tx)
         self._say(sentences.call_clinician())
 
-    def _do_say_goodbye(self, step: Step, item: str) -> None:
+    def _say_goodbye(self, step: Step, item: str) -> None:
         self._say(sentences.goodbye(self.record.patient))
 
-    def _do_store_result(self, step: Step) -> None:
+    def _store_result(self, step: Step) -> None:
         token = self._token
         self.record.finished = self.port.now()
         result = self.record.to_json()
@@ -361,3 +389,23 @@ class HighLevelExecutive:
             self._complete(token)
 
         self.port.store_result(result, stored)
+
+    # The plan's actions, each with its handler; a test checks it against the PDDL domain.
+    ACTIONS: Dict[str, Callable[..., None]] = {
+        "ask-to-sit": _ask_to_sit,
+        "wait-for-person": _wait_for_person,
+        "greet": _greet,
+        "explain": _explain,
+        "introduce": _introduce,
+        "describe-options": _describe_options,
+        "ask": _ask,
+        "options-again": _options_again,
+        "clarify": _clarify,
+        "await-answer": _await_answer,
+        "await-answer-again": _await_answer_again,
+        "skip-item": _skip_item,
+        "next-item": _next_item,
+        "call-clinician": _call_clinician,
+        "say-goodbye": _say_goodbye,
+        "store-result": _store_result,
+    }

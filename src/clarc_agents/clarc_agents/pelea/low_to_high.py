@@ -8,8 +8,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Dict, Optional
 
-from dsr_graph.grammar import Pattern, match
-from dsr_graph.graph import Graph
+from dsr_graph.rules.matching import match
+from dsr_graph.rules.syntax import Pattern
+from dsr_graph.model.graph import Graph
 
 PATTERNS = {
     "person_present": [Pattern("edge", "person", "robot", "is_with")],

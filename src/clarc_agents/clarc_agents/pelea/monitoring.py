@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import FrozenSet, Iterable
 
-from .decision_support import Fact
+from clarc_agents.pelea.decision_support import Fact
 
 ITEM_PROGRESS = ("pending", "introduced", "described", "asked", "no-answer", "not-understood",
                  "retry-asked", "failed-again")

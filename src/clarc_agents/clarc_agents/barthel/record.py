@@ -1,0 +1,66 @@
+"""The record of a Barthel test as it runs, item by item, and the result it gives (pure)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional
+
+from clarc_agents.barthel.items import BY_KEY, ORDER, band
+
+
+@dataclass
+class ItemResult:
+    item: str
+    points: Optional[int] = None  # None: unanswered
+    via: Optional[str] = None  # "voice" | "touch" | None
+    attempts: int = 0  # answer windows opened for this item
+    closed: bool = False  # answered, or given up on
+
+    def to_json(self) -> dict:
+        return {"item": self.item, "points": self.points, "via": self.via, "attempts": self.attempts}
+
+
+@dataclass
+class BarthelRecord:
+    """What a Barthel test produced, item by item, as it runs."""
+
+    patient: str
+    started: str
+    items: Dict[str, ItemResult] = field(default_factory=lambda: {k: ItemResult(k) for k in ORDER})
+    finished: Optional[str] = None
+    clinician_called: bool = False
+    person_lost_count: int = 0
+
+    def answer(self, item: str, points: int, via: str) -> None:
+        if BY_KEY[item].option(points) is None:
+            raise ValueError(f"{points} is not an option of {item} ({BY_KEY[item].points})")
+        self.items[item].points = points
+        self.items[item].via = via
+        self.items[item].closed = True
+
+    def give_up(self, item: str) -> None:
+        """The item is closed without an answer."""
+        self.items[item].closed = True
+
+    @property
+    def total(self) -> int:
+        return sum(r.points for r in self.items.values() if r.points is not None)
+
+    @property
+    def unanswered(self) -> List[str]:
+        """Items closed without an answer so far (an item still being asked is not one)."""
+        return [k for k in ORDER if self.items[k].closed and self.items[k].points is None]
+
+    def to_json(self) -> dict:
+        return {
+            "patient": self.patient,
+            "started": self.started,
+            "finished": self.finished,
+            "total": self.total,
+            "band": band(self.total),
+            "items": [self.items[k].to_json() for k in ORDER],
+            "unanswered": [k for k in ORDER if self.items[k].points is None],
+            "clinician_called": self.clinician_called,
+            "person_lost": self.person_lost_count > 0,
+            "person_lost_count": self.person_lost_count,
+        }

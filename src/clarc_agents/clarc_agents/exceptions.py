@@ -1,0 +1,19 @@
+"""Every error of the CLARC packages (agents and stand-ins), in one place. Each derives from
+``dsr_graph.exceptions.DsrError``, the base of every error of the suite, so a node's main turns
+any of them into one fatal line and exit code 1."""
+
+from __future__ import annotations
+
+from dsr_graph.exceptions import DsrError
+
+
+class NoPlan(DsrError):
+    """The planner proved the goal unreachable from this state."""
+
+
+class ScenarioError(DsrError, ValueError):
+    """A scenario file is not usable; the message names the file, the line and what is wrong."""
+
+
+class InvalidResult(DsrError, ValueError):
+    """A result that does not describe a Barthel test; the message says what is wrong."""

@@ -1,0 +1,140 @@
+"""PELEA as a ROS node: the High Level Executive connected to the DSR, the CGAmed start command,
+the clinician's notifications and the results store.
+
+ROS Parameters:
+    time_scale (float): multiplies every time of the flow (default 1.0: a real session).
+    answer_timeout (float): seconds of a real session an answer window stays open (default 8).
+    outbox_dir (str): results not yet acknowledged by CGAmed wait here, so a crash loses none
+        (default $XDG_STATE_HOME/clarc/pelea_outbox).
+    setup_timeout (float): seconds to wait for the DSR server (default 20).
+Subscriptions: clarc/cgamed/start. Publishers: clarc/pelea/events, clarc/cgamed/notify.
+Clients: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics.
+"""
+
+from __future__ import annotations
+
+import json
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any, Callable, Dict
+
+from dsr_graph.formats.default_paths import state_path
+from dsr_graph.formats.world_files import write_json_atomically
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.timers import OneShot
+from dsr_msgs.srv import StoreResult
+from std_msgs.msg import String
+
+from clarc_agents import topics
+from clarc_agents.pelea.hle import HighLevelExecutive, Times
+
+STORE_TIMEOUT = 5.0  # seconds CGAmed may take to acknowledge a result
+
+
+class PeleaNode(DsrNode):
+    def __init__(self):
+        super().__init__("pelea")
+        declare(self, "time_scale", 1.0, "multiplies every time of the flow", read_only=True, minimum=0.0)
+        declare(self, "answer_timeout", 8.0, "seconds of a real session an answer window stays open",
+                read_only=True, minimum=0.0)
+        declare(self, "outbox_dir", state_path("clarc", "pelea_outbox"),
+                "results CGAmed has not acknowledged wait here", read_only=True)
+        declare(self, "setup_timeout", 20.0, "seconds to wait for the DSR server", read_only=True, minimum=0.0)
+        self.dsr = DsrAgent()
+        times = Times(scale=float_param(self, "time_scale"), answer_timeout=float_param(self, "answer_timeout"))
+        self.hle = HighLevelExecutive(self, times, self.get_logger())
+        self.outbox = Path(param(self, "outbox_dir"))
+        self._waiting_start: str | None = None
+
+    def setup(self) -> None:
+        self.outbox.mkdir(parents=True, exist_ok=True)
+        self._events = self.create_publisher(String, topics.PELEA_EVENTS, qos_stream())
+        self._notify = self.create_publisher(String, topics.CGAMED_NOTIFY, qos_stream())
+        self._store = self.create_client(StoreResult, topics.CGAMED_STORE)
+        # Listen for Start before waiting for the server: a Start sent meanwhile is queued.
+        subscribe_json(self, topics.CGAMED_START, self.on_start, qos_stream())
+        self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self.dsr.add_listener(self._on_graph)
+        self.create_timer(2.0, self._flush_outbox)
+        self.get_logger().info("PELEA up: waiting for the clinician's Start")
+
+    def on_start(self, command: Dict[str, Any]) -> None:
+        patient = str(command["patient"]).strip()
+        if not patient:
+            raise ValueError("the patient's name is empty")
+        if not self.dsr.replica.synced:
+            self._waiting_start = patient  # start as soon as the replica is there
+            return
+        self.hle.start(self.dsr.graph, patient)
+
+    def _on_graph(self, deltas, resynced) -> None:
+        if self._waiting_start is not None and self.dsr.replica.synced:
+            patient, self._waiting_start = self._waiting_start, None
+            self.hle.start(self.dsr.graph, patient)
+        self.hle.on_graph(self.dsr.graph)
+
+    # ------------------------------------------------------------------ the HLE's port
+    def send(self, tx: Dict[str, Any], on_done=None) -> None:
+        self.dsr.send(tx, on_done)
+
+    def after(self, seconds: float, callback: Callable[[], None]) -> OneShot:
+        return OneShot(self, seconds, callback)
+
+    def event(self, **fields: Any) -> None:
+        publish_json(self._events, fields)
+
+    def notify_clinician(self, message: str) -> None:
+        publish_json(self._notify, {"message": message})
+
+    def now(self) -> str:
+        return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+
+    def store_result(self, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
+        # Kept on disk until CGAmed acknowledges it: a crash of PELEA or CGAmed loses nothing.
+        path = self.outbox / f"{result['patient']}-{result['started']}.json".replace(":", "").replace("/", "_")
+        write_json_atomically(result, path)
+        self._send_stored(path, result, on_done)
+
+    def _send_stored(self, path: Path, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
+        if not self._store.service_is_ready():
+            on_done(False, "the CGAmed results service is not available")
+            return
+        future = self._store.call_async(StoreResult.Request(result_json=json.dumps(result)))
+        # An unanswered call (CGAmed restarting) is withdrawn and reported, so the HLE retries.
+        watchdog = OneShot(self, STORE_TIMEOUT, lambda: (self._store.remove_pending_request(future),
+                                                          on_done(False, f"no answer within {STORE_TIMEOUT} s")))
+
+        def answered(f) -> None:
+            watchdog.cancel()
+            if f.cancelled():
+                return
+            try:
+                response = f.result()
+            except Exception as e:  # noqa: BLE001 - any failure means: not stored, try again
+                on_done(False, repr(e))
+                return
+            if response.stored:
+                path.unlink(missing_ok=True)
+                self.get_logger().info(f"result stored in CGAmed as test {response.test_id}")
+            on_done(response.stored, response.error)
+
+        future.add_done_callback(answered)
+
+    def _flush_outbox(self) -> None:
+        """Results left by an earlier run (crash before CGAmed answered) are sent again."""
+        if self.hle.running:
+            return
+        for path in sorted(self.outbox.glob("*.json")):
+            try:
+                result = json.loads(path.read_text())
+            except (OSError, ValueError) as e:
+                self.get_logger().error(f"unreadable result in the outbox {path}: {e}")
+                continue
+            self._send_stored(path, result, lambda ok, error: None)
+
+
+main = main_for(PeleaNode)

@@ -1,0 +1,72 @@
+"""The Person agent: turns Kinect frames into the person's presence and face pose in the DSR
+(person node, kinect -RT-> person, person -is_with-> robot). Rules: grammars/person.yaml.
+
+A person counts as seen after ``seen_frames`` frames with a face and as lost after
+``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
+written again only when the face moved more than ``move_mm``.
+
+ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0). Subscriptions:
+clarc/kinect/person. Plus the DSR topics.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from dsr_graph.ros.dsr_node import main_for
+from dsr_graph.ros.json_topics import subscribe_json
+from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.rules.runner import Process
+
+from clarc_agents import topics
+from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+
+
+class PersonAgent(GrammarAgentNode):
+    GRAMMAR = "person"
+
+    def __init__(self):
+        super().__init__("person")
+        declare(self, "seen_frames", 2, "frames with a face before the person counts as seen",
+                minimum=1)
+        declare(self, "lost_frames", 3, "frames without a face before the person counts as lost",
+                minimum=1)
+        declare(self, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
+        self._present_frames = 0
+        self._absent_frames = 0
+        self._last_face: list[float] | None = None
+
+    def processes(self) -> dict[str, Process]:
+        return {}
+
+    def setup(self) -> None:
+        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_stream())
+        super().setup()
+
+    def _with_robot(self) -> bool:
+        return self.dsr.graph.edge("person", "robot", "is_with") is not None
+
+    def on_frame(self, frame: dict[str, Any]) -> None:
+        if not self.dsr.replica.synced:
+            return
+        present = bool(frame["present"])
+        face = [float(v) for v in frame["face"]] if present else None
+        if present:
+            self._present_frames, self._absent_frames = self._present_frames + 1, 0
+            pose = {"translation": face, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+            if not self._with_robot():
+                if self._present_frames >= param(self, "seen_frames"):
+                    self.runner.signal("seen", pose=pose)
+                    self._last_face = face
+            elif self._last_face is None or math.dist(face, self._last_face) > float_param(self, "move_mm"):
+                self.runner.signal("moved", pose=pose)
+                self._last_face = face
+        else:
+            self._absent_frames, self._present_frames = self._absent_frames + 1, 0
+            if self._with_robot() and self._absent_frames >= param(self, "lost_frames"):
+                self.runner.signal("lost")  # a repeat before the replica catches up is refused (CAS)
+
+
+main = main_for(PersonAgent)

@@ -1,0 +1,56 @@
+"""The Speech agent (paper, Algorithm 3): says the sentence PELEA puts on test -is_in->
+test_part through the TTS, stops at once when the person it talks to leaves, and listens for
+answers, mapping recognised words to the item's options. Its rules: grammars/speech.yaml.
+
+Publishers: clarc/speaker/say, clarc/speaker/stop. Subscriptions: clarc/speaker/events,
+clarc/asr. Plus the DSR topics (dsr_graph.ros.agent).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from dsr_graph.ros.dsr_node import main_for
+from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.rules.runner import Process
+from std_msgs.msg import String
+
+from clarc_agents import topics
+from clarc_agents.behaviours.speech import SpeechBehaviour
+from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+
+
+class SpeechAgent(GrammarAgentNode):
+    GRAMMAR = "speech"
+
+    def __init__(self):
+        super().__init__("speech")
+        self.behaviour = SpeechBehaviour(self, self.get_logger())
+
+    def processes(self) -> dict[str, Process]:
+        return self.behaviour.processes()
+
+    def setup(self) -> None:
+        self._say = self.create_publisher(String, topics.SPEAKER_SAY, qos_stream())
+        self._stop = self.create_publisher(String, topics.SPEAKER_STOP, qos_stream())
+        subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
+        subscribe_json(self, topics.ASR, self.on_asr, qos_stream())
+        super().setup()
+        self.dsr.add_listener(lambda deltas, resynced: self.behaviour.on_graph(self.dsr.graph))
+
+    # -- the speaker (Speaker protocol) and the ASR ------------------------------------------
+    def say(self, sid: int, text: str) -> None:
+        publish_json(self._say, {"id": sid, "text": text})
+
+    def stop(self, sid: int) -> None:
+        publish_json(self._stop, {"id": sid})
+
+    def on_speaker(self, event: dict[str, Any]) -> None:
+        self.behaviour.on_speaker(int(event["id"]), str(event.get("event")))
+
+    def on_asr(self, message: dict[str, Any]) -> None:
+        self.behaviour.on_heard(str(message["text"]))
+
+
+main = main_for(SpeechAgent)

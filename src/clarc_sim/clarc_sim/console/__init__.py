@@ -1,0 +1,1 @@
+"""What a user runs around a test: the ``clarc`` command and the launch's monitor."""

@@ -1,0 +1,100 @@
+"""``clarc``: the CLARC command line.
+
+    clarc results [--db PATH] [--json]   the stored Barthel tests (CGAmed's results store)
+    clarc scenario FILE                  check a scenario file and show what the patient will do
+    clarc start PATIENT                  press Start (a running CGAmed-less PELEA hears it)
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from typing import List, Optional
+
+from clarc_agents.barthel.items import ORDER
+
+from clarc_sim.hospital.results_store import ResultsStore, default_db
+from clarc_agents.exceptions import ScenarioError
+from clarc_sim.patient.scenario import load
+
+
+def results(args: argparse.Namespace) -> int:
+    store = ResultsStore(args.db)
+    try:
+        tests = store.tests()
+    finally:
+        store.close()
+    if args.json:
+        print(json.dumps(tests, indent=2))
+        return 0
+    if not tests:
+        print(f"no tests stored in {args.db}")
+    for t in tests:
+        flags = [f for f, on in (("clinician called", t["clinician_called"]), ("person left", t["person_lost"])) if on]
+        print(f"#{t['id']} {t['patient']}  {t['started']}  Barthel {t['total']}/100 ({t['band']})"
+              + (f"  [{', '.join(flags)}]" if flags else ""))
+        for i in t["items"]:
+            got = "unanswered" if i["points"] is None else f"{i['points']:>2} by {i['via']}"
+            print(f"    {i['item']:<11} {got}  ({i['attempts']} tries)")
+    return 0
+
+
+def scenario(args: argparse.Namespace) -> int:
+    try:
+        s = load(args.file)
+    except ScenarioError as e:
+        print(f"clarc: error: {e}", file=sys.stderr)
+        return 1
+    if args.patient:
+        print(s.patient)
+        return 0
+    print(f"patient: {s.patient}")
+    for item in ORDER:
+        p = s.plan(item)
+        what = "silent" if p.via == "silence" else f"{p.answer} points by {p.via}"
+        extra = (f", first try {p.first}" if p.first else "") + (f", leaves for {p.leave} s" if p.leave is not None else "")
+        print(f"  {item:<11} {what}{extra}")
+    return 0
+
+
+def start(args: argparse.Namespace) -> int:
+    from clarc_agents import topics
+    from dsr_graph.ros.qos import qos_stream
+    from dsr_graph.ros.session import RosSession
+    from std_msgs.msg import String
+
+    with RosSession() as ros:
+        pub = ros.node.create_publisher(String, topics.CGAMED_START, qos_stream())
+        try:
+            ros.spin_until(lambda: pub.get_subscription_count() > 0, args.timeout, "PELEA to listen")
+        except Exception as e:  # noqa: BLE001
+            print(f"clarc: error: {e}", file=sys.stderr)
+            return 1
+        pub.publish(String(data=json.dumps({"patient": args.patient})))
+        ros.spin_for(0.5)
+    print(f"Start pressed for {args.patient}")
+    return 0
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    parser = argparse.ArgumentParser(prog="clarc", description="CLARC: the Barthel test robot's tools")
+    sub = parser.add_subparsers(dest="verb", required=True)
+    p = sub.add_parser("results", help="the stored tests")
+    p.add_argument("--db", default=default_db(), help=f"results store (default {default_db()})")
+    p.add_argument("--json", action="store_true", help="a JSON list, one object per test")
+    p.set_defaults(run=results)
+    p = sub.add_parser("scenario", help="check a scenario file")
+    p.add_argument("file")
+    p.add_argument("--patient", action="store_true", help="print only the patient's name")
+    p.set_defaults(run=scenario)
+    p = sub.add_parser("start", help="press Start for a patient")
+    p.add_argument("patient")
+    p.add_argument("--timeout", type=float, default=20.0)
+    p.set_defaults(run=start)
+    args = parser.parse_args(argv)
+    return args.run(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

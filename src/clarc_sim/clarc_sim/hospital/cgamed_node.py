@@ -1,0 +1,117 @@
+"""The CGAmed hospital-server stand-in: the clinician's Start, the results store, the
+clinician's notifications, and the clinician's dashboard in the browser (dashboard_app.py).
+
+ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), start_patient
+(if set, press Start for this patient as soon as PELEA listens), dashboard (true), host
+(127.0.0.1), port (8081). Subscriptions: clarc/cgamed/notify, clarc/pelea/events,
+clarc/speaker/events. Publishers: clarc/cgamed/start, clarc/cgamed/notifications. Services:
+clarc/cgamed/store_result (dsr_msgs/srv/StoreResult).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from clarc_agents import topics
+from clarc_agents.exceptions import InvalidResult
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.parameters import declare, param
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.web_bridge import Bridge
+from dsr_graph.web.events import Broadcaster
+from dsr_msgs.srv import StoreResult
+from std_msgs.msg import String
+
+from clarc_sim.hospital.dashboard_app import TestStatus, make_app
+from clarc_sim.hospital.results_store import ResultsStore, default_db
+
+
+class CgamedStandIn(DsrNode):
+    def __init__(self):
+        super().__init__("cgamed")
+        declare(self, "db", default_db(), "SQLite results store", read_only=True)
+        declare(self, "start_patient", "", "press Start for this patient as soon as PELEA listens",
+                read_only=True)
+        declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
+        declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
+        declare(self, "port", 8081, "dashboard port", read_only=True, minimum=1, maximum=65535)
+        self.status = TestStatus()
+        self.events = Broadcaster()
+        self.store: ResultsStore | None = None
+        self.bridge: Bridge | None = None
+        self._start_for: str | None = None  # a Start pressed before PELEA listens waits here
+
+    def setup(self) -> None:
+        self.store = ResultsStore(param(self, "db"), shared=True)  # used by the ROS thread
+        self.bridge = Bridge(self)
+        self._start = self.create_publisher(String, topics.CGAMED_START, qos_stream())
+        self._notifications = self.create_publisher(String, topics.CGAMED_NOTIFICATIONS, qos_stream())
+        self.create_service(StoreResult, topics.CGAMED_STORE, self.on_store)
+        subscribe_json(self, topics.CGAMED_NOTIFY, self.on_notify, qos_stream())
+        subscribe_json(self, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
+        subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
+        self.create_timer(0.1, self._send_start_when_heard)
+        if param(self, "start_patient"):
+            self.press_start(param(self, "start_patient"))
+        self.get_logger().info(f"results store: {self.store.path}")
+
+    def press_start(self, patient: str) -> None:
+        """The clinician pressed Start (from the dashboard's thread, or at start-up)."""
+        self._start_for = patient
+
+    def _send_start_when_heard(self) -> None:
+        patient = self._start_for
+        if patient is not None and self._start.get_subscription_count() > 0:  # PELEA listens
+            self._start_for = None
+            publish_json(self._start, {"patient": patient})
+            self.get_logger().info(f"Start pressed for {patient}")
+
+    def _tell(self, kind: str, message: str, **extra) -> None:
+        self.store.notify(kind, message)
+        note = {"kind": kind, "message": message, **extra}
+        publish_json(self._notifications, note)
+        self.bridge.to_web(self.events.publish, "notification", note)
+        self.get_logger().info(f"to the clinician: {message}")
+
+    def on_pelea(self, event: dict[str, Any]) -> None:
+        self.bridge.to_web(self._follow, event)
+
+    def _follow(self, event: dict) -> None:  # web thread
+        self.status.follow(event)
+        self.events.publish("pelea", event)
+
+    def on_speaker(self, event: dict[str, Any]) -> None:
+        self.bridge.to_web(self.events.publish, "speaker", event)
+
+    def on_store(self, request: StoreResult.Request, response: StoreResult.Response):
+        try:
+            result = json.loads(request.result_json)
+            response.test_id = self.store.store(result)
+            response.stored = True
+        except (ValueError, InvalidResult) as e:
+            response.stored, response.error = False, f"result refused: {e}"
+            return response
+        self._tell("result_stored", f"The Barthel test of {result['patient']} is stored (test {response.test_id}: "
+                   f"{result['total']}/100, {result['band']} dependency); please validate it.",
+                   test_id=response.test_id, result=result)
+        return response
+
+    def on_notify(self, note: dict[str, Any]) -> None:
+        self._tell("clinician_called", str(note["message"]))
+
+    def run(self) -> int:
+        if not param(self, "dashboard"):
+            return super().run() or 0
+        app = make_app(param(self, "db"), self.status, self.events, self.press_start)
+        served = self.bridge.serve(app, param(self, "host"), param(self, "port"),
+                                   on_ready=lambda url: self.get_logger().info(f"clinician's dashboard on {url}"))
+        return 0 if served else 1
+
+    def close(self) -> None:
+        if self.store is not None:
+            self.store.close()
+
+
+main = main_for(CgamedStandIn)

@@ -1,0 +1,92 @@
+"""The clinician's dashboard (part of the CGAmed stand-in; aiohttp, no ROS): pick a patient and
+press Start, follow the running test, see the results and the history from the results store.
+
+    GET  /                    the page
+    POST /api/start           {"patient": name}: press Start (409 while a test runs)
+    GET  /api/status          {"running", "patient", "item", "position"}
+    GET  /api/results         the stored tests, as `clarc results --json`
+    GET  /api/events          Server-Sent Events: "pelea" (PELEA's events), "speaker" (what CLARC
+                              says), "notification" (what the clinician is told)
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+from typing import Any, Callable, Dict
+
+from aiohttp import web
+from dsr_graph.web.events import Broadcaster
+
+from clarc_sim.hospital.results_store import ResultsStore
+
+WEB = Path(str(resources.files("clarc_sim").joinpath("hospital/web")))
+
+
+class TestStatus:
+    """What the dashboard shows of the test in progress, followed from PELEA's events."""
+
+    def __init__(self) -> None:
+        self.running = False
+        self.patient = ""
+        self.item = ""
+        self.position = 0
+
+    def follow(self, event: Dict[str, Any]) -> None:
+        kind = event.get("event")
+        if kind == "started":
+            self.running, self.patient, self.item, self.position = True, event["patient"], "", 0
+        elif kind == "item":
+            self.item, self.position = event["item"], event["position"]
+        elif kind in ("finished", "error"):
+            self.running = False
+
+    def to_json(self) -> Dict[str, Any]:
+        return {"running": self.running, "patient": self.patient, "item": self.item, "position": self.position}
+
+
+def make_app(db_path: str, status: TestStatus, events: Broadcaster, press_start: Callable[[str], None]) -> web.Application:
+    store: Dict[str, ResultsStore] = {}
+
+    def results() -> list:
+        if "db" not in store:  # this thread's own connection (SQLite connections are per thread)
+            store["db"] = ResultsStore(db_path)
+        return store["db"].tests()
+
+    async def index(request: web.Request) -> web.FileResponse:
+        return web.FileResponse(WEB / "dashboard.html")
+
+    async def start(request: web.Request) -> web.Response:
+        try:
+            patient = str((await request.json())["patient"]).strip()
+        except (ValueError, KeyError, TypeError):
+            raise web.HTTPBadRequest(text='send {"patient": "<name>"}') from None
+        if not patient:
+            raise web.HTTPBadRequest(text="choose a patient first")
+        if status.running:
+            raise web.HTTPConflict(text=f"a test with {status.patient} is running")
+        press_start(patient)
+        return web.json_response({"started": patient})
+
+    async def get_status(request: web.Request) -> web.Response:
+        return web.json_response(status.to_json())
+
+    async def get_results(request: web.Request) -> web.Response:
+        return web.json_response(results())
+
+    async def stream(request: web.Request) -> web.StreamResponse:
+        return await events.stream(request, first=lambda: [("status", status.to_json())])
+
+    async def close(app: web.Application) -> None:
+        if "db" in store:
+            store["db"].close()
+
+    app = web.Application()
+    app.router.add_get("/", index)
+    app.router.add_static("/static/", WEB, show_index=False)
+    app.router.add_post("/api/start", start)
+    app.router.add_get("/api/status", get_status)
+    app.router.add_get("/api/results", get_results)
+    app.router.add_get("/api/events", stream)
+    app.on_cleanup.append(close)
+    return app

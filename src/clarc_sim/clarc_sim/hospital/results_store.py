@@ -1,0 +1,137 @@
+"""CGAmed's results store: finished tests in SQLite (pure; no ROS).
+
+Default path: $XDG_DATA_HOME/clarc/cgamed.sqlite (usually ~/.local/share/clarc/cgamed.sqlite);
+``--db`` / the ``db`` parameter change it. Each stored test is committed with
+``synchronous=FULL`` before it is acknowledged, so an acknowledged result survives any crash.
+Storing the same test again (same patient and start time) returns the id it already has.
+
+Tables: tests (one row per test, with its whole result as JSON), items (one row per item, in
+test order) and notifications (what the clinician was told).
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any, Dict, List
+
+from clarc_agents.barthel.items import BY_KEY, ORDER, band
+from clarc_agents.exceptions import InvalidResult
+from dsr_graph.formats.default_paths import data_path
+
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS tests (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    patient TEXT NOT NULL,
+    started TEXT NOT NULL,
+    finished TEXT,
+    total INTEGER NOT NULL,
+    band TEXT NOT NULL,
+    clinician_called INTEGER NOT NULL,
+    person_lost INTEGER NOT NULL,
+    result_json TEXT NOT NULL,
+    stored TEXT NOT NULL,
+    UNIQUE (patient, started)
+);
+CREATE TABLE IF NOT EXISTS items (
+    test_id INTEGER NOT NULL REFERENCES tests(id),
+    position INTEGER NOT NULL,
+    item TEXT NOT NULL,
+    points INTEGER,
+    via TEXT,
+    attempts INTEGER NOT NULL,
+    PRIMARY KEY (test_id, position)
+);
+CREATE TABLE IF NOT EXISTS notifications (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    time TEXT NOT NULL,
+    kind TEXT NOT NULL,
+    message TEXT NOT NULL
+);
+"""
+
+
+def default_db() -> str:
+    """$XDG_DATA_HOME/clarc/cgamed.sqlite"""
+    return data_path("clarc", "cgamed.sqlite")
+
+
+
+def check_result(result: Any) -> Dict[str, Any]:
+    """Refuse a result whose numbers do not add up, before it reaches the clinician."""
+    if not isinstance(result, dict):
+        raise InvalidResult("a result is a JSON object")
+    for key in ("patient", "started", "items", "total", "band"):
+        if key not in result:
+            raise InvalidResult(f"missing {key!r}")
+    items = result["items"]
+    if [i.get("item") for i in items] != list(ORDER):
+        raise InvalidResult(f"items must be the ten Barthel items in order: {', '.join(ORDER)}")
+    for i in items:
+        if i["points"] is not None and BY_KEY[i["item"]].option(i["points"]) is None:
+            raise InvalidResult(f"{i['item']}: {i['points']} is not an option")
+        if i["via"] not in ("voice", "touch", None) or (i["points"] is None) != (i["via"] is None):
+            raise InvalidResult(f"{i['item']}: via must be voice or touch for an answer, null otherwise")
+    total = sum(i["points"] for i in items if i["points"] is not None)
+    if result["total"] != total or result["band"] != band(total):
+        raise InvalidResult(f"total/band {result['total']}/{result['band']} do not match the items ({total}/{band(total)})")
+    return result
+
+
+class ResultsStore:
+    def __init__(self, path: str, shared: bool = False):
+        """``shared``: the connection is made in one thread and used in another (CGAmed makes it
+        at start-up and uses it from its ROS thread); it is still used by one thread at a time."""
+        self.path = str(path)
+        Path(self.path).parent.mkdir(parents=True, exist_ok=True)
+        self.db = sqlite3.connect(self.path, timeout=10, check_same_thread=not shared)
+        self.db.execute("PRAGMA journal_mode=WAL")
+        self.db.execute("PRAGMA synchronous=FULL")
+        self.db.executescript(SCHEMA)
+
+    def close(self) -> None:
+        self.db.close()
+
+    def store(self, result: Dict[str, Any]) -> int:
+        check_result(result)
+        now = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        with self.db:  # one transaction: the test and its items, or nothing
+            row = self.db.execute("SELECT id FROM tests WHERE patient = ? AND started = ?",
+                                  (result["patient"], result["started"])).fetchone()
+            if row is not None:
+                return row[0]
+            cur = self.db.execute(
+                "INSERT INTO tests (patient, started, finished, total, band, clinician_called, person_lost,"
+                " result_json, stored) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (result["patient"], result["started"], result.get("finished"), result["total"], result["band"],
+                 int(bool(result.get("clinician_called"))), int(bool(result.get("person_lost"))),
+                 json.dumps(result), now))
+            test_id = cur.lastrowid
+            self.db.executemany(
+                "INSERT INTO items (test_id, position, item, points, via, attempts) VALUES (?, ?, ?, ?, ?, ?)",
+                [(test_id, n, i["item"], i["points"], i["via"], i["attempts"]) for n, i in enumerate(result["items"], 1)])
+        return test_id
+
+    def notify(self, kind: str, message: str) -> None:
+        with self.db:
+            self.db.execute("INSERT INTO notifications (time, kind, message) VALUES (?, ?, ?)",
+                            (datetime.now(timezone.utc).isoformat(timespec="seconds"), kind, message))
+
+    def tests(self) -> List[Dict[str, Any]]:
+        """Every stored test, oldest first, in the `clarc results --json` shape."""
+        out = []
+        for test_id, result_json in self.db.execute("SELECT id, result_json FROM tests ORDER BY id"):
+            result = json.loads(result_json)
+            out.append({"id": test_id, "patient": result["patient"], "started": result["started"],
+                        "finished": result.get("finished"), "total": result["total"], "band": result["band"],
+                        "items": result["items"], "unanswered": result.get("unanswered", []),
+                        "clinician_called": bool(result.get("clinician_called")),
+                        "person_lost": bool(result.get("person_lost")),
+                        "person_lost_count": int(result.get("person_lost_count", 0))})
+        return out
+
+    def notifications(self) -> List[Dict[str, Any]]:
+        return [{"time": t, "kind": k, "message": m}
+                for t, k, m in self.db.execute("SELECT time, kind, message FROM notifications ORDER BY id")]

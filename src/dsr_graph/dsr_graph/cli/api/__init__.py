@@ -1,0 +1,50 @@
+"""Helpers the verbs of ``dsr`` share: world-file arguments and loading, error output, and
+fetching the live graph (the only helper that needs ROS, imported when called)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from dsr_graph.exceptions import DsrError
+from dsr_graph.model.vocabulary import Vocabulary
+from dsr_graph.formats.world_files import LoadedWorld, read_world
+
+
+def add_world_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("world", metavar="WORLD", help="world file: ours (format dsr-graph) or CORTEX, detected from the content")
+    parser.add_argument("--vocabulary", metavar="FILE", default=None,
+                        help="vocabulary file (default: the built-in one; a file may say \"extends\": \"default\")")
+
+
+def load_world(args: argparse.Namespace) -> LoadedWorld:
+    """Load WORLD; raises DsrError with a readable message when it cannot be read at all."""
+    return read_world(args.world, Vocabulary.load(args.vocabulary))
+
+
+def warn_violations(world: LoadedWorld, path: str) -> None:
+    for v in world.violations:
+        print(f"warning: left out: {v}", file=sys.stderr)
+    if world.violations:
+        print(f"warning: {path}: {len(world.violations)} element(s) left out; "
+              f"`dsr validate {path}` lists them", file=sys.stderr)
+
+
+def error(message: str) -> int:
+    print(f"dsr: error: {message}", file=sys.stderr)
+    return 1
+
+
+def fetch_snapshot(timeout: float) -> dict:
+    from dsr_msgs.srv import GetSnapshot
+
+    from dsr_graph.ros.session import RosSession
+    from dsr_graph.protocol.topic_names import GET_SNAPSHOT
+
+    with RosSession() as ros:
+        client = ros.node.create_client(GetSnapshot, GET_SNAPSHOT)
+        return json.loads(ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json)
+
+
+__all__ = ["DsrError", "add_world_arguments", "load_world", "warn_violations", "error", "fetch_snapshot"]

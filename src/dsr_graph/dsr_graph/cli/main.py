@@ -1,0 +1,47 @@
+"""``dsr``: the command line of the DSR. One module per verb in ``dsr_graph/cli/verb/`` (its
+``NAME``, or the module's name); a new verb is a new file there, found at start (no central
+switch). Shared helpers are in ``dsr_graph/cli/api/``. Offline verbs never import rclpy."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+from typing import List, Optional
+
+from dsr_graph import __version__
+from dsr_graph.cli import verb
+
+
+def _verbs():
+    for info in sorted(pkgutil.iter_modules(verb.__path__), key=lambda i: i.name):
+        if not info.name.startswith("_"):
+            module = importlib.import_module(f"{verb.__name__}.{info.name}")
+            yield getattr(module, "NAME", info.name), module
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="dsr", description="Deep State Representation: inspect, validate and change DSR graphs.")
+    parser.add_argument("--version", action="version", version=f"dsr {__version__}")
+    sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
+    for name, module in sorted(_verbs()):
+        verb_parser = sub.add_parser(name, help=module.HELP, description=module.__doc__)
+        module.add_arguments(verb_parser)
+        verb_parser.set_defaults(run=module.run)
+    return parser
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        return args.run(args)
+    except KeyboardInterrupt:
+        return 130
+    except BrokenPipeError:  # `dsr ... | head`
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,33 @@
+"""Save the live graph of a running dsr_server to a file (our snapshot format, or CORTEX)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from dsr_graph.cli.api import DsrError, error
+from dsr_graph.cli.api import fetch_snapshot
+
+HELP = "save the live graph to FILE (a snapshot world file, or --format cortex)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("file", metavar="FILE")
+    parser.add_argument("--format", choices=("dsr", "cortex"), default="dsr")
+    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the server")
+
+
+def run(args: argparse.Namespace) -> int:
+    from dsr_graph.formats import dsr_json
+    from dsr_graph.formats.world_files import world_document, write_json_atomically
+
+    try:
+        doc = fetch_snapshot(args.timeout)
+        if args.format == "cortex":
+            graph, _ = dsr_json.snapshot_from_json(doc)
+            doc = world_document(graph, "cortex")
+        write_json_atomically(doc, args.file)
+    except (DsrError, OSError) as e:
+        return error(str(e))
+    print(f"saved the graph to {args.file} ({args.format})", file=sys.stderr)
+    return 0

@@ -1,0 +1,87 @@
+"""The graph's past, for the viewer's timeline: checkpoints (snapshots) plus the deltas after
+them, so the graph at any sequence number seen since the viewer started can be rebuilt (pure)."""
+
+from __future__ import annotations
+
+import bisect
+import json
+from typing import Any, Dict, List, Optional
+
+from dsr_graph.formats import dsr_json
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.exceptions import SeqUnavailable
+
+CHECKPOINT_EVERY = 500  # deltas between stored snapshots: bounds the replay when scrubbing
+MAX_DELTAS = 200_000  # the oldest history is forgotten beyond this
+
+
+
+class History:
+    def __init__(self, vocabulary=None):
+        self.vocabulary = vocabulary
+        self.graph: Optional[Graph] = None  # the graph now
+        self.seq = 0
+        self._checkpoints: List[int] = []  # seqs, ascending
+        self._snapshots: Dict[int, str] = {}  # seq -> snapshot JSON text
+        self.deltas: List[Dict[str, Any]] = []  # consecutive runs after checkpoints
+        self._seqs: List[int] = []  # the deltas' seqs, for bisecting without rebuilding a list
+
+    def reset(self, snapshot: Dict[str, Any]) -> None:
+        """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint."""
+        self.graph, self.seq = dsr_json.snapshot_from_json(snapshot, self.vocabulary, trusted=True)
+        self._checkpoint(json.dumps(snapshot))
+
+    def add(self, delta: Dict[str, Any]) -> None:
+        if self.graph is None or delta["seq"] != self.seq + 1:
+            raise SeqUnavailable(f"delta {delta.get('seq')} does not follow seq {self.seq}")
+        apply_ops(self.graph, delta["ops"])
+        self.seq = delta["seq"]
+        self.deltas.append(delta)
+        self._seqs.append(delta["seq"])
+        if len(self.deltas) > MAX_DELTAS:
+            self._forget()
+        if self.seq - self._checkpoints[-1] >= CHECKPOINT_EVERY:
+            self._checkpoint(json.dumps(dsr_json.to_json(self.graph, "snapshot", seq=self.seq)))
+
+    @property
+    def first_seq(self) -> int:
+        return self._checkpoints[0] if self._checkpoints else 0
+
+    def graph_at(self, seq: int) -> Graph:
+        if self.graph is None or not self.first_seq <= seq <= self.seq:
+            raise SeqUnavailable(f"seq {seq} is not in the history ({self.first_seq}..{self.seq})")
+        if seq == self.seq:
+            return self.graph
+        base = self._checkpoints[bisect.bisect_right(self._checkpoints, seq) - 1]
+        graph, _ = dsr_json.snapshot_from_json(json.loads(self._snapshots[base]), self.vocabulary, trusted=True)
+        start = bisect.bisect_right(self._seqs, base)
+        for delta in self.deltas[start:]:
+            if delta["seq"] > seq:
+                break
+            if delta["seq"] != base + 1:
+                raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
+            apply_ops(graph, delta["ops"])
+            base = delta["seq"]
+        if base != seq:  # the deltas stop short of seq: it lies in a gap
+            raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
+        return graph
+
+    def since(self, seq: int, limit: int = 1000) -> List[Dict[str, Any]]:
+        start = bisect.bisect_right(self._seqs, seq)
+        return self.deltas[start:start + limit]
+
+    def _checkpoint(self, text: str) -> None:
+        if not self._checkpoints or self.seq > self._checkpoints[-1]:
+            self._checkpoints.append(self.seq)
+        self._snapshots[self.seq] = text
+
+    def _forget(self) -> None:
+        cut = self.deltas[len(self.deltas) // 2]["seq"]
+        keep = [s for s in self._checkpoints if s >= cut] or [self._checkpoints[-1]]
+        for s in self._checkpoints:
+            if s not in keep:
+                del self._snapshots[s]
+        self._checkpoints = keep
+        self.deltas = [d for d in self.deltas if d["seq"] > keep[0]]
+        self._seqs = [d["seq"] for d in self.deltas]

@@ -1,0 +1,85 @@
+"""An agent's copy of the graph: a snapshot plus the deltas after it, applied strictly in sequence.
+
+A delta that arrives before its predecessors is kept aside and the replica reports a gap; the
+agent then fetches a snapshot (``load_snapshot``), after which the kept deltas newer than the
+snapshot are applied. Duplicates (seq already applied) are ignored. Before the first snapshot
+(late join) every delta is kept aside. Pure logic: the ROS side is in ``agent.py``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional
+
+from dsr_graph.formats import dsr_json
+from dsr_graph.model.claims import ClaimTable
+from dsr_graph.exceptions import TransactionRejected
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.model.vocabulary import Vocabulary
+
+MAX_PENDING = 100_000  # deltas kept aside while waiting for a snapshot
+
+
+class Replica:
+    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+        self.vocabulary = vocabulary
+        self.graph = Graph(vocabulary)
+        self.claims = ClaimTable()
+        self.seq = 0
+        self.synced = False  # a snapshot has been loaded
+        self.server_seq = 0  # highest seq the server is known to have reached
+        self._pending: Dict[int, Dict[str, Any]] = {}
+
+    @property
+    def needs_resync(self) -> bool:
+        """True when a snapshot may be needed: never synced, or the server is ahead of us. Being
+        ahead can mean deltas are still on their way (``has_hole`` and ``behind`` tell apart a
+        hole from a queue: see DsrAgent's patience)."""
+        return not self.synced or self.server_seq > self.seq
+
+    @property
+    def has_hole(self) -> bool:
+        """A later delta arrived while an earlier one did not: one is missing for sure."""
+        return bool(self._pending) and self.synced
+
+    def receive(self, delta: Dict[str, Any]) -> List[Dict[str, Any]]:
+        """Take a delta off the wire; returns the deltas actually applied now, in order."""
+        seq = delta["seq"]
+        self.server_seq = max(self.server_seq, seq)
+        if self.synced and seq <= self.seq:
+            return []  # duplicate
+        if len(self._pending) >= MAX_PENDING:
+            self._pending.clear()  # far behind: a snapshot will cover all of it
+        self._pending[seq] = delta
+        return self._drain() if self.synced else []
+
+    def observe_server_seq(self, seq: int) -> None:
+        """The server says it has reached ``seq`` (heartbeat): a silent gap becomes visible."""
+        self.server_seq = max(self.server_seq, seq)
+
+    def load_snapshot(self, doc: Dict[str, Any]) -> List[Dict[str, Any]]:
+        """Replace the state with a snapshot, then apply the kept deltas newer than it."""
+        graph, seq = dsr_json.snapshot_from_json(doc, self.vocabulary, trusted=True)
+        self.graph = graph
+        self.claims = ClaimTable.from_json(doc.get("claims", []))
+        self.seq = seq
+        self.synced = True
+        self.server_seq = max(self.server_seq, seq)
+        for old in [s for s in self._pending if s <= seq]:
+            del self._pending[old]
+        return self._drain()
+
+    def _drain(self) -> List[Dict[str, Any]]:
+        applied = []
+        while self.seq + 1 in self._pending:
+            delta = self._pending.pop(self.seq + 1)
+            try:
+                apply_ops(self.graph, delta["ops"])
+            except TransactionRejected:  # diverged (never expected): start over from a snapshot
+                self._pending[delta["seq"]] = delta
+                self.synced = False
+                break
+            self.claims.apply_changes(delta.get("claims", {}))
+            self.seq = delta["seq"]
+            applied.append(delta)
+        return applied

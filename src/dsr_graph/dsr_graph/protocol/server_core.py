@@ -1,0 +1,157 @@
+"""The DSR server's logic without ROS: validate a request, apply it, number it, and describe the
+accepted change as a delta (or the rejection with its reason). The ROS node
+(``server_node.py``) only moves text between topics, this core and the state store.
+
+Delta (JSON, one per accepted transaction, in sequence order; see docs/FORMAT.md):
+    {"seq": 12, "stamp": 1764000000.5, "agent": "/speech", "id": "speech-7",
+     "ops": [canonical ops], "claims": {"granted": [...], "released": [...]}}
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from typing import Any, Dict, Iterable, List, Optional
+
+from dsr_graph.formats import dsr_json
+from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
+from dsr_graph.exceptions import TransactionRejected, Violation
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops, parse_transaction
+
+SERVER_AGENT = "dsr_server"
+DEFAULT_MAX_REQUEST_BYTES = 4 * 1024 * 1024
+
+
+@dataclass
+class Result:
+    """What became of a transaction: accepted with its delta, or rejected with the reason."""
+
+    id: str
+    accepted: bool
+    delta: Optional[Dict[str, Any]] = None
+    reason: Optional[Dict[str, Any]] = None
+    error: str = ""
+
+    @property
+    def seq(self) -> Optional[int]:
+        return None if self.delta is None else self.delta["seq"]
+
+
+@dataclass
+class Rejection:
+    id: str
+    agent: str
+    violation: Violation
+
+    def to_json(self) -> Dict[str, Any]:
+        return {"id": self.id, "agent": self.agent, "reason": self.violation.to_json(), "error": str(self.violation)}
+
+
+class ServerCore:
+    def __init__(self, graph: Graph, seq: int = 0, claims: Optional[ClaimTable] = None,
+                 max_request_bytes: int = DEFAULT_MAX_REQUEST_BYTES):
+        self.graph = graph
+        self.seq = seq
+        self.claims = claims if claims is not None else ClaimTable()
+        self.max_request_bytes = max_request_bytes
+
+    # ------------------------------------------------------------------ requests
+    def submit(self, text: str, now: Optional[float] = None) -> Any:
+        """A delta (dict) if the request was accepted, else a ``Rejection``. Never raises for
+        bad input: anything a client can send ends in one of the two."""
+        now = time.time() if now is None else now
+        ident, agent = "", ""
+        try:
+            if len(text) > self.max_request_bytes:
+                raise TransactionRejected(Violation(
+                    "too-large", "transaction", f"request of {len(text)} bytes exceeds {self.max_request_bytes}"))
+            try:
+                doc = json.loads(text)
+            except (json.JSONDecodeError, RecursionError) as e:
+                raise TransactionRejected(Violation("malformed", "transaction", f"not JSON: {e}")) from None
+            if isinstance(doc, dict):
+                ident = doc["id"] if isinstance(doc.get("id"), str) else ""
+                agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
+            return self.submit_doc(doc, now)
+        except TransactionRejected as e:
+            return Rejection(ident, agent, e.violation)
+        except RecursionError:
+            return Rejection(ident, agent, Violation("malformed", "transaction", "nested too deeply"))
+
+    def submit_doc(self, doc: Any, now: float) -> Dict[str, Any]:
+        tx = parse_transaction(doc)
+        claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
+        for key in claim_keys:
+            for name in ([key[1]] if key[0] == "node" else [key[1], key[2]]):
+                if name not in self.graph:
+                    raise TransactionRejected(Violation("node-missing", f"claim on {name!r}",
+                                                        f"node {name!r} does not exist", "claim"))
+        release_keys = None if tx.release == "all" else [target_key(t, "release") for t in tx.release]
+
+        written = [key for op in tx.ops for key in touched(self.graph, op)]
+        preempted = self.claims.check(tx.agent, tx.priority, written, "ops")
+        preempted += self.claims.check(tx.agent, tx.priority, claim_keys, "claim")
+
+        canonical = apply_ops(self.graph, tx.ops, tx.preconditions)  # raises, graph unchanged
+
+        changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
+        return self._commit(tx.agent, tx.id, canonical, changes, now)
+
+    def _claim_changes(self, tx, claim_keys, release_keys, preempted: List[Claim],
+                       canonical: List[Dict[str, Any]], now: float) -> Dict[str, List[Dict[str, Any]]]:
+        ended: Dict[tuple, Dict[str, Any]] = {}
+        for claim in preempted:
+            ended[claim.key] = released(claim, "preempted", by=tx.agent)
+        mine = self.claims.held_by(tx.agent) if tx.agent else []
+        for claim in mine:
+            if release_keys is None or claim.key in release_keys:
+                ended.setdefault(claim.key, released(claim, "released"))
+        deleted = [op["node"] for op in canonical if op["op"] == "delete_node"]
+        for claim in self.claims.on_nodes(deleted):
+            ended.setdefault(claim.key, released(claim, "node-deleted", by=tx.agent))
+        expires = None if tx.lease is None else now + tx.lease
+        granted = [Claim(key, tx.agent, tx.priority, expires).to_json() for key in claim_keys]
+        changes: Dict[str, List[Dict[str, Any]]] = {}
+        if ended:
+            changes["released"] = list(ended.values())
+        if granted:
+            changes["granted"] = granted
+        return changes
+
+    def _commit(self, agent: str, ident: str, ops: List[Dict[str, Any]],
+                changes: Dict[str, Any], now: float) -> Dict[str, Any]:
+        self.claims.apply_changes(changes)
+        self.seq += 1
+        delta: Dict[str, Any] = {"seq": self.seq, "stamp": now, "agent": agent, "id": ident, "ops": ops}
+        if changes:
+            delta["claims"] = changes
+        return delta
+
+    # ------------------------------------------------------------------ housekeeping
+    def end_claims(self, claims: Iterable[Claim], reason: str, now: Optional[float] = None) -> Optional[Dict[str, Any]]:
+        """A server delta ending these claims (lease expired, holder gone), or None."""
+        records = [released(c, reason) for c in claims]
+        if not records:
+            return None
+        return self._commit(SERVER_AGENT, "", [], {"released": records}, time.time() if now is None else now)
+
+    # ------------------------------------------------------------------ replay and snapshots
+    def replay(self, delta: Dict[str, Any]) -> None:
+        """Re-apply a journaled delta after a restart (it was valid when accepted)."""
+        if delta.get("seq") != self.seq + 1:
+            raise ValueError(f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}")
+        apply_ops(self.graph, delta["ops"])
+        self.claims.apply_changes(delta.get("claims", {}))
+        self.seq = delta["seq"]
+
+    def snapshot(self) -> Dict[str, Any]:
+        doc = dsr_json.to_json(self.graph, "snapshot", seq=self.seq)
+        doc["claims"] = self.claims.to_json()
+        return doc
+
+    @classmethod
+    def from_snapshot(cls, doc: Dict[str, Any], vocabulary=None, **kwargs: Any) -> "ServerCore":
+        graph, seq = dsr_json.snapshot_from_json(doc, vocabulary)
+        return cls(graph, seq, ClaimTable.from_json(doc.get("claims", [])), **kwargs)

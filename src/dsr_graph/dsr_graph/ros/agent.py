@@ -1,0 +1,191 @@
+"""The agent side of the DSR over ROS 2: an exact replica of the graph kept in a node, and a way
+to send transactions and hear whether they were accepted.
+
+    agent = DsrAgent()
+    agent.setup(node, timeout_sec=10)          # topics, services, first snapshot requested
+    agent.add_listener(lambda deltas, resynced: ...)
+    agent.send({"ops": [...]}, on_done=lambda result: ...)
+
+Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a node and fails
+with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
+
+Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat. Publishers: dsr/transactions.
+Clients: dsr/get_snapshot.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+import uuid
+from typing import Any, Callable, Dict, List, Optional
+
+import orjson
+from dsr_msgs.srv import GetSnapshot
+from std_msgs.msg import String
+
+from dsr_graph.protocol import topic_names
+from dsr_graph.exceptions import TimedOutError
+from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.protocol.replica import Replica
+from dsr_graph.protocol.server_core import Result
+from dsr_graph.model.vocabulary import Vocabulary
+
+GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
+SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
+
+
+Listener = Callable[[List[Dict[str, Any]], bool], None]  # (applied deltas, resynced from a snapshot)
+
+
+class DsrAgent:
+    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+        self.replica = Replica(vocabulary)
+        self.node = None
+        self.name = ""
+        self._listeners: List[Listener] = []
+        self._pending: Dict[str, Optional[Callable[[Result], None]]] = {}
+        self._outbox: List[str] = []
+        self._run = uuid.uuid4().hex[:6]
+        self._count = 0
+        self._snapshot_future = None
+        self._snapshot_asked = 0.0
+        self._gap_since: Optional[float] = None
+        self._progress = (0, 0.0)  # (seq, when it was reached): a replica still advancing is behind, not broken
+        self.resyncs = 0
+
+    # ------------------------------------------------------------------ set-up
+    def setup(self, node, timeout_sec: float = 10.0) -> None:
+        self.node = node
+        self.name = node.get_fully_qualified_name()
+        self._tx_pub = node.create_publisher(String, topic_names.TRANSACTIONS, qos_stream())
+        self._delta_sub = node.create_subscription(String, topic_names.DELTAS, self._on_delta, qos_stream())
+        node.create_subscription(String, topic_names.REJECTIONS, self._on_rejection, qos_stream())
+        node.create_subscription(String, topic_names.HEARTBEAT, self._on_heartbeat, qos_latched())
+        self._snapshot_client = node.create_client(GetSnapshot, topic_names.GET_SNAPSHOT)
+        if not self._snapshot_client.wait_for_service(timeout_sec=timeout_sec):
+            raise TimedOutError(f"no DSR server answered on {topic_names.GET_SNAPSHOT} within {timeout_sec} s "
+                                "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+        node.create_timer(0.05, self._tick)
+        self._request_snapshot()
+
+    def add_listener(self, listener: Listener) -> None:
+        self._listeners.append(listener)
+
+    @property
+    def graph(self):
+        return self.replica.graph
+
+    @property
+    def synced(self) -> bool:
+        """A snapshot has been loaded (the graph is the server's, as of some seq)."""
+        return self.replica.synced
+
+    @property
+    def ready(self) -> bool:
+        """Synced with the server, and both directions matched: requests reach the server and
+        its deltas reach us (before that, a delta would only be recovered by a resync)."""
+        return (self.replica.synced and self._tx_pub.get_subscription_count() > 0
+                and self._delta_sub.get_publisher_count() > 0)
+
+    # ------------------------------------------------------------------ sending
+    def next_id(self) -> str:
+        self._count += 1
+        return f"{self.name}:{self._run}:{self._count}"
+
+    def send(self, doc: Dict[str, Any], on_done: Optional[Callable[[Result], None]] = None) -> str:
+        """Queue a transaction (agent and id are filled in); ``on_done`` gets its ``Result``."""
+        doc = dict(doc)
+        doc.setdefault("agent", self.name)
+        doc.setdefault("id", self.next_id())
+        self._pending[doc["id"]] = on_done
+        self._outbox.append(json.dumps(doc))
+        self._flush_outbox()
+        return doc["id"]
+
+    def _flush_outbox(self) -> None:
+        # A request published before the server's subscription is matched would be lost.
+        if self._outbox and self._tx_pub.get_subscription_count() > 0:
+            for text in self._outbox:
+                self._tx_pub.publish(String(data=text))
+            self._outbox.clear()
+
+    # ------------------------------------------------------------------ receiving
+    def _on_delta(self, msg: String) -> None:
+        try:
+            delta = json.loads(msg.data)
+            applied = self.replica.receive(delta)
+        except (ValueError, KeyError, TypeError) as e:
+            self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
+            return
+        self._deliver(applied, resynced=False)
+
+    def _deliver(self, applied: List[Dict[str, Any]], resynced: bool) -> None:
+        if applied or resynced:
+            for listener in list(self._listeners):
+                listener(applied, resynced)
+        for delta in applied:
+            callback = self._pending.pop(delta.get("id"), None)
+            if callback is not None:
+                callback(Result(delta["id"], True, delta=delta))
+
+    def _on_rejection(self, msg: String) -> None:
+        try:
+            doc = json.loads(msg.data)
+        except ValueError:
+            return
+        ident = doc.get("id", "")
+        if ident in self._pending:
+            callback = self._pending.pop(ident)
+            if callback is not None:
+                callback(Result(ident, False, reason=doc.get("reason"), error=doc.get("error", "")))
+
+    def _on_heartbeat(self, msg: String) -> None:
+        try:
+            self.replica.observe_server_seq(int(json.loads(msg.data)["seq"]))
+        except (ValueError, KeyError, TypeError):
+            pass
+
+    # ------------------------------------------------------------------ resynchronisation
+    def _tick(self) -> None:
+        self._flush_outbox()
+        now = time.monotonic()
+        if self.replica.seq != self._progress[0]:
+            self._progress = (self.replica.seq, now)
+        if not self.replica.needs_resync:
+            self._gap_since = None
+            return
+        if self._gap_since is None:
+            self._gap_since = now
+        # The heartbeat says the server is ahead: a hole (a later delta came, an earlier did not)
+        # or a replica that stopped advancing means deltas were lost; one still applying deltas
+        # is only behind, and a snapshot would slow it down further.
+        stalled = now - self._progress[1] >= GAP_PATIENCE
+        if self.replica.synced and not self.replica.has_hole and not stalled:
+            self._gap_since = now
+        if self._snapshot_future is not None and now - self._snapshot_asked >= SNAPSHOT_RETRY:
+            # lost (e.g. sent to a server that was being restarted): withdraw it and ask again
+            self._snapshot_client.remove_pending_request(self._snapshot_future)
+            self._snapshot_future = None
+        if (not self.replica.synced or now - self._gap_since >= GAP_PATIENCE) and self._snapshot_future is None:
+            self._request_snapshot()
+
+    def _request_snapshot(self) -> None:
+        self._snapshot_asked = time.monotonic()
+        future = self._snapshot_client.call_async(GetSnapshot.Request())
+        self._snapshot_future = future
+        future.add_done_callback(self._on_snapshot)
+
+    def _on_snapshot(self, future) -> None:
+        if future is not self._snapshot_future:
+            return  # an answer to a request already given up on
+        self._snapshot_future = None
+        try:
+            response = future.result()
+            applied = self.replica.load_snapshot(orjson.loads(response.snapshot_json))
+        except Exception as e:  # a failed call or a bad snapshot: the tick asks again
+            self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
+            return
+        self.resyncs += 1
+        self._gap_since = None
+        self._deliver(applied, resynced=True)

@@ -1,0 +1,252 @@
+"""The DSR server node: the one authoritative graph (ROS plumbing around ``server_core``).
+
+ROS Parameters:
+    world_file (str): world to start from (ours or CORTEX) when state_dir holds no state yet.
+    vocabulary_file (str): vocabulary file; empty for the built-in one.
+    state_dir (str): where the state persists (default $XDG_STATE_HOME/dsr/<node name>);
+        a second server on the same directory, or a corrupt one, exits 1 naming it.
+    compact_every (int): journaled deltas between snapshots (default 1000).
+    max_request_bytes (int): larger requests are rejected (default 4 MiB).
+    publish_poses (bool): publish a PoseStamped per geometric node (default true).
+    heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
+    agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
+        claims are freed (default 3.0).
+Subscriptions:
+    dsr/transactions (std_msgs/String): JSON transaction requests.
+Publishers:
+    dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
+    dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
+    dsr/heartbeat (std_msgs/String, latched): {seq, stamp}.
+    dsr/pose/<node> (geometry_msgs/PoseStamped, latched): each geometric node's pose in its
+        RT parent's frame (header.frame_id = the parent's name), again on every change.
+Services:
+    dsr/get_attribute (dsr_msgs/GetAttribute), dsr/get_node (dsr_msgs/GetNode),
+    dsr/get_snapshot (dsr_msgs/GetSnapshot).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from typing import Any, Dict, List, Optional
+
+import orjson
+from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
+from geometry_msgs.msg import PoseStamped
+from std_msgs.msg import String
+
+from dsr_graph.formats.default_paths import state_path
+from dsr_graph.formats.state_store import StateStore
+from dsr_graph.formats.world_files import read_world
+from dsr_graph.model import rigid
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.vocabulary import RT, Vocabulary
+from dsr_graph.protocol import queries, topic_names
+from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.qos import qos_latched, qos_stream
+
+MAX_BATCH = 256  # requests made durable by one fdatasync
+
+
+class DsrServer(DsrNode):
+    def __init__(self, node_name: str = "dsr_server", **kwargs: Any):
+        super().__init__(node_name, **kwargs)
+        declare(self, "world_file", "", "world file (ours or CORTEX) loaded when state_dir holds no state",
+                read_only=True)
+        declare(self, "vocabulary_file", "", "vocabulary file; empty for the built-in default", read_only=True)
+        declare(self, "state_dir", state_path("dsr", node_name), "directory where the graph persists",
+                read_only=True)
+        declare(self, "compact_every", 1000, "journaled deltas between snapshots", read_only=True, minimum=1)
+        declare(self, "max_request_bytes", DEFAULT_MAX_REQUEST_BYTES, "larger requests are rejected",
+                read_only=True, minimum=1024)
+        declare(self, "publish_poses", True, "publish geometry_msgs/PoseStamped per geometric node",
+                read_only=True)
+        declare(self, "heartbeat_period", 1.0, "seconds between heartbeats and claim housekeeping",
+                read_only=True, minimum=0.01)
+        declare(self, "agent_grace", 3.0, "seconds a claim holder may be absent before its claims are freed",
+                minimum=0.0)
+        self.core: Optional[ServerCore] = None
+        self.store: Optional[StateStore] = None
+        self._pose_pubs: Dict[str, Any] = {}
+        self._snapshot_cache = (-1, "")
+        self._missing_since: Dict[str, float] = {}
+
+    # ------------------------------------------------------------------ start
+    def setup(self) -> None:
+        """Load the state (or the world), then open the topics and services."""
+        vocabulary = Vocabulary.load(param(self, "vocabulary_file"))
+        self.store = StateStore(param(self, "state_dir"), compact_every=param(self, "compact_every"))
+        self.store.open()
+        snapshot = self.store.load_snapshot()
+        world_file = param(self, "world_file")
+        if snapshot is not None:
+            self.core = ServerCore.from_snapshot(snapshot, vocabulary, max_request_bytes=param(self, "max_request_bytes"))
+            replayed = self.store.replay_journal(self.core.seq, self.core.replay)
+            for warning in self.store.warnings:
+                self.get_logger().warning(warning)
+            self.get_logger().info(
+                f"restored {self.store.dir}: seq {self.core.seq} ({replayed} journaled after the snapshot), "
+                f"{len(self.core.graph)} nodes" + (f"; world_file {world_file} not loaded (state exists)" if world_file else ""))
+        else:
+            graph = Graph(vocabulary)
+            if world_file:
+                world = read_world(world_file, vocabulary)
+                for violation in world.violations:
+                    self.get_logger().warning(f"world file: left out: {violation}")
+                graph = world.graph
+            self.core = ServerCore(graph, 0, max_request_bytes=param(self, "max_request_bytes"))
+            self.store.write_snapshot(self.core.snapshot())
+            self.get_logger().info(f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
+                                   f"{len(graph)} nodes, {graph.edge_count()} edges")
+
+        self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
+        self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
+        self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
+        self._requests = self.create_subscription(String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream())
+        self._publish_poses = bool(param(self, "publish_poses"))
+        self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
+        self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
+        self.create_service(GetSnapshot, topic_names.GET_SNAPSHOT, self.on_get_snapshot)
+        self.create_timer(float_param(self, "heartbeat_period"), self.on_heartbeat)
+        if param(self, "publish_poses"):
+            for edge in list(self.core.graph.edges()):
+                if edge.type == RT:
+                    self._publish_pose(self.core.graph.node(edge.dst).name)
+        self.on_heartbeat()
+
+    def close(self) -> None:
+        if self.store is not None:
+            self.store.close()
+
+    # ------------------------------------------------------------------ transactions
+    def on_transaction(self, msg: String) -> None:
+        # Group commit: take the requests already waiting too, so that one fdatasync covers them
+        # all under load; alone, a request costs the same as before.
+        texts = [msg.data]
+        with self._requests.handle:
+            while len(texts) < MAX_BATCH:
+                taken = self._requests.handle.take_message(String, False)
+                if taken is None:
+                    break
+                texts.append(taken[0].data)
+        accepted = []
+        for text in texts:
+            try:
+                result = self.core.submit(text)
+            except Exception as e:  # a bug must not take the server down with it
+                self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
+                continue
+            if isinstance(result, Rejection):
+                self._rejections.publish(String(data=json.dumps(result.to_json())))
+                self.get_logger().debug(f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}")
+            else:
+                accepted.append(result)
+        if accepted:
+            self._accept(accepted)
+
+    def _accept(self, deltas: List[Dict[str, Any]]) -> None:
+        """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
+        is on disk is consistent, an accepted change that is not on disk would not be."""
+        try:
+            for delta in deltas:
+                self.store.append(delta)
+            self.store.flush()
+        except OSError as e:
+            self.get_logger().fatal(f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)")
+            raise SystemExit(3) from e
+        for delta in deltas:
+            self._deltas.publish(String(data=json.dumps(delta, separators=(",", ":"))))
+            if self._publish_poses:
+                for name in _moved_nodes(delta):
+                    self._publish_pose(name)
+        if self.store.needs_compaction():
+            self.store.write_snapshot(self.core.snapshot())
+
+    # ------------------------------------------------------------------ poses
+    def _publish_pose(self, name: str) -> None:
+        graph = self.core.graph
+        node = graph.find(name)
+        parent = graph.rt_parent(name) if node is not None else None
+        if parent is None:
+            return  # deleted, or not geometric any more: its last pose stays latched
+        pub = self._pose_pubs.get(name)
+        if pub is None:
+            pub = self.create_publisher(PoseStamped, topic_names.pose_topic(name), qos_latched())
+            self._pose_pubs[name] = pub
+        matrix = graph.edge(parent.id, node.id, RT).rt
+        msg = PoseStamped()
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.frame_id = parent.name
+        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in matrix[:3, 3])
+        w, x, y, z = rigid.quaternion_wxyz(matrix)
+        msg.pose.orientation.w, msg.pose.orientation.x = w, x
+        msg.pose.orientation.y, msg.pose.orientation.z = y, z
+        pub.publish(msg)
+
+    # ------------------------------------------------------------------ housekeeping
+    def on_heartbeat(self) -> None:
+        now = time.time()
+        ended = []
+        expired = self.core.claims.expired(now)
+        if expired:
+            ended.append(self.core.end_claims(expired, "expired", now))
+        gone = self._gone_holders(now)
+        if gone:
+            ended.append(self.core.end_claims([c for c in self.core.claims.all() if c.agent in gone], "agent-gone", now))
+        if ended:
+            self._accept([d for d in ended if d is not None])
+        self._heartbeat.publish(String(data=json.dumps({"seq": self.core.seq, "stamp": now})))
+
+    def _gone_holders(self, now: float) -> List[str]:
+        holders = {c.agent for c in self.core.claims.all()}
+        if not holders:
+            self._missing_since.clear()
+            return []
+        graph = self.get_node_names_and_namespaces()  # one query of the ROS graph per heartbeat
+        live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {name for name, _ in graph}
+        gone = []
+        for agent in holders:
+            if agent in live:
+                self._missing_since.pop(agent, None)
+            elif now - self._missing_since.setdefault(agent, now) >= float_param(self, "agent_grace"):
+                gone.append(agent)
+                del self._missing_since[agent]
+        return gone
+
+    # ------------------------------------------------------------------ services
+    def on_get_attribute(self, request: GetAttribute.Request, response: GetAttribute.Response):
+        answer = queries.read_attribute(self.core.graph, request.node, request.attribute,
+                                        request.edge_to, request.edge_type)
+        response.found = answer.found
+        response.value_json = json.dumps(answer.value) if answer.found else ""
+        response.value_type = answer.value_type
+        response.version = answer.version
+        response.seq = self.core.seq
+        response.error = answer.error
+        return response
+
+    def on_get_node(self, request: GetNode.Request, response: GetNode.Response):
+        doc = queries.node_json(self.core.graph, request.node)
+        response.found = doc is not None
+        response.node_json = json.dumps(doc) if doc is not None else ""
+        response.seq = self.core.seq
+        response.error = "" if doc is not None else f"no node {request.node!r}"
+        return response
+
+    def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
+        # Late joiners often come together (a launch): encode a seq's snapshot once.
+        if self._snapshot_cache[0] != self.core.seq:
+            self._snapshot_cache = (self.core.seq, orjson.dumps(self.core.snapshot()).decode())
+        response.seq, response.snapshot_json = self._snapshot_cache
+        return response
+
+
+def _moved_nodes(delta: Dict[str, Any]) -> List[str]:
+    """Nodes whose pose in their parent's frame this delta changed."""
+    return [op["to"] for op in delta["ops"]
+            if (op["op"] == "insert_edge" and op["type"] == RT) or op["op"] == "set_rt"]
+
+
+main = main_for(DsrServer)

@@ -1,0 +1,64 @@
+"""A short-lived ROS session for command-line tools and tests: its own context and node, and
+bounded waits (never an unbounded spin)."""
+
+from __future__ import annotations
+
+import os
+import time
+from typing import Any, Callable, Optional
+
+import rclpy
+from rclpy.context import Context
+from rclpy.executors import SingleThreadedExecutor
+
+from dsr_graph.exceptions import TimedOutError
+
+
+class RosSession:
+    def __init__(self, name: Optional[str] = None, domain_id: Optional[int] = None):
+        self.context = Context()
+        rclpy.init(context=self.context, domain_id=domain_id)
+        self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+
+    def __enter__(self) -> "RosSession":
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    def close(self) -> None:
+        self.executor.shutdown(timeout_sec=1.0)
+        self.node.destroy_node()
+        rclpy.try_shutdown(context=self.context)
+
+    def spin_for(self, seconds: float) -> None:
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline:
+            self.executor.spin_once(timeout_sec=min(0.05, max(0.0, deadline - time.monotonic())))
+
+    def spin_until(self, done: Callable[[], bool], timeout_sec: float, what: str) -> None:
+        """Spin until ``done()``; ``TimedOutError`` naming ``what`` after ``timeout_sec``."""
+        deadline = time.monotonic() + timeout_sec
+        while not done():
+            if time.monotonic() >= deadline:
+                raise TimedOutError(f"timed out after {timeout_sec} s waiting for {what}")
+            self.executor.spin_once(timeout_sec=0.05)
+
+    def call(self, client, request, timeout_sec: float, what: str, attempt_sec: float = 1.0):
+        """Call a service, bounded. A request sent while the server is restarting can be lost
+        (DDS still lists the old server), so an unanswered request is withdrawn and sent again
+        every ``attempt_sec`` until ``timeout_sec``."""
+        deadline = time.monotonic() + timeout_sec
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0 or not client.wait_for_service(timeout_sec=remaining):
+                raise TimedOutError(f"no answer from {client.srv_name} within {timeout_sec} s waiting for {what} "
+                                    "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+            future = client.call_async(request)
+            try:
+                self.spin_until(future.done, min(attempt_sec, max(0.0, deadline - time.monotonic())), what)
+                return future.result()
+            except TimedOutError:
+                client.remove_pending_request(future)

@@ -1,0 +1,69 @@
+"""``dsr_viewer`` (also ``dsr view``): a read-only web view of the live DSR, on
+http://127.0.0.1:8080/ by default: the graph (nodes by type, labelled symbolic edges, the RT
+tree drawn apart), each change highlighted as it happens, a timeline of deltas to scrub back to
+any past seq, and an inspector (attributes, version, pose in any other node's frame).
+
+ROS Parameters: host (127.0.0.1), port (8080), setup_timeout (20 s).
+Subscriptions and clients: those of DsrAgent.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from dsr_graph.exceptions import SeqUnavailable
+from dsr_graph.formats import dsr_json
+from dsr_graph.protocol.delta_text import delta_text
+from dsr_graph.protocol.history import History
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.web_bridge import Bridge
+from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.viewer_app import make_app
+
+
+class Viewer(DsrNode):
+    def __init__(self) -> None:
+        super().__init__("dsr_viewer")
+        declare(self, "host", "127.0.0.1", "address to serve on", read_only=True)
+        declare(self, "port", 8080, "port to serve on", read_only=True, minimum=1, maximum=65535)
+        declare(self, "setup_timeout", 20.0, "seconds to wait for the DSR server", read_only=True,
+                minimum=0.0)
+        self.agent = DsrAgent()
+        self.history = History()
+        self.events = Broadcaster()
+        self.bridge: Bridge | None = None
+
+    def setup(self) -> None:
+        self.agent.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self.agent.add_listener(self._on_change)
+        self.bridge = Bridge(self)
+
+    def _on_change(self, deltas: list[dict[str, Any]], resynced: bool) -> None:
+        # ROS thread: hand plain data to the web loop
+        snapshot = None
+        if resynced:
+            snapshot = dsr_json.to_json(self.agent.graph, "snapshot", seq=self.agent.replica.seq)
+            deltas = []  # the snapshot already contains them
+        self.bridge.to_web(self._apply, snapshot, list(deltas))
+
+    def _apply(self, snapshot: dict[str, Any] | None, deltas: list[dict[str, Any]]) -> None:
+        if snapshot is not None:
+            self.history.reset(snapshot)
+            self.events.publish("reset", {"seq": self.history.seq})
+        for delta in deltas:
+            try:
+                self.history.add(delta)
+            except SeqUnavailable:
+                continue  # the replica will resync and send a snapshot
+            self.events.publish("delta", dict(delta, text=delta_text(delta)))
+
+    def run(self) -> int:
+        served = self.bridge.serve(make_app(self.history, self.events), param(self, "host"),
+                                   param(self, "port"),
+                                   on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}"))
+        return 0 if served else 1
+
+
+main = main_for(Viewer)

@@ -1,0 +1,68 @@
+"""Serving a web app next to a ROS node: rclpy spins in a background thread, aiohttp serves in
+the main thread's asyncio loop (``dsr_graph.web.events.Broadcaster`` fans events out to the open
+pages). ROS callbacks hand data to the web side with ``Bridge.to_web`` (never share objects
+between the threads without it)."""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+from typing import Any, Callable, Optional
+
+from aiohttp import web
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+
+
+class Bridge:
+    def __init__(self, node, executor: Optional[SingleThreadedExecutor] = None):
+        self.node = node
+        self.executor = executor or SingleThreadedExecutor(context=node.context)
+        self.executor.add_node(node)
+        self.loop: Optional[asyncio.AbstractEventLoop] = None
+        self._stop: Optional[asyncio.Event] = None
+        self.failed = False
+        self._thread = threading.Thread(target=self._spin, name="rclpy", daemon=True)
+
+    def _spin(self) -> None:
+        try:
+            self.executor.spin()
+        except ExternalShutdownException:  # Ctrl-C / SIGTERM: rclpy's handler shut ROS down
+            pass
+        except Exception as e:  # a failing callback: say so and stop the whole process
+            self.failed = True
+            self.node.get_logger().fatal(f"ROS thread stopped: {e!r}")
+        # Either way the web side has nothing left to serve: end the process.
+        if self.loop is not None and not self.loop.is_closed():
+            self.loop.call_soon_threadsafe(self._stop.set)
+
+    def to_web(self, fn: Callable[..., None], *args: Any) -> None:
+        """Run ``fn(*args)`` in the web loop (call from ROS callbacks)."""
+        if self.loop is not None and not self.loop.is_closed():
+            self.loop.call_soon_threadsafe(fn, *args)
+
+    def serve(self, app: web.Application, host: str, port: int, on_ready: Optional[Callable[[str], None]] = None) -> bool:
+        """Spin ROS in the background and serve ``app`` until interrupted (True) or until the ROS
+        thread fails (False)."""
+
+        async def main() -> None:
+            self.loop = asyncio.get_running_loop()
+            self._stop = asyncio.Event()
+            self._thread.start()
+            runner = web.AppRunner(app, access_log=None)
+            await runner.setup()
+            site = web.TCPSite(runner, host, port)
+            await site.start()
+            if on_ready:
+                on_ready(f"http://{host}:{port}/")
+            try:
+                await self._stop.wait()
+            finally:
+                await runner.cleanup()
+
+        try:
+            asyncio.run(main())
+        except KeyboardInterrupt:
+            pass
+        finally:
+            self.executor.shutdown(timeout_sec=1.0)
+        return not self.failed

@@ -1,0 +1,46 @@
+"""Server-Sent Events for every open page of a web app (aiohttp; no ROS): ``publish`` from the
+asyncio loop, ``stream`` as the handler of an events URL."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from collections.abc import Callable
+from typing import Any, Optional, Set
+
+from aiohttp import web
+
+
+class Broadcaster:
+    """Events for every connected page (Server-Sent Events); lives in the asyncio loop."""
+
+    def __init__(self) -> None:
+        self._queues: Set[asyncio.Queue] = set()
+
+    def publish(self, kind: str, data: Any) -> None:
+        text = f"event: {kind}\ndata: {json.dumps(data, separators=(',', ':'))}\n\n"
+        for queue in list(self._queues):
+            if queue.qsize() > 1000:  # a page that stopped reading: drop it, it reconnects
+                self._queues.discard(queue)
+            else:
+                queue.put_nowait(text)
+
+    async def stream(self, request: web.Request, first: Optional[Callable[[], list]] = None) -> web.StreamResponse:
+        response = web.StreamResponse(headers={"Content-Type": "text/event-stream", "Cache-Control": "no-cache"})
+        await response.prepare(request)
+        queue: asyncio.Queue = asyncio.Queue()
+        self._queues.add(queue)
+        try:
+            for kind, data in (first() if first else []):
+                await response.write(f"event: {kind}\ndata: {json.dumps(data)}\n\n".encode())
+            while True:
+                try:
+                    text = await asyncio.wait_for(queue.get(), timeout=15)
+                except asyncio.TimeoutError:
+                    text = ": keep-alive\n\n"
+                await response.write(text.encode())
+        except (ConnectionResetError, asyncio.CancelledError):
+            pass
+        finally:
+            self._queues.discard(queue)
+        return response

@@ -1,0 +1,99 @@
+"""The DSR viewer's web application (aiohttp; no ROS): the page, and a read-only JSON API over a
+``History``. ``viewer_node.py`` feeds the history from the DSR.
+
+    GET /api/graph[?seq=N]              the snapshot now (or at seq N), our snapshot JSON format
+    GET /api/deltas?since=S[&limit=L]   accepted deltas after S: {"first_seq", "seq", "deltas"}
+    GET /api/transform?from=A&to=B[&seq=N]   B's pose in A's frame: {"matrix", "translation",
+                                        "quaternion_wxyz", "chain"}
+    GET /api/events                     Server-Sent Events: "hello", then "delta" per accepted
+                                        delta (with a readable "text") and "reset" after a
+                                        resynchronisation
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+from aiohttp import web
+
+from dsr_graph.formats import dsr_json
+from dsr_graph.model import rigid
+from dsr_graph.protocol.delta_text import delta_text
+from dsr_graph.exceptions import LookupFailed
+from dsr_graph.exceptions import SeqUnavailable
+from dsr_graph.protocol.history import History
+from dsr_graph.web.events import Broadcaster
+
+WEB = Path(str(resources.files("dsr_graph").joinpath("web")))
+VENDOR = {"cytoscape.min.js": WEB / "node_modules" / "cytoscape" / "dist" / "cytoscape.min.js"}
+
+
+def _seq(request: web.Request, history: History) -> int:
+    text = request.query.get("seq")
+    if text is None:
+        return history.seq
+    try:
+        return int(text)
+    except ValueError:
+        raise web.HTTPBadRequest(text=f"seq must be an integer, got {text!r}") from None
+
+
+def _graph(request: web.Request, history: History):
+    if history.graph is None:
+        raise web.HTTPServiceUnavailable(text="the viewer has not received the graph yet")
+    seq = _seq(request, history)
+    try:
+        return history.graph_at(seq), seq
+    except SeqUnavailable as e:
+        raise web.HTTPNotFound(text=str(e)) from None
+
+
+def make_app(history: History, events: Broadcaster) -> web.Application:
+    async def index(request: web.Request) -> web.FileResponse:
+        return web.FileResponse(WEB / "viewer.html")
+
+    async def vendor(request: web.Request) -> web.FileResponse:
+        path = VENDOR.get(request.match_info["name"])
+        if path is None or not path.exists():
+            raise web.HTTPNotFound(text="unknown library (run scripts/setup.sh to install the viewer's libraries)")
+        return web.FileResponse(path)
+
+    async def graph(request: web.Request) -> web.Response:
+        g, seq = _graph(request, history)
+        return web.json_response(dsr_json.to_json(g, "snapshot", seq=seq))
+
+    async def deltas(request: web.Request) -> web.Response:
+        try:
+            since = int(request.query.get("since", history.first_seq))
+            limit = min(int(request.query.get("limit", 1000)), 10000)
+        except ValueError:
+            raise web.HTTPBadRequest(text="since and limit are integers") from None
+        return web.json_response({"first_seq": history.first_seq, "seq": history.seq,
+                                  "deltas": [dict(d, text=delta_text(d)) for d in history.since(since, limit)]})
+
+    async def transform(request: web.Request) -> web.Response:
+        g, seq = _graph(request, history)
+        frm, to = request.query.get("from"), request.query.get("to")
+        if not frm or not to:
+            raise web.HTTPBadRequest(text="give from and to (node names)")
+        try:
+            answer = rigid.pose_json(g.transform(frm, to))
+            answer["chain"] = g.chain(frm, to)
+        except LookupFailed as e:
+            raise web.HTTPNotFound(text=str(e)) from None
+        answer["seq"] = seq
+        return web.json_response(answer)
+
+    async def stream(request: web.Request) -> web.StreamResponse:
+        return await events.stream(request, first=lambda: [("hello", {"seq": history.seq, "first_seq": history.first_seq})])
+
+    app = web.Application()
+    app.router.add_get("/", index)
+    app.router.add_static("/static/", WEB, show_index=False)
+    app.router.add_get("/vendor/{name}", vendor)
+    app.router.add_get("/api/graph", graph)
+    app.router.add_get("/api/deltas", deltas)
+    app.router.add_get("/api/transform", transform)
+    app.router.add_get("/api/events", stream)
+    return app

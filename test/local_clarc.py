@@ -1,0 +1,170 @@
+"""The CLARC robot in one process, without ROS, on virtual time: PELEA's executive, the Speech,
+Panel and Person grammars with their real processes (``clarc_agents.behaviours``), all on a
+``LocalBus`` over the CLARC room, and a patient who answers each item as a test says. The
+speaker, the screen and the Kinect are simulated here, as ``clarc_sim`` does over ROS."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any
+
+from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents.behaviours.panel import PanelBehaviour
+from clarc_agents.behaviours.speech import SpeechBehaviour
+from clarc_agents.grammar_files import load_grammar
+from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from dsr_graph.formats.world_files import read_world
+from dsr_graph.protocol.local_bus import LocalBus
+from dsr_graph.rules.runner import RuleRunner
+
+ROOM = Path(__file__).resolve().parent.parent / "worlds" / "clarc_room.json"
+FACE = {"translation": [900.0, 0.0, -400.0], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+WORDS_PER_SECOND = 2.5
+REACTION = 1.0  # seconds before the patient answers
+
+log = logging.getLogger("local_clarc")
+
+
+@dataclass
+class Patient:
+    """What the patient does: per item, one response per answer window, in order: ``("voice",
+    points)``, ``("touch", points)``, ``"silence"``, ``"garbled"`` or ``"skip"``; an item not
+    listed is answered by voice with its best option. ``leaves``: item
+    -> seconds the patient is away, leaving while that item is introduced."""
+
+    answers: dict[str, list[Any]] = field(default_factory=dict)
+    leaves: dict[str, float] = field(default_factory=dict)
+
+
+class Port:
+    """PELEA's Port on the bus; CGAmed's store can be made to fail ``store_failures`` times."""
+
+    def __init__(self, robot: Robot):
+        self.robot = robot
+        self.events: list[dict[str, Any]] = []
+        self.notifications: list[str] = []
+        self.stored: list[dict[str, Any]] = []
+        self.store_failures = 0
+
+    def send(self, tx, on_done=None):
+        self.robot.pelea_link.send(tx, on_done)
+
+    def after(self, seconds, callback):
+        return self.robot.bus.after(seconds, callback)
+
+    def event(self, **fields):
+        self.events.append(dict(fields, t=self.robot.bus.now))
+
+    def notify_clinician(self, message):
+        self.notifications.append(message)
+
+    def store_result(self, result, on_done):
+        if self.store_failures > 0:
+            self.store_failures -= 1
+            self.robot.bus.soon(lambda: on_done(False, "CGAmed did not answer"))
+            return
+        self.stored.append(result)
+        self.robot.bus.soon(lambda: on_done(True, ""))
+
+    def now(self):
+        return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, timezone.utc).isoformat()
+
+
+class Robot:
+    def __init__(self, patient: Patient | None = None, present: bool = True):
+        self.patient = patient or Patient()
+        self.bus = LocalBus(read_world(ROOM).graph)
+        self.windows: dict[str, int] = {}
+        self.left: set[str] = set()
+        self.said: list[str] = []
+        self.screen: list[dict[str, Any]] = []
+        self._sentences: dict[int, Any] = {}  # sid -> the timer that ends it
+
+        self.person_link = self.bus.agent("/person")
+        self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
+        self.speech_link = self.bus.agent("/speech")
+        self.speech = SpeechBehaviour(self, log)
+        processes = dict(self.speech.processes(), listen=self._listen)
+        self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
+        self.panel_link = self.bus.agent("/panel")
+        self.panel = PanelBehaviour(self, log)
+        self.panel_runner = RuleRunner(self.panel_link, load_grammar("panel"), self.panel.processes(), log)
+        self.pelea_link = self.bus.agent("/pelea")
+        self.port = Port(self)
+        self.hle = HighLevelExecutive(self.port, Times(), log)
+        for runner in (self.person, self.speech_runner, self.panel_runner):
+            runner.setup()
+        self.speech_link.add_listener(lambda d, r: self.speech.on_graph(self.speech_link.graph))
+        self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
+        if present:
+            self.person.signal("seen", pose=FACE)
+            self.bus.deliver()
+
+    # ------------------------------------------------------------------ running a test
+    def run_test(self, patient_name: str = "Carlos", limit: float = 3600.0) -> dict[str, Any]:
+        """Press Start and run until the result is stored; the stored result."""
+        self.hle.start(self.pelea_link.graph, patient_name)
+        self.bus.run(until=lambda: bool(self.port.stored) and not self.hle.running, limit=limit)
+        assert self.port.stored, f"no result stored; events: {self.port.events[-5:]}"
+        return self.port.stored[-1]
+
+    def kinds(self) -> list[str]:
+        return [e["event"] for e in self.port.events]
+
+    # ------------------------------------------------------------------ the speaker (Speaker)
+    def say(self, sid: int, text: str) -> None:
+        self.said.append(text)
+        seconds = max(0.5, len(text.split()) / WORDS_PER_SECOND)
+        self._sentences[sid] = self.bus.after(seconds, lambda: self._spoken(sid, "end"))
+        self._maybe_leave(text)
+
+    def stop(self, sid: int) -> None:
+        timer = self._sentences.pop(sid, None)
+        if timer is not None:
+            timer.cancel()
+            self.bus.soon(lambda: self.speech.on_speaker(sid, "stopped"))
+
+    def _spoken(self, sid: int, event: str) -> None:
+        self._sentences.pop(sid, None)
+        self.speech.on_speaker(sid, event)
+
+    # ------------------------------------------------------------------ the screen (Screen)
+    def display(self, content: dict[str, Any]) -> None:
+        self.screen.append(content)
+
+    # ------------------------------------------------------------------ the patient
+    def _maybe_leave(self, text: str) -> None:
+        for item, seconds in self.patient.leaves.items():
+            position = ORDER.index(item) + 1
+            if text.startswith(f"Question {position} of") and item not in self.left:
+                self.left.add(item)
+                self.bus.after(0.5, lambda: self.person.signal("lost"))
+                self.bus.after(0.5 + seconds, lambda: self.person.signal("seen", pose=FACE))
+
+    def _listen(self, ctx) -> None:
+        """Speech listens (its listen process starts): the patient answers after a moment."""
+        self.speech.listen(ctx)
+        item = ctx["item"]
+        self.windows[item] = self.windows.get(item, 0) + 1
+        responses = self.patient.answers.get(item, [("voice", None)])
+        response = responses[min(self.windows[item], len(responses)) - 1]
+        self.bus.after(REACTION, lambda: self._respond(item, response))
+
+    def _respond(self, item: str, response: Any) -> None:
+        if self.speech.listening is None or self.speech.listening["item"] != item:
+            return  # the window closed meanwhile
+        if response == "silence":
+            return
+        if response == "garbled":
+            self.speech.on_heard("mmh... the, eh... brr")
+        elif response == "skip":
+            self.speech.on_heard("skip this one please")
+        elif response[0] == "touch":
+            self.panel.on_tap(self.panel_runner, response[1])
+        else:
+            options = BY_KEY[item].options
+            option = options[-1] if response[1] is None else BY_KEY[item].option(response[1])
+            self.speech.on_heard(option.says)
