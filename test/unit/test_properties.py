@@ -1,7 +1,16 @@
-"""Random sequences of transactions (valid and not) never break an invariant, and a rejected one
-changes nothing at all (hypothesis)."""
+"""Property-based tests of the graph model (hypothesis).
+
+- Mostly-valid transactions drawn against the graph as it grows (test/transaction_generator.py):
+  every invariant holds after each one, a rejected one changes nothing, a replica replaying the
+  accepted deltas ends equal, and at least MIN_ACCEPTED of them are accepted, so the test cannot
+  silently stop exercising the model.
+- Hostile transactions (wrong names, types and matrices almost everywhere): the same guarantees
+  on the rejection paths.
+"""
 
 import json
+
+import numpy as np
 
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -11,6 +20,9 @@ from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops, apply_transaction
 from invariants import assert_invariants
+from transaction_generator import HypothesisPick, RandomPick, TransactionGenerator, rt_depth
+
+MIN_ACCEPTED = 0.6  # of the mostly-valid transactions; about 0.85 is typical
 
 NAMES = [f"n{i}" for i in range(6)]
 node_ref = st.one_of(st.sampled_from(NAMES), st.integers(1, 8))
@@ -50,9 +62,62 @@ def snapshot(graph):
     return json.dumps(dsr_json.to_json(graph, "snapshot"), sort_keys=True)
 
 
-@settings(max_examples=300, deadline=None)
+def grow(pick, steps):
+    """Apply ``steps`` generated transactions to a new graph, checking the guarantees after each;
+    the graph, its replica and how many were accepted."""
+    g, replica = Graph(), Graph()
+    generator = TransactionGenerator(pick, g)
+    accepted = 0
+    for _ in range(steps):
+        doc = generator.transaction(g)
+        before = snapshot(g)
+        try:
+            _, canonical = apply_transaction(g, doc)
+        except TransactionRejected as e:
+            assert snapshot(g) == before, f"rejected ({e}) but the graph changed"
+            assert e.violation.rule and e.violation.element and e.violation.message
+        else:
+            accepted += 1
+            apply_ops(replica, json.loads(json.dumps(canonical)))
+        assert_invariants(g)
+    assert snapshot(replica) == snapshot(g)
+    return g, accepted
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.data())
+def test_mostly_valid_transactions_keep_every_invariant(data):
+    steps = data.draw(st.integers(20, 120))
+    graph, accepted = grow(HypothesisPick(data), steps)
+    assert accepted / steps >= MIN_ACCEPTED, f"only {accepted} of {steps} accepted"
+    if graph.rt_root() is not None:  # kinematic chains agree with an independent composition
+        names = [n.name for n in graph.nodes() if graph.is_geometric(n.id)]
+        a, b = data.draw(st.sampled_from(names)), data.draw(st.sampled_from(names))
+        assert np.allclose(graph.transform(a, b), np.linalg.inv(pose_from_root(graph, a)) @ pose_from_root(graph, b),
+                           atol=1e-6)
+
+
+def test_the_generator_reaches_large_deep_graphs():
+    """Seeded, so its figures are the same on every run: hundreds of edges, a deep RT tree."""
+    graph, accepted = grow(RandomPick(seed=2026), 600)
+    print(f"accepted {accepted}/600, {len(graph)} nodes, {graph.edge_count()} edges, RT depth {rt_depth(graph)}")
+    assert accepted / 600 >= MIN_ACCEPTED
+    assert graph.edge_count() >= 250 and rt_depth(graph) >= 10
+
+
+def pose_from_root(graph, name):
+    pose = np.eye(4)
+    node = graph.node(name)
+    while graph.rt_parent(node.id) is not None:
+        parent = graph.rt_parent(node.id)
+        pose = graph.edge(parent.id, node.id, "RT").rt @ pose
+        node = parent
+    return pose
+
+
+@settings(max_examples=200, deadline=None)
 @given(st.lists(transaction, min_size=1, max_size=25))
-def test_random_transactions_keep_every_invariant(transactions):
+def test_hostile_transactions_keep_every_invariant(transactions):
     g = Graph()
     replica = Graph()
     accepted = 0

@@ -87,7 +87,7 @@ def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
     agent = agent_in_session(ros)
     seen = []
     agent.add_listener(lambda deltas, resynced: seen.extend(d["seq"] for d in deltas))
-    writer = str(Path(__file__).parent / "helpers" / "writer.py")
+    writer = str(Path(__file__).resolve().parents[1] / "helpers" / "writer.py")
     for prefix in ("a", "b"):  # two writer processes racing this one
         ros.procs.start(f"writer_{prefix}", ["python", writer, prefix, 50])
     for i in range(50):

@@ -12,7 +12,7 @@ import pytest
 from browser import chromium_page, free_port
 from ros_processes import agent_in_session, fresh_domain_id, send_and_wait, snapshot_via, wait_for
 
-REPO = Path(__file__).resolve().parent.parent
+REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
 
 

@@ -12,7 +12,7 @@ from dsr_graph.rules.engine import GrammarEngine
 from dsr_graph.model.transaction import apply_ops
 from dsr_graph.formats.world_files import read_world
 
-ROOM = Path(__file__).resolve().parent.parent / "worlds" / "clarc_room.json"
+ROOM = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
 POSE = {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
 
 

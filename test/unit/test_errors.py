@@ -1,0 +1,36 @@
+"""Every error class of the suite derives from DsrError and is defined in one of the two
+exceptions modules (dsr_graph's, and the CLARC packages')."""
+
+import ast
+from pathlib import Path
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+HOMES = {SRC / "dsr_graph" / "dsr_graph" / "exceptions.py", SRC / "clarc_agents" / "clarc_agents" / "exceptions.py"}
+BUILTIN_ERRORS = {"Exception", "ValueError", "RuntimeError", "LookupError", "KeyError", "TypeError", "OSError"}
+
+
+def error_classes():
+    for path in sorted(SRC.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ClassDef):
+                bases = {b.id for b in node.bases if isinstance(b, ast.Name)}
+                if bases & BUILTIN_ERRORS or any(b.endswith("Error") for b in bases) or node.name.endswith("Error"):
+                    yield path, node.name
+
+
+def test_errors_live_in_the_exceptions_modules():
+    found = list(error_classes())
+    assert len(found) >= 10
+    strays = [f"{path.relative_to(SRC)}: {name}" for path, name in found if path not in HOMES]
+    assert not strays, strays
+
+
+def test_every_error_derives_from_dsr_error():
+    import clarc_agents.exceptions as clarc
+    import dsr_graph.exceptions as dsr
+
+    for module in (dsr, clarc):
+        for name in dir(module):
+            value = getattr(module, name)
+            if isinstance(value, type) and issubclass(value, Exception):
+                assert issubclass(value, dsr.DsrError), name

@@ -1,0 +1,132 @@
+"""PELEA's High Level Executive against a local graph, no ROS: the whole Barthel test with Speech,
+Panel and Person's real grammars and processes on a LocalBus (test/local_clarc.py), every
+deviation and the replan it causes, and its action table against the PDDL domain."""
+
+from pyperplan.pddl.parser import Parser
+
+from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents.pelea.decision_support import domain_path
+from clarc_agents.pelea.hle import HighLevelExecutive
+from local_clarc import Patient, Robot
+
+
+def replans(robot):
+    return [e["reason"] for e in robot.port.events if e["event"] == "plan"]
+
+
+def items(result):
+    return {i["item"]: (i["points"], i["via"], i["attempts"]) for i in result["items"]}
+
+
+def test_every_action_of_the_domain_has_a_handler_and_no_handler_is_extra():
+    parser = Parser(domain_path())
+    domain = parser.parse_domain()
+    assert set(HighLevelExecutive.ACTIONS) == set(domain.actions)
+    for name, action in domain.actions.items():  # each handler takes the action's parameters
+        code = HighLevelExecutive.ACTIONS[name].__code__
+        assert code.co_argcount == 2 + len(action.signature), name
+
+
+def test_a_test_without_deviations():
+    robot = Robot()
+    result = robot.run_test()
+    assert result["total"] == 100 and result["band"] == "independent"
+    assert all(i["via"] == "voice" and i["attempts"] == 1 for i in result["items"])
+    assert replans(robot) == ["start"]
+    assert robot.said[0].startswith("Hello Carlos") and robot.said[-1].startswith("That was the last question")
+    introduced = [s for s in robot.said if s.startswith("Question ")]
+    assert introduced == [f"Question {n} of 10, {BY_KEY[i].title}. {BY_KEY[i].question}"
+                          for n, i in enumerate(ORDER, 1)]
+    test = robot.pelea_link.graph.node("test")
+    assert test.attrs["status"] == "finished" and test.attrs["patient"] == "Carlos"
+
+
+def test_silence_then_the_options_again_by_voice_and_on_the_screen():
+    robot = Robot(Patient(answers={"feeding": ["silence", ("voice", 5)]}))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (5, "voice", 2)
+    assert replans(robot) == ["start", "deviation in (await-answer feeding)"]
+    again = [s for s in robot.screen if s.get("text", "").startswith("Let me say the options again")]
+    assert again and again[0]["option_points"] == [0.0, 5.0, 10.0]
+
+
+def test_silence_twice_leaves_the_item_unanswered_and_goes_on():
+    robot = Robot(Patient(answers={"bathing": ["silence", "silence"]}))
+    result = robot.run_test()
+    assert items(result)["bathing"] == (None, None, 2)
+    assert result["unanswered"] == ["bathing"] and not result["clinician_called"]
+    assert "deviation in (await-answer-again bathing)" in replans(robot)
+    assert items(result)["grooming"] == (5, "voice", 1)  # the next item is asked as usual
+
+
+def test_words_not_understood_then_a_clarification_and_a_touch():
+    robot = Robot(Patient(answers={"dressing": ["garbled", ("touch", 5)]}))
+    result = robot.run_test()
+    assert items(result)["dressing"] == (5, "touch", 2)
+    assert any(s.startswith("Sorry, I did not understand.") for s in robot.said)
+    not_understood = [e for e in robot.port.events if e["event"] == "not_understood"]
+    assert not_understood[0]["heard"].startswith("mmh")
+
+
+def test_asking_to_skip_closes_the_item_at_once():
+    robot = Robot(Patient(answers={"bowels": ["skip"]}))
+    result = robot.run_test()
+    assert items(result)["bowels"] == (None, None, 1)
+    assert replans(robot)[1] == "deviation in (await-answer bowels)"
+
+
+def test_two_unanswered_items_call_the_clinician_once():
+    robot = Robot(Patient(answers={"grooming": ["silence", "silence"], "bowels": ["skip"],
+                                   "stairs": ["skip"]}))
+    result = robot.run_test()
+    assert result["unanswered"] == ["grooming", "bowels", "stairs"] and result["clinician_called"]
+    assert len(robot.port.notifications) == 1 and "grooming, bowels" in robot.port.notifications[0]
+    assert "two items unanswered: call the clinician" in replans(robot)
+    assert robot.pelea_link.graph.edge("test", "clinician", "requests") is None  # cleared at the end
+
+
+def test_the_person_leaves_speech_stops_and_the_item_starts_again():
+    robot = Robot(Patient(leaves={"bladder": 10.0}))
+    result = robot.run_test()
+    assert result["person_lost_count"] == 1 and result["total"] == 100
+    kinds = robot.kinds()
+    assert kinds.index("person_lost") < kinds.index("person_back")
+    assert "Please, sit down in front of me." in robot.said
+    assert [s for s in robot.said if s.startswith("Question 6 of 10")] and \
+        len([s for s in robot.said if s.startswith("Question 6 of 10")]) == 2  # asked again
+    assert {"clear": True} in robot.screen  # the panel cleared while the person was away
+    assert "the person left" in replans(robot)
+
+
+def test_nobody_there_at_start_asks_to_sit_first():
+    robot = Robot(present=False)
+    robot.bus.after(5.0, lambda: robot.person.signal("seen", pose={"translation": [900, 0, -400],
+                                                                     "rotation_euler_xyz": [0, 0, 0]}))
+    result = robot.run_test()
+    assert robot.said[0] == "Please, sit down in front of me." and robot.said[1].startswith("Hello Carlos")
+    assert result["total"] == 100
+
+
+def test_a_result_cgamed_refused_is_sent_again_and_stored_once():
+    robot = Robot()
+    robot.port.store_failures = 2
+    result = robot.run_test()
+    assert robot.port.stored == [result]
+    assert [e["event"] for e in robot.port.events].count("finished") == 1
+
+
+def test_a_second_start_while_running_is_ignored():
+    robot = Robot()
+    robot.hle.start(robot.pelea_link.graph, "Carlos")
+    assert robot.hle.start(robot.pelea_link.graph, "Someone else") is False
+    robot.bus.run(until=lambda: bool(robot.port.stored) and not robot.hle.running)
+    assert [r["patient"] for r in robot.port.stored] == ["Carlos"]
+
+
+def test_the_graph_records_each_answer_and_how_it_was_given():
+    robot = Robot(Patient(answers={"stairs": [("touch", 5)]}))
+    robot.run_test()
+    graph = robot.pelea_link.graph
+    assert graph.node("item_stairs").attrs == {"item": "stairs", "position": 10, "attempts": 1,
+                                               "answer": 5, "via": "touch"}
+    assert graph.node("item_feeding").attrs["answer"] == 10
