@@ -1,6 +1,8 @@
-"""A subscribing agent for the throughput benchmark: a DsrAgent replica that waits until its
-replica reaches seq N (or, with --raw, a plain String subscription that waits for N messages),
-prints when the first and the last arrived, then exits. Usage: counter.py N [--raw TOPIC]"""
+"""A subscribing agent for the throughput benchmark: a DsrAgent replica that counts the deltas it
+actually applies until its replica reaches seq N (or, with --raw, a plain String subscription
+that counts the messages it receives, up to N), prints the count, when the first and the last
+arrived and how often the replica resynchronised from a snapshot (deltas a snapshot covered are
+not counted: they were never applied one by one), then exits. Usage: counter.py N [--raw TOPIC]"""
 
 import json
 import sys
@@ -16,15 +18,19 @@ from dsr_graph.ros.session import RosSession
 def main() -> int:
     n = int(sys.argv[1])
     raw = sys.argv[3] if len(sys.argv) > 3 and sys.argv[2] == "--raw" else None
-    seen = {"count": 0, "first": None, "last": None}
+    seen = {"count": 0, "first": None, "last": None, "seq": 0, "resyncs": 0}
 
     def count(k: int) -> None:
-        if k <= 0:  # the first snapshot, or a resync that brought nothing new
+        if k <= 0:
             return
         now = time.time()
         seen["first"] = seen["first"] or now
         seen["count"] += k
         seen["last"] = now
+
+    def applied(deltas, resynced: bool) -> None:
+        seen["seq"] = agent.replica.seq
+        count(len(deltas))
 
     with RosSession() as ros:
         if raw:
@@ -32,19 +38,24 @@ def main() -> int:
         else:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=30)
-            # by seq, not by count: a replica that resynchronised from a snapshot skipped deltas
-            agent.add_listener(lambda deltas, resynced: count(agent.replica.seq - seen["count"]))
             ros.spin_until(lambda: agent.ready, 30, "the server")
+            seen["seq"] = agent.replica.seq
+            agent.add_listener(applied)
+            seen["start_seq"] = seen["seq"]
         print("ready", flush=True)
-        # Stop at n, or when nothing more came for 3 s (a raw subscriber that fell behind may have
-        # lost messages: the report then says how many arrived).
+        # Stop at n (messages, or the replica's seq), or when nothing more came for 3 s (a
+        # subscriber that fell behind may have lost messages: the report says how many arrived).
         deadline = time.time() + 120
-        while seen["count"] < n and time.time() < deadline:
+        while (
+            seen["count"] < n
+            and (raw or seen["seq"] - seen["start_seq"] < n)
+            and time.time() < deadline
+        ):
             if seen["last"] is not None and time.time() - seen["last"] > 3:
                 break
             ros.executor.spin_once(timeout_sec=0.05)
-    if not raw:
-        seen["resyncs"] = agent.resyncs
+    if not raw:  # the first snapshot is the late join, not a resynchronisation
+        seen["resyncs"] = agent.resyncs - 1
     print(json.dumps(seen), flush=True)
     return 0
 

@@ -23,18 +23,18 @@ import tempfile
 import time
 import tracemalloc
 from pathlib import Path
-from typing import Any, Dict, List
+from typing import Any
 
 import numpy as np
 from std_msgs.msg import String
 
 from dsr_graph.formats import dsr_json
 from dsr_graph.model import rigid
-from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.session import RosSession
-from dsr_graph.model.transaction import apply_ops
 
 ROOT = Path(__file__).resolve().parent.parent
 HERE = Path(__file__).resolve().parent
@@ -44,18 +44,35 @@ HERE = Path(__file__).resolve().parent
 class Procs:
     def __init__(self, workdir: Path, domain: int):
         self.workdir, self.domain, self.procs = workdir, domain, []
-        self.env = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-                        PYTHONUNBUFFERED="1")
+        self.env = dict(
+            os.environ,
+            ROS_DOMAIN_ID=str(domain),
+            ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+            PYTHONUNBUFFERED="1",
+        )
 
-    def start(self, name: str, argv: List[str]) -> subprocess.Popen:
+    def start(self, name: str, argv: list[str]) -> subprocess.Popen:
         exe = shutil.which(argv[0]) or argv[0]
-        p = subprocess.Popen([exe, *argv[1:]], stdout=subprocess.PIPE, stderr=open(self.workdir / f"{name}.log", "w"),
-                             env=self.env, text=True, start_new_session=True)
+        p = subprocess.Popen(
+            [exe, *argv[1:]],
+            stdout=subprocess.PIPE,
+            stderr=open(self.workdir / f"{name}.log", "w"),
+            env=self.env,
+            text=True,
+            start_new_session=True,
+        )
         self.procs.append(p)
         return p
 
     def server(self, state: Path, world: str = "") -> subprocess.Popen:
-        args = ["dsr_server", "--ros-args", "-p", f"state_dir:={state}", "-p", "publish_poses:=false"]
+        args = [
+            "dsr_server",
+            "--ros-args",
+            "-p",
+            f"state_dir:={state}",
+            "-p",
+            "publish_poses:=false",
+        ]
         if world:
             args += ["-p", f"world_file:={world}"]
         return self.start("server", args)
@@ -73,10 +90,15 @@ class Procs:
         self.procs = []
 
 
-def percentiles(xs: List[float]) -> Dict[str, float]:
+def percentiles(xs: list[float]) -> dict[str, float]:
     xs = sorted(xs)
     pick = lambda q: xs[min(len(xs) - 1, int(q * len(xs)))]  # noqa: E731
-    return {"p50_ms": pick(0.5) * 1e3, "p90_ms": pick(0.9) * 1e3, "p99_ms": pick(0.99) * 1e3, "n": len(xs)}
+    return {
+        "p50_ms": pick(0.5) * 1e3,
+        "p90_ms": pick(0.9) * 1e3,
+        "p99_ms": pick(0.99) * 1e3,
+        "n": len(xs),
+    }
 
 
 def rss_kib(pid: int) -> int:
@@ -95,7 +117,7 @@ def session_with_agent(domain: int, name: str):
 
 
 # ---------------------------------------------------------------------------- 1. latency
-def bench_latency(work: Path, domain: int, n: int) -> Dict[str, Any]:
+def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
     procs = Procs(work, domain)
     try:
         procs.server(work / "lat_state")
@@ -105,10 +127,14 @@ def bench_latency(work: Path, domain: int, n: int) -> Dict[str, Any]:
         reader = DsrAgent()
         reader.setup(reader_node, timeout_sec=30)
         ros.spin_until(lambda: reader.ready, 30, "the reader")
-        arrived: Dict[str, float] = {}
-        reader.add_listener(lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas}))
+        arrived: dict[str, float] = {}
+        reader.add_listener(
+            lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})
+        )
         done = []
-        writer.send({"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, done.append)
+        writer.send(
+            {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, done.append
+        )
         ros.spin_until(lambda: done, 10, "set-up")
         samples = []
         payload = None
@@ -117,34 +143,46 @@ def bench_latency(work: Path, domain: int, n: int) -> Dict[str, Any]:
             sent = time.perf_counter()
             ident = writer.send(tx)
             payload = payload or json.dumps(dict(tx, id=ident, agent=writer.name))
-            ros.spin_until(lambda: ident in arrived, 10, "the delta")
+            ros.spin_until(lambda ident=ident: ident in arrived, 10, "the delta")
             samples.append(arrived[ident] - sent)
-        dsr = percentiles(samples[n // 10:])  # the first tenth warms up
+        dsr = percentiles(samples[n // 10 :])  # the first tenth warms up
         procs.stop_all()
 
         # baseline: the same payload through a raw rclpy relay, same hops, same QoS
         procs.start("relay", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"])
         pub = ros.node.create_publisher(String, "bench/in", qos_stream())
-        got: List[float] = []
-        reader_node.create_subscription(String, "bench/out", lambda m: got.append(time.perf_counter()), qos_stream())
-        ros.spin_until(lambda: pub.get_subscription_count() > 0 and reader_node.count_publishers("bench/out") > 0,
-                       30, "the relay")
+        got: list[float] = []
+        reader_node.create_subscription(
+            String, "bench/out", lambda m: got.append(time.perf_counter()), qos_stream()
+        )
+        ros.spin_until(
+            lambda: (
+                pub.get_subscription_count() > 0 and reader_node.count_publishers("bench/out") > 0
+            ),
+            30,
+            "the relay",
+        )
         ros.spin_for(0.5)
         samples = []
-        for i in range(n):
+        for _ in range(n):
             before = len(got)
             sent = time.perf_counter()
             pub.publish(String(data=payload))
-            ros.spin_until(lambda: len(got) > before, 10, "the relayed message")
+            ros.spin_until(lambda before=before: len(got) > before, 10, "the relayed message")
             samples.append(got[-1] - sent)
-        raw = percentiles(samples[n // 10:])
+        raw = percentiles(samples[n // 10 :])
         ros.close()
     finally:
         procs.stop_all()
-    return {"dsr": dsr, "raw": raw, "payload_bytes": len(payload),
-            "ratio_p50": dsr["p50_ms"] / raw["p50_ms"], "ratio_p99": dsr["p99_ms"] / raw["p99_ms"],
-            "targets": "p50 <= 1.25x raw, p99 <= 2x raw",
-            "met": dsr["p50_ms"] <= 1.25 * raw["p50_ms"] and dsr["p99_ms"] <= 2 * raw["p99_ms"]}
+    return {
+        "dsr": dsr,
+        "raw": raw,
+        "payload_bytes": len(payload),
+        "ratio_p50": dsr["p50_ms"] / raw["p50_ms"],
+        "ratio_p99": dsr["p99_ms"] / raw["p99_ms"],
+        "targets": "p50 <= 1.25x raw, p99 <= 2x raw",
+        "met": dsr["p50_ms"] <= 1.25 * raw["p50_ms"] and dsr["p99_ms"] <= 2 * raw["p99_ms"],
+    }
 
 
 # ---------------------------------------------------------------------------- 2. throughput
@@ -159,38 +197,58 @@ def _wait_ready(p: subprocess.Popen, timeout: float = 60) -> None:
     raise RuntimeError("a counter was not ready in time")
 
 
-def _counters_result(counters: List[subprocess.Popen], t0: float, expected: int) -> Dict[str, float]:
-    """Messages per second that reached every counter, and the share of messages that arrived."""
-    last, least = 0.0, None
+def _counters_result(
+    counters: list[subprocess.Popen], t0: float, expected: int
+) -> dict[str, float]:
+    """Messages (or deltas applied) per second that reached every counter, the share that
+    arrived, and how many resynchronisations the replicas needed."""
+    last, least, resyncs = 0.0, None, 0
     for c in counters:
         out = c.stdout.read()  # after readline(): communicate() would miss what it buffered
         c.wait(timeout=300)
         seen = json.loads(out.strip().splitlines()[-1])
         last = max(last, seen["last"] or t0)
         least = seen["count"] if least is None else min(least, seen["count"])
-    return {"rate": (least or 0) / max(last - t0, 1e-9), "delivered": (least or 0) / expected}
+        resyncs += seen.get("resyncs", 0)
+    return {
+        "rate": (least or 0) / max(last - t0, 1e-9),
+        "delivered": (least or 0) / expected,
+        "resyncs": resyncs,
+    }
 
 
-def bench_throughput(work: Path, domain: int, n: int, batch: int, agents_list: List[int]) -> Dict[str, Any]:
-    results: Dict[str, Any] = {}
+def bench_throughput(
+    work: Path, domain: int, n: int, batch: int, agents_list: list[int]
+) -> dict[str, Any]:
+    results: dict[str, Any] = {}
     for k in agents_list:
         procs = Procs(work, domain)
         try:
             procs.server(work / f"tp_state_{k}")
             ros, writer = session_with_agent(domain, "bench_writer")
-            counters = [procs.start(f"counter{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(n + 1)]) for i in range(k)]
+            counters = [
+                procs.start(
+                    f"counter{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(n + 1)]
+                )
+                for i in range(k)
+            ]
             for c in counters:
                 _wait_ready(c)
             ok = []
-            writer.send({"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append)
-            ros.spin_until(lambda: ok, 10, "set-up")
+            writer.send(
+                {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append
+            )
+            ros.spin_until(lambda ok=ok: ok, 10, "set-up")
             window, answered, t0 = 1000, [0], time.time()
             for i in range(n):  # flow control: at most `window` transactions unanswered
                 while i - answered[0] >= window:
                     ros.executor.spin_once(timeout_sec=0.01)
-                writer.send({"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": i}}]},
-                            lambda r: answered.__setitem__(0, answered[0] + 1))
-            single = _counters_result(counters, t0, n + 1)["rate"]
+                writer.send(
+                    {"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": i}}]},
+                    lambda r, answered=answered: answered.__setitem__(0, answered[0] + 1),
+                )
+            single_result = _counters_result(counters, t0, n + 1)
+            single = single_result["rate"]
             ros.close()
         finally:
             procs.stop_all()
@@ -201,16 +259,33 @@ def bench_throughput(work: Path, domain: int, n: int, batch: int, agents_list: L
             procs.server(work / f"tpb_state_{k}")
             ros, writer = session_with_agent(domain, "bench_writer")
             m = max(1, n // batch)
-            counters = [procs.start(f"counterb{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(m + 1)]) for i in range(k)]
+            counters = [
+                procs.start(
+                    f"counterb{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(m + 1)]
+                )
+                for i in range(k)
+            ]
             for c in counters:
                 _wait_ready(c)
             ok = []
-            writer.send({"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append)
-            ros.spin_until(lambda: ok, 10, "set-up")
+            writer.send(
+                {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append
+            )
+            ros.spin_until(lambda ok=ok: ok, 10, "set-up")
             t0 = time.time()
             for i in range(m):
-                writer.send({"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": i * batch + j}}
-                                     for j in range(batch)]})
+                writer.send(
+                    {
+                        "ops": [
+                            {
+                                "op": "set_node_attrs",
+                                "node": "bench",
+                                "attrs": {"level": i * batch + j},
+                            }
+                            for j in range(batch)
+                        ]
+                    }
+                )
             batched_ops = _counters_result(counters, t0, m + 1)["rate"] * batch
             ros.close()
         finally:
@@ -220,17 +295,33 @@ def bench_throughput(work: Path, domain: int, n: int, batch: int, agents_list: L
         procs = Procs(work, domain)
         try:
             procs.start("relay", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"])
-            counters = [procs.start(f"raw{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(n), "--raw", "bench/out"])
-                        for i in range(k)]
+            counters = [
+                procs.start(
+                    f"raw{k}_{i}",
+                    [sys.executable, str(HERE / "counter.py"), str(n), "--raw", "bench/out"],
+                )
+                for i in range(k)
+            ]
             for c in counters:
                 _wait_ready(c)
             ros = RosSession(name="bench_raw", domain_id=domain)
             pub = ros.node.create_publisher(String, "bench/in", qos_stream())
-            ros.spin_until(lambda: pub.get_subscription_count() > 0 and ros.node.count_subscribers("bench/out") >= k,
-                           30, "the relay and subscribers")
+            ros.spin_until(
+                lambda pub=pub, ros=ros, k=k: (
+                    pub.get_subscription_count() > 0
+                    and ros.node.count_subscribers("bench/out") >= k
+                ),
+                30,
+                "the relay and subscribers",
+            )
             ros.spin_for(1.0)
-            payload = json.dumps({"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": 0}}],
-                                  "id": "/bench_writer:000000:1", "agent": "/bench_writer"})
+            payload = json.dumps(
+                {
+                    "ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": 0}}],
+                    "id": "/bench_writer:000000:1",
+                    "agent": "/bench_writer",
+                }
+            )
             t0 = time.time()
             for i in range(n):
                 pub.publish(String(data=payload))
@@ -241,11 +332,22 @@ def bench_throughput(work: Path, domain: int, n: int, batch: int, agents_list: L
             ros.close()
         finally:
             procs.stop_all()
-        results[str(k)] = {"dsr_tx_per_s": single, "dsr_batched_ops_per_s": batched_ops, "batch": batch,
-                           "raw_msgs_per_s": raw, "raw_delivered": raw_result["delivered"], "ratio": single / raw}
+        results[str(k)] = {
+            "dsr_tx_per_s": single,
+            "dsr_delivered": single_result["delivered"],
+            "dsr_resyncs": single_result["resyncs"],
+            "dsr_batched_ops_per_s": batched_ops,
+            "batch": batch,
+            "raw_msgs_per_s": raw,
+            "raw_delivered": raw_result["delivered"],
+            "ratio": single / raw,
+        }
     eight = results.get("8")
-    return {"agents": results, "targets": ">= 2000 single-op transactions/s with 8 agents",
-            "met": bool(eight and eight["dsr_tx_per_s"] >= 2000)}
+    return {
+        "agents": results,
+        "targets": ">= 2000 single-op transactions/s with 8 agents",
+        "met": bool(eight and eight["dsr_tx_per_s"] >= 2000),
+    }
 
 
 # ---------------------------------------------------------------------------- 3. scale
@@ -253,24 +355,48 @@ def build_world(n: int, seed: int = 1) -> Graph:
     """n nodes: a random RT tree over a tenth of them, the rest symbolic with a few edges each."""
     rnd = random.Random(seed)
     g = Graph()
-    ops: List[Dict[str, Any]] = [{"op": "insert_node", "name": "world", "type": "world"}]
+    ops: list[dict[str, Any]] = [{"op": "insert_node", "name": "world", "type": "world"}]
     geometric = max(2, n // 10)
     for i in range(1, n):
-        ops.append({"op": "insert_node", "name": f"n{i}", "type": "transform" if i < geometric else "state",
-                    "attrs": {"level": i}})
+        ops.append(
+            {
+                "op": "insert_node",
+                "name": f"n{i}",
+                "type": "transform" if i < geometric else "state",
+                "attrs": {"level": i},
+            }
+        )
     for i in range(1, geometric):
         parent = "world" if i == 1 else f"n{rnd.randrange(1, i)}"
-        ops.append({"op": "insert_edge", "from": parent, "to": f"n{i}", "type": "RT",
-                    "rt": {"translation": [rnd.uniform(-1, 1), 0.0, 0.0], "rotation_euler_xyz": [0.0, 0.0, 0.1]}})
+        ops.append(
+            {
+                "op": "insert_edge",
+                "from": parent,
+                "to": f"n{i}",
+                "type": "RT",
+                "rt": {
+                    "translation": [rnd.uniform(-1, 1), 0.0, 0.0],
+                    "rotation_euler_xyz": [0.0, 0.0, 0.1],
+                },
+            }
+        )
     for i in range(geometric, n):
-        ops.append({"op": "insert_edge", "from": f"n{i}", "to": f"n{rnd.randrange(1, n - 1) or 1}", "type": "has"}
-                   if rnd.random() < 0.5 else {"op": "set_node_attrs", "node": f"n{i}", "attrs": {"pos_x": 1.0}})
+        ops.append(
+            {
+                "op": "insert_edge",
+                "from": f"n{i}",
+                "to": f"n{rnd.randrange(1, n - 1) or 1}",
+                "type": "has",
+            }
+            if rnd.random() < 0.5
+            else {"op": "set_node_attrs", "node": f"n{i}", "attrs": {"pos_x": 1.0}}
+        )
     with_edges = [op for op in ops if not (op["op"] == "insert_edge" and op["from"] == op["to"])]
     for start in range(0, len(with_edges), 5000):
         try:
-            apply_ops(g, with_edges[start:start + 5000])
+            apply_ops(g, with_edges[start : start + 5000])
         except Exception:  # a random duplicate edge: apply the chunk one by one
-            for op in with_edges[start:start + 5000]:
+            for op in with_edges[start : start + 5000]:
                 try:
                     apply_ops(g, [op])
                 except Exception:
@@ -278,8 +404,8 @@ def build_world(n: int, seed: int = 1) -> Graph:
     return g
 
 
-def bench_scale(work: Path, domain: int, sizes: List[int], ops: int) -> Dict[str, Any]:
-    out: Dict[str, Any] = {}
+def bench_scale(work: Path, domain: int, sizes: list[int], ops: int) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     for n in sizes:
         gc.collect()
         tracemalloc.start()
@@ -290,10 +416,12 @@ def bench_scale(work: Path, domain: int, sizes: List[int], ops: int) -> Dict[str
         rnd = random.Random(2)
         t = time.perf_counter()
         for i in range(ops):
-            apply_ops(g, [{"op": "set_node_attrs", "node": rnd.choice(names), "attrs": {"level": i}}])
+            apply_ops(
+                g, [{"op": "set_node_attrs", "node": rnd.choice(names), "attrs": {"level": i}}]
+            )
         attr_us = (time.perf_counter() - t) / ops * 1e6
         t = time.perf_counter()
-        for i in range(ops // 2):
+        for _ in range(ops // 2):
             a, b = rnd.choice(names), rnd.choice(names)
             if a != b and g.edge(a, b, "is") is None:
                 apply_ops(g, [{"op": "insert_edge", "from": a, "to": b, "type": "is"}])
@@ -316,42 +444,63 @@ def bench_scale(work: Path, domain: int, sizes: List[int], ops: int) -> Dict[str
             t = time.perf_counter()
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=60)
-            ros.spin_until(lambda: agent.replica.synced, 120, "the snapshot")
+            ros.spin_until(lambda agent=agent: agent.replica.synced, 120, "the snapshot")
             late_s = time.perf_counter() - t
             ros.close()
         finally:
             procs.stop_all()
-        out[str(n)] = {"set_attr_us_per_op": attr_us, "edge_us_per_op": edge_us, "snapshot_bytes": len(text),
-                       "late_joiner_s": late_s, "model_bytes_per_node": current / n,
-                       "server_rss_kib": server_rss, "server_rss_bytes_per_node": server_rss * 1024 / n}
+        out[str(n)] = {
+            "set_attr_us_per_op": attr_us,
+            "edge_us_per_op": edge_us,
+            "snapshot_bytes": len(text),
+            "late_joiner_s": late_s,
+            "model_bytes_per_node": current / n,
+            "server_rss_kib": server_rss,
+            "server_rss_bytes_per_node": server_rss * 1024 / n,
+        }
         del g, snapshot, text
     small, big = out[str(sizes[0])], out[str(sizes[-1])]
-    flat = big["set_attr_us_per_op"] <= 1.5 * small["set_attr_us_per_op"] and big["edge_us_per_op"] <= 1.5 * small["edge_us_per_op"]
-    return {"sizes": out, "targets": "cost per op flat (within 1.5x) from the smallest to the largest graph; "
-                                      "largest snapshot to a late joiner < 1 s",
-            "met": bool(flat and big["late_joiner_s"] < 1.0)}
+    flat = (
+        big["set_attr_us_per_op"] <= 1.5 * small["set_attr_us_per_op"]
+        and big["edge_us_per_op"] <= 1.5 * small["edge_us_per_op"]
+    )
+    return {
+        "sizes": out,
+        "targets": "cost per op flat (within 1.5x) from the smallest to the largest graph; "
+        "largest snapshot to a late joiner < 1 s",
+        "met": bool(flat and big["late_joiner_s"] < 1.0),
+    }
 
 
 # ---------------------------------------------------------------------------- 4. kinematics
-def bench_kinematics(depths: List[int], queries: int) -> Dict[str, Any]:
-    out: Dict[str, Any] = {}
+def bench_kinematics(depths: list[int], queries: int) -> dict[str, Any]:
+    out: dict[str, Any] = {}
     rnd = random.Random(3)
     for d in depths:
         g = Graph()
-        ops: List[Dict[str, Any]] = [{"op": "insert_node", "name": "root", "type": "world"}]
+        ops: list[dict[str, Any]] = [{"op": "insert_node", "name": "root", "type": "world"}]
         for branch in "ab":
             parent = "root"
             for i in range(d):
                 name = f"{branch}{i}"
                 ops.append({"op": "insert_node", "name": name, "type": "transform"})
-                ops.append({"op": "insert_edge", "from": parent, "to": name, "type": "RT", "rt": {
-                    "translation": [rnd.uniform(-1, 1) for _ in range(3)],
-                    "rotation_euler_xyz": [rnd.uniform(-3, 3) for _ in range(3)]}})
+                ops.append(
+                    {
+                        "op": "insert_edge",
+                        "from": parent,
+                        "to": name,
+                        "type": "RT",
+                        "rt": {
+                            "translation": [rnd.uniform(-1, 1) for _ in range(3)],
+                            "rotation_euler_xyz": [rnd.uniform(-3, 3) for _ in range(3)],
+                        },
+                    }
+                )
                 parent = name
         apply_ops(g, ops)
         a, b = f"a{d - 1}", f"b{d - 1}"
 
-        def naive() -> np.ndarray:  # the chain recomputed from the edges, general inverses
+        def naive(g=g, a=a, b=b) -> np.ndarray:  # the chain from the edges, general inverses
             def up(n):
                 m = np.eye(4)
                 while True:
@@ -360,6 +509,7 @@ def bench_kinematics(depths: List[int], queries: int) -> Dict[str, Any]:
                         return m
                     m = g.edge(p.name, n, "RT").rt @ m
                     n = p.name
+
             return np.linalg.inv(up(a)) @ up(b)
 
         t = time.perf_counter()
@@ -379,18 +529,37 @@ def bench_kinematics(depths: List[int], queries: int) -> Dict[str, Any]:
         assert np.allclose(ref, g.transform(a, b), atol=1e-9)
         rigid.check_rigid(g.transform(a, b))
         out[str(d)] = {"cold_qps": cold, "cached_qps": cached, "naive_qps": naive_qps}
-    return {"depths": out, "targets": ">= 100k cached transform queries/s",
-            "met": all(v["cached_qps"] >= 100_000 for v in out.values())}
+    return {
+        "depths": out,
+        "targets": ">= 100k cached transform queries/s",
+        "met": all(v["cached_qps"] >= 100_000 for v in out.values()),
+    }
 
 
 # ---------------------------------------------------------------------------- 5. the Barthel run
-def bench_barthel(work: Path, scale: float) -> Dict[str, Any]:
+def bench_barthel(work: Path, scale: float) -> dict[str, Any]:
     report = work / "cpu.txt"
     env = dict(os.environ, CLARC_CPU_REPORT=str(report))
     t = time.perf_counter()
-    run = subprocess.run([str(ROOT / "scripts" / "launch.sh"), "--db", str(work / "bench.sqlite"), "--scale", str(scale),
-                          "--run-dir", str(work / "barthel_run"), "--viewer-port", "0", "--dashboard-port", "0"],
-                         capture_output=True, text=True, env=env, timeout=600)
+    run = subprocess.run(
+        [
+            str(ROOT / "scripts" / "launch.sh"),
+            "--db",
+            str(work / "bench.sqlite"),
+            "--scale",
+            str(scale),
+            "--run-dir",
+            str(work / "barthel_run"),
+            "--viewer-port",
+            "0",
+            "--dashboard-port",
+            "0",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
     wall = time.perf_counter() - t
     cpu = {}
     if report.exists():
@@ -400,64 +569,122 @@ def bench_barthel(work: Path, scale: float) -> Dict[str, Any]:
     test_s = None
     for line in run.stdout.splitlines():
         if line.startswith("[") and "s]" in line:
-            test_s = float(line[1:line.index("s]")])
-    return {"completed": run.returncode == 0, "pace": scale, "wall_s": wall, "test_s": test_s, "cpu_s": cpu,
-            "cpu_total_s": sum(cpu.values())}
+            test_s = float(line[1 : line.index("s]")])
+    return {
+        "completed": run.returncode == 0,
+        "pace": scale,
+        "wall_s": wall,
+        "test_s": test_s,
+        "cpu_s": cpu,
+        "cpu_total_s": sum(cpu.values()),
+    }
 
 
 # ---------------------------------------------------------------------------- the report
-def table(report: Dict[str, Any]) -> str:
+def table(report: dict[str, Any]) -> str:
     lines = []
     lat = report.get("latency")
     if lat:
         lines.append("change-to-visible latency (2 hops)    p50        p90        p99")
         for k in ("dsr", "raw"):
             v = lat[k]
-            lines.append(f"  {k:<35} {v['p50_ms']:6.3f} ms  {v['p90_ms']:6.3f} ms  {v['p99_ms']:6.3f} ms")
-        lines.append(f"  ratio p50 {lat['ratio_p50']:.2f}x, p99 {lat['ratio_p99']:.2f}x  (target {lat['targets']}: "
-                     f"{'met' if lat['met'] else 'NOT met'})")
+            lines.append(
+                f"  {k:<35} {v['p50_ms']:6.3f} ms  {v['p90_ms']:6.3f} ms  {v['p99_ms']:6.3f} ms"
+            )
+        lines.append(
+            f"  ratio p50 {lat['ratio_p50']:.2f}x, p99 {lat['ratio_p99']:.2f}x  "
+            f"(target {lat['targets']}: "
+            f"{'met' if lat['met'] else 'NOT met'})"
+        )
     tp = report.get("throughput")
     if tp:
-        lines.append("throughput                 agents  dsr tx/s  dsr ops/s (batched)  raw msgs/s")
+        lines.append(
+            "throughput                 agents  dsr tx/s  dsr ops/s (batched)  raw msgs/s"
+            "  (deltas applied / messages received by every subscriber)"
+        )
         for k, v in tp["agents"].items():
-            lines.append(f"  {'':<24} {k:>6}  {v['dsr_tx_per_s']:8.0f}  {v['dsr_batched_ops_per_s']:19.0f}  {v['raw_msgs_per_s']:10.0f}")
+            note = ""
+            if v.get("dsr_resyncs") or v.get("dsr_delivered", 1) < 1:
+                note = (
+                    f"  dsr: {v['dsr_delivered']:.0%} applied one by one, "
+                    f"{v['dsr_resyncs']} resync(s) from a snapshot"
+                )
+            if v["raw_delivered"] < 1:
+                note += f"  raw: {v['raw_delivered']:.0%} received"
+            lines.append(
+                f"  {'':<24} {k:>6}  {v['dsr_tx_per_s']:8.0f}  "
+                f"{v['dsr_batched_ops_per_s']:19.0f}  {v['raw_msgs_per_s']:10.0f}{note}"
+            )
         lines.append(f"  target {tp['targets']}: {'met' if tp['met'] else 'NOT met'}")
     sc = report.get("scale")
     if sc:
-        lines.append("scale        nodes  set_attr us/op  edge us/op  snapshot MB  late joiner s  model B/node  server RSS B/node")
+        lines.append(
+            "scale        nodes  set_attr us/op  edge us/op  snapshot MB  late joiner s  "
+            "model B/node  server RSS B/node"
+        )
         for k, v in sc["sizes"].items():
-            lines.append(f"  {'':<9} {k:>7}  {v['set_attr_us_per_op']:14.1f}  {v['edge_us_per_op']:10.1f}  "
-                         f"{v['snapshot_bytes'] / 1e6:11.2f}  {v['late_joiner_s']:13.3f}  {v['model_bytes_per_node']:12.0f}  "
-                         f"{v['server_rss_bytes_per_node']:16.0f}")
+            lines.append(
+                f"  {'':<9} {k:>7}  {v['set_attr_us_per_op']:14.1f}  {v['edge_us_per_op']:10.1f}  "
+                f"{v['snapshot_bytes'] / 1e6:11.2f}  {v['late_joiner_s']:13.3f}  "
+                f"{v['model_bytes_per_node']:12.0f}  "
+                f"{v['server_rss_bytes_per_node']:16.0f}"
+            )
         lines.append(f"  target {sc['targets']}: {'met' if sc['met'] else 'NOT met'}")
     kin = report.get("kinematics")
     if kin:
         lines.append("kinematics   depth  cold q/s  cached q/s  naive numpy q/s")
         for k, v in kin["depths"].items():
-            lines.append(f"  {'':<9} {k:>5}  {v['cold_qps']:8.0f}  {v['cached_qps']:10.0f}  {v['naive_qps']:15.0f}")
+            lines.append(
+                f"  {'':<9} {k:>5}  {v['cold_qps']:8.0f}  {v['cached_qps']:10.0f}  "
+                f"{v['naive_qps']:15.0f}"
+            )
         lines.append(f"  target {kin['targets']}: {'met' if kin['met'] else 'NOT met'}")
     b = report.get("barthel")
     if b:
-        lines.append(f"barthel run (pace x{b['pace']}): completed {b['completed']}, test {b['test_s']} s, "
-                     f"launch wall {b['wall_s']:.1f} s, CPU {b['cpu_total_s']:.1f} s in all")
-        lines.append("  " + ", ".join(f"{k} {v:.1f}s" for k, v in sorted(b["cpu_s"].items(), key=lambda kv: -kv[1])))
+        lines.append(
+            f"barthel run (pace x{b['pace']}): completed {b['completed']}, test {b['test_s']} s, "
+            f"launch wall {b['wall_s']:.1f} s, CPU {b['cpu_total_s']:.1f} s in all"
+        )
+        lines.append(
+            "  "
+            + ", ".join(
+                f"{k} {v:.1f}s" for k, v in sorted(b["cpu_s"].items(), key=lambda kv: -kv[1])
+            )
+        )
     return "\n".join(lines)
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true",
-                        help="about 90 s: fewer samples, sizes up to 10k, 1 and 8 agents, a Barthel run at pace x0.05")
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="about 90 s: fewer samples, sizes up to 10k, 1 and 8 agents, "
+        "a Barthel run at pace x0.05",
+    )
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")
     args = parser.parse_args()
     quick = args.quick
     sections = set(args.only or ["latency", "throughput", "scale", "kinematics", "barthel"])
     domain = 10 + os.getpid() % 90
-    report: Dict[str, Any] = {
-        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(), "platform": platform.platform(),
-                    "cpu": next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "")},
-        "mode": "quick" if quick else "full", "when": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+    report: dict[str, Any] = {
+        "machine": {
+            "cpus": os.cpu_count(),
+            "python": platform.python_version(),
+            "platform": platform.platform(),
+            "cpu": next(
+                (
+                    line.split(":", 1)[1].strip()
+                    for line in open("/proc/cpuinfo")
+                    if line.startswith("model name")
+                ),
+                "",
+            ),
+        },
+        "mode": "quick" if quick else "full",
+        "when": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+    }
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         if "kinematics" in sections:
@@ -465,9 +692,16 @@ def main() -> int:
         if "latency" in sections:
             report["latency"] = bench_latency(work, domain, 200 if quick else 2000)
         if "throughput" in sections:
-            report["throughput"] = bench_throughput(work, domain, 1000 if quick else 5000, 100, [1, 8] if quick else [1, 4, 8])
+            report["throughput"] = bench_throughput(
+                work, domain, 1000 if quick else 5000, 100, [1, 8] if quick else [1, 4, 8]
+            )
         if "scale" in sections:
-            report["scale"] = bench_scale(work, domain, [1000, 10000] if quick else [1000, 10000, 100000], 2000 if quick else 10000)
+            report["scale"] = bench_scale(
+                work,
+                domain,
+                [1000, 10000] if quick else [1000, 10000, 100000],
+                2000 if quick else 10000,
+            )
         if "barthel" in sections:
             report["barthel"] = bench_barthel(work, 0.05 if quick else 0.1)
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)

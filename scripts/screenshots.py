@@ -1,4 +1,5 @@
-"""Photographs the DSR viewer and the clinician's dashboard during a real run (see screenshots.sh)."""
+"""Photographs the DSR viewer and the clinician's dashboard during a real run
+(see screenshots.sh)."""
 
 import os
 import subprocess
@@ -31,19 +32,39 @@ def main() -> int:
     OUT.mkdir(parents=True, exist_ok=True)
     viewer_port, dashboard_port = free_port(), free_port()
     with tempfile.TemporaryDirectory() as tmp:
-        launch = subprocess.Popen([str(ROOT / "scripts" / "launch.sh"), "--wait-start", "--db", f"{tmp}/db.sqlite",
-                                   "--run-dir", f"{tmp}/run", "--viewer-port", str(viewer_port),
-                                   "--dashboard-port", str(dashboard_port), "--scale", "0.3"],
-                                  stdout=subprocess.DEVNULL, env=dict(os.environ))
+        launch = subprocess.Popen(
+            [
+                str(ROOT / "scripts" / "launch.sh"),
+                "--wait-start",
+                "--db",
+                f"{tmp}/db.sqlite",
+                "--run-dir",
+                f"{tmp}/run",
+                "--viewer-port",
+                str(viewer_port),
+                "--dashboard-port",
+                str(dashboard_port),
+                "--scale",
+                "0.3",
+            ],
+            stdout=subprocess.DEVNULL,
+            env=dict(os.environ),
+        )
         try:
-            dashboard, viewer = f"http://127.0.0.1:{dashboard_port}/", f"http://127.0.0.1:{viewer_port}/"
+            dashboard, viewer = (
+                f"http://127.0.0.1:{dashboard_port}/",
+                f"http://127.0.0.1:{viewer_port}/",
+            )
             wait_http(dashboard + "api/status", 60)
             wait_http(viewer + "api/graph", 60)
             with chromium_page(1280, 860) as page:
                 page.goto(dashboard)
                 page.fill("#patient", "Carlos")
                 page.click("#start")
-                page.wait_for_function("document.getElementById('live-item').textContent.includes('3/10')", timeout=60000)
+                page.wait_for_function(
+                    "document.getElementById('live-item').textContent.includes('3/10')",
+                    timeout=60000,
+                )
                 view = page.context.browser.new_page(viewport={"width": 1280, "height": 860})
                 view.goto(viewer)
                 view.wait_for_function("Number(document.body.dataset.nodes) > 20", timeout=20000)

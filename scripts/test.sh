@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
-# The README's test command: sets the workspace up if needed (idempotent), then runs the whole
-# suite. Extra arguments go to pytest (e.g. scripts/test.sh -k kinematics -x).
+# The README's test command: sets the workspace up if needed (idempotent), lints (ruff, pinned,
+# ruff.toml), then runs the whole suite: test/unit (no ROS, seconds) and test/system (processes,
+# launches, the browser). Extra arguments go to pytest (scripts/test.sh test/unit -x).
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$root/scripts/setup.sh" --with-browser
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
 cd "$root"
+echo "[test] ruff check . && ruff format --check ."
+ruff check .
+ruff format --check . > /dev/null || { ruff format --check . >&2; echo "[test] run: ruff format ." >&2; exit 1; }
 mkdir -p test-results
 # CI runs hypothesis derandomised so a run is reproducible; locally it explores new examples.
 exec python -m pytest --junitxml=test-results/junit.xml "$@"

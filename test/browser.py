@@ -4,8 +4,15 @@ import shutil
 import socket
 from contextlib import contextmanager
 
-CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 def free_port() -> int:
@@ -19,7 +26,9 @@ def chromium_page(width=1280, height=860):
     from playwright.sync_api import sync_playwright
 
     exe = shutil.which("chromium")
-    assert exe, "Debian's chromium is missing: scripts/test.sh installs it (setup.sh --with-browser)"
+    assert exe, (
+        "Debian's chromium is missing: scripts/test.sh installs it (setup.sh --with-browser)"
+    )
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
         try:

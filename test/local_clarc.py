@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -70,7 +70,7 @@ class Port:
         self.robot.bus.soon(lambda: on_done(True, ""))
 
     def now(self):
-        return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, timezone.utc).isoformat()
+        return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
 
 
 class Robot:
@@ -91,7 +91,9 @@ class Robot:
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.panel_link = self.bus.agent("/panel")
         self.panel = PanelBehaviour(self, log)
-        self.panel_runner = RuleRunner(self.panel_link, load_grammar("panel"), self.panel.processes(), log)
+        self.panel_runner = RuleRunner(
+            self.panel_link, load_grammar("panel"), self.panel.processes(), log
+        )
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self)
         self.hle = HighLevelExecutive(self.port, Times(), log)

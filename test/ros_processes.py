@@ -39,8 +39,13 @@ class Processes:
         exe = shutil.which(argv[0])
         assert exe, f"{argv[0]} is not on PATH: run the tests through scripts/test.sh"
         log = open(self.workdir / f"{name}.log", "ab")
-        proc = subprocess.Popen([exe, *map(str, argv[1:])], stdout=log, stderr=subprocess.STDOUT,
-                                env=self.env(**env), start_new_session=True)
+        proc = subprocess.Popen(
+            [exe, *map(str, argv[1:])],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            env=self.env(**env),
+            start_new_session=True,
+        )
         self.procs[name] = proc
         return proc
 
@@ -54,8 +59,14 @@ class Processes:
 
     def run(self, *argv, timeout=30, input=None):
         """Run a command to completion (e.g. `dsr apply`), bounded."""
-        return subprocess.run([shutil.which(argv[0]), *map(str, argv[1:])], capture_output=True, text=True,
-                              env=self.env(), timeout=timeout, input=input)
+        return subprocess.run(
+            [shutil.which(argv[0]), *map(str, argv[1:])],
+            capture_output=True,
+            text=True,
+            env=self.env(),
+            timeout=timeout,
+            input=input,
+        )
 
     def log(self, name):
         path = self.workdir / f"{name}.log"
@@ -86,7 +97,8 @@ class Processes:
 
 
 def wait_for(predicate, timeout, what, session=None):
-    """Poll ``predicate`` (spinning ``session`` if given) until true; AssertionError after timeout."""
+    """Poll ``predicate`` (spinning ``session`` if given) until true; AssertionError after
+    ``timeout``."""
     deadline = time.monotonic() + timeout
     while not predicate():
         if time.monotonic() >= deadline:
@@ -99,9 +111,12 @@ def wait_for(predicate, timeout, what, session=None):
 
 def snapshot_via(session, timeout=15):
     from dsr_msgs.srv import GetSnapshot
+
     client = session.node.create_client(GetSnapshot, "dsr/get_snapshot")
     try:
-        return json.loads(session.call(client, GetSnapshot.Request(), timeout, "a snapshot").snapshot_json)
+        return json.loads(
+            session.call(client, GetSnapshot.Request(), timeout, "a snapshot").snapshot_json
+        )
     finally:
         session.node.destroy_client(client)
 

@@ -17,12 +17,14 @@ setup(
         ("share/" + PACKAGE, ["package.xml"]),
     ],
     package_data={PACKAGE: ["data/*.pddl", "grammars/*.yaml"]},
-    entry_points={"console_scripts": [
-        "pelea = clarc_agents.nodes.pelea_node:main",
-        "speech = clarc_agents.nodes.speech_node:main",
-        "panel = clarc_agents.nodes.panel_node:main",
-        "person = clarc_agents.nodes.person_node:main",
-    ]},
+    entry_points={
+        "console_scripts": [
+            "pelea = clarc_agents.nodes.pelea_node:main",
+            "speech = clarc_agents.nodes.speech_node:main",
+            "panel = clarc_agents.nodes.panel_node:main",
+            "person = clarc_agents.nodes.person_node:main",
+        ]
+    },
     install_requires=["setuptools"],
     zip_safe=False,
     description=ET.parse(os.path.join(HERE, "package.xml")).getroot().findtext("description"),

@@ -16,13 +16,17 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
     ],
-    package_data={PACKAGE: ["data/*.json", "web/*.html", "web/*.js", "web/*.css", "web/package*.json"]},
-    entry_points={"console_scripts": [
-        "dsr = dsr_graph.cli.main:main",
-        "dsr_server = dsr_graph.ros.server_node:main",
-        "dsr_rule_agent = dsr_graph.ros.rule_agent_node:main",
-        "dsr_viewer = dsr_graph.ros.viewer_node:main",
-    ]},
+    package_data={
+        PACKAGE: ["data/*.json", "web/*.html", "web/*.js", "web/*.css", "web/package*.json"]
+    },
+    entry_points={
+        "console_scripts": [
+            "dsr = dsr_graph.cli.main:main",
+            "dsr_server = dsr_graph.ros.server_node:main",
+            "dsr_rule_agent = dsr_graph.ros.rule_agent_node:main",
+            "dsr_viewer = dsr_graph.ros.viewer_node:main",
+        ]
+    },
     install_requires=["setuptools"],
     zip_safe=False,
     description=ET.parse(os.path.join(HERE, "package.xml")).getroot().findtext("description"),

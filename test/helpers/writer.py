@@ -3,7 +3,6 @@ was answered (accepted or not), printing how many were accepted. Usage: writer.p
 
 import sys
 
-
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.session import RosSession
 
@@ -16,7 +15,10 @@ def main() -> int:
         ros.spin_until(lambda: agent.ready, 15, "the server")
         results = []
         for i in range(n):
-            agent.send({"ops": [{"op": "insert_node", "name": f"{prefix}{i}", "type": "transform"}]}, results.append)
+            agent.send(
+                {"ops": [{"op": "insert_node", "name": f"{prefix}{i}", "type": "transform"}]},
+                results.append,
+            )
         ros.spin_until(lambda: len(results) == n, 30, "all verdicts")
         print(sum(r.accepted for r in results), flush=True)
     return 0

@@ -17,40 +17,106 @@ def item(name, points, via, attempts):
 
 EXPECTED = {
     "default.yaml": {
-        "patient": "Carlos", "total": 80, "band": "moderate", "unanswered": ["grooming"],
-        "clinician_called": False, "person_lost": True,
-        "items": [item("feeding", 10, "voice", 1), item("bathing", 0, "touch", 1), item("grooming", None, None, 2),
-                  item("dressing", 5, "voice", 2), item("bowels", 10, "voice", 2), item("bladder", 10, "voice", 1),
-                  item("toilet_use", 10, "voice", 1), item("transfers", 15, "voice", 1),
-                  item("mobility", 15, "voice", 1), item("stairs", 5, "touch", 1)]},
+        "patient": "Carlos",
+        "total": 80,
+        "band": "moderate",
+        "unanswered": ["grooming"],
+        "clinician_called": False,
+        "person_lost": True,
+        "items": [
+            item("feeding", 10, "voice", 1),
+            item("bathing", 0, "touch", 1),
+            item("grooming", None, None, 2),
+            item("dressing", 5, "voice", 2),
+            item("bowels", 10, "voice", 2),
+            item("bladder", 10, "voice", 1),
+            item("toilet_use", 10, "voice", 1),
+            item("transfers", 15, "voice", 1),
+            item("mobility", 15, "voice", 1),
+            item("stairs", 5, "touch", 1),
+        ],
+    },
     "all_voice.yaml": {
-        "patient": "Ana", "total": 100, "band": "independent", "unanswered": [],
-        "clinician_called": False, "person_lost": False,
-        "items": [item("feeding", 10, "voice", 1), item("bathing", 5, "voice", 1), item("grooming", 5, "voice", 1),
-                  item("dressing", 10, "voice", 1), item("bowels", 10, "voice", 1), item("bladder", 10, "voice", 1),
-                  item("toilet_use", 10, "voice", 1), item("transfers", 15, "voice", 1),
-                  item("mobility", 15, "voice", 1), item("stairs", 10, "voice", 1)]},
+        "patient": "Ana",
+        "total": 100,
+        "band": "independent",
+        "unanswered": [],
+        "clinician_called": False,
+        "person_lost": False,
+        "items": [
+            item("feeding", 10, "voice", 1),
+            item("bathing", 5, "voice", 1),
+            item("grooming", 5, "voice", 1),
+            item("dressing", 10, "voice", 1),
+            item("bowels", 10, "voice", 1),
+            item("bladder", 10, "voice", 1),
+            item("toilet_use", 10, "voice", 1),
+            item("transfers", 15, "voice", 1),
+            item("mobility", 15, "voice", 1),
+            item("stairs", 10, "voice", 1),
+        ],
+    },
     "two_unanswered.yaml": {
-        "patient": "Luis", "total": 70, "band": "moderate", "unanswered": ["grooming", "bladder"],
-        "clinician_called": True, "person_lost": False,
-        "items": [item("feeding", 5, "touch", 1), item("bathing", 5, "voice", 1), item("grooming", None, None, 2),
-                  item("dressing", 10, "voice", 1), item("bowels", 10, "voice", 1), item("bladder", None, None, 2),
-                  item("toilet_use", 10, "voice", 1), item("transfers", 15, "voice", 1),
-                  item("mobility", 15, "voice", 1), item("stairs", 0, "voice", 1)]},
+        "patient": "Luis",
+        "total": 70,
+        "band": "moderate",
+        "unanswered": ["grooming", "bladder"],
+        "clinician_called": True,
+        "person_lost": False,
+        "items": [
+            item("feeding", 5, "touch", 1),
+            item("bathing", 5, "voice", 1),
+            item("grooming", None, None, 2),
+            item("dressing", 10, "voice", 1),
+            item("bowels", 10, "voice", 1),
+            item("bladder", None, None, 2),
+            item("toilet_use", 10, "voice", 1),
+            item("transfers", 15, "voice", 1),
+            item("mobility", 15, "voice", 1),
+            item("stairs", 0, "voice", 1),
+        ],
+    },
     "not_understood.yaml": {
-        "patient": "Marta", "total": 75, "band": "moderate", "unanswered": ["bathing"],
-        "clinician_called": False, "person_lost": False,
-        "items": [item("feeding", 5, "voice", 2), item("bathing", None, None, 2), item("grooming", 5, "voice", 1),
-                  item("dressing", 10, "voice", 1), item("bowels", 10, "voice", 1), item("bladder", 10, "voice", 1),
-                  item("toilet_use", 10, "voice", 1), item("transfers", 10, "touch", 2),
-                  item("mobility", 5, "voice", 2), item("stairs", 10, "voice", 1)]},
+        "patient": "Marta",
+        "total": 75,
+        "band": "moderate",
+        "unanswered": ["bathing"],
+        "clinician_called": False,
+        "person_lost": False,
+        "items": [
+            item("feeding", 5, "voice", 2),
+            item("bathing", None, None, 2),
+            item("grooming", 5, "voice", 1),
+            item("dressing", 10, "voice", 1),
+            item("bowels", 10, "voice", 1),
+            item("bladder", 10, "voice", 1),
+            item("toilet_use", 10, "voice", 1),
+            item("transfers", 10, "touch", 2),
+            item("mobility", 5, "voice", 2),
+            item("stairs", 10, "voice", 1),
+        ],
+    },
     "walks_away.yaml": {
-        "patient": "Pedro", "total": 95, "band": "slight", "unanswered": [],
-        "clinician_called": False, "person_lost": True, "person_lost_count": 3,
-        "items": [item("feeding", 10, "voice", 1), item("bathing", 5, "voice", 1), item("grooming", 5, "voice", 1),
-                  item("dressing", 10, "voice", 1), item("bowels", 5, "touch", 1), item("bladder", 10, "voice", 1),
-                  item("toilet_use", 10, "voice", 1), item("transfers", 15, "voice", 1),
-                  item("mobility", 15, "voice", 1), item("stairs", 10, "voice", 1)]},
+        "patient": "Pedro",
+        "total": 95,
+        "band": "slight",
+        "unanswered": [],
+        "clinician_called": False,
+        "person_lost": True,
+        "person_lost_count": 3,
+        "items": [
+            item("feeding", 10, "voice", 1),
+            item("bathing", 5, "voice", 1),
+            item("grooming", 5, "voice", 1),
+            item("dressing", 10, "voice", 1),
+            item("bowels", 5, "touch", 1),
+            item("bladder", 10, "voice", 1),
+            item("toilet_use", 10, "voice", 1),
+            item("transfers", 15, "voice", 1),
+            item("mobility", 15, "voice", 1),
+            item("stairs", 10, "voice", 1),
+        ],
+    },
 }
 
 
@@ -60,13 +126,36 @@ def test_scenario_through_the_launch(scenario, tmp_path):
 
     db = tmp_path / "cgamed.sqlite"
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    run = subprocess.run([str(REPO / "scripts" / "launch.sh"), "--scenario", str(REPO / "scenarios" / scenario),
-                          "--db", str(db), "--timeout", "150", "--run-dir", str(tmp_path / "run")],
-                         capture_output=True, text=True, timeout=240, env=env)
-    logs = "\n".join(f"--- {p.name}\n{p.read_text()[-3000:]}" for p in sorted((tmp_path / "run" / "log").glob("*.log")))
+    run = subprocess.run(
+        [
+            str(REPO / "scripts" / "launch.sh"),
+            "--scenario",
+            str(REPO / "scenarios" / scenario),
+            "--db",
+            str(db),
+            "--timeout",
+            "150",
+            "--run-dir",
+            str(tmp_path / "run"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        env=env,
+    )
+    logs = "\n".join(
+        f"--- {p.name}\n{p.read_text()[-3000:]}"
+        for p in sorted((tmp_path / "run" / "log").glob("*.log"))
+    )
     assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:] + logs
     assert "RESULT" in run.stdout and "Barthel index" in run.stdout
-    listed = subprocess.run(["clarc", "results", "--db", str(db), "--json"], capture_output=True, text=True, timeout=60, env=env)
+    listed = subprocess.run(
+        ["clarc", "results", "--db", str(db), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
+    )
     [stored] = json.loads(listed.stdout)
     expected = EXPECTED[scenario]
     for key, value in expected.items():
@@ -83,9 +172,19 @@ def test_ctrl_c_stops_every_process(tmp_path):
 
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
     run_dir = tmp_path / "run"
-    launch = subprocess.Popen([str(REPO / "scripts" / "launch.sh"), "--db", str(tmp_path / "db.sqlite"),
-                               "--run-dir", str(run_dir)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                              text=True, env=env)
+    launch = subprocess.Popen(
+        [
+            str(REPO / "scripts" / "launch.sh"),
+            "--db",
+            str(tmp_path / "db.sqlite"),
+            "--run-dir",
+            str(run_dir),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=env,
+    )
     deadline = time.monotonic() + 60
     lines = []
     while time.monotonic() < deadline:  # wait until the test is under way
@@ -94,7 +193,9 @@ def test_ctrl_c_stops_every_process(tmp_path):
         if "item 1/10" in line or not line:
             break
     assert any("item 1/10" in line for line in lines), "".join(lines)
-    children = subprocess.run(["pgrep", "-P", str(launch.pid)], capture_output=True, text=True).stdout.split()
+    children = subprocess.run(
+        ["pgrep", "-P", str(launch.pid)], capture_output=True, text=True
+    ).stdout.split()
     assert len(children) >= 11  # server, 4 agents, 6 stand-ins, monitor
     launch.send_signal(signal.SIGINT)
     assert launch.wait(timeout=30) == 130
@@ -106,8 +207,12 @@ def test_ctrl_c_stops_every_process(tmp_path):
 def test_a_bad_scenario_is_refused_before_anything_starts(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("patient: Carlos\nitems:\n  feeding: {answer: 7, via: voice}\n")
-    run = subprocess.run([str(REPO / "scripts" / "launch.sh"), "--scenario", str(bad), "--db", str(tmp_path / "db")],
-                         capture_output=True, text=True, timeout=120)
+    run = subprocess.run(
+        [str(REPO / "scripts" / "launch.sh"), "--scenario", str(bad), "--db", str(tmp_path / "db")],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert run.returncode == 2
     assert "bad.yaml:3: feeding: answer 7 is not an option" in run.stderr
     assert not (tmp_path / "db").exists()

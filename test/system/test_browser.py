@@ -44,7 +44,11 @@ def test_api_graph_is_the_current_snapshot(ros, viewer):
     assert doc["format"] == "dsr-graph" and doc["kind"] == "snapshot"
     assert {n["name"] for n in doc["nodes"]} >= {"room", "robot", "kinect", "speaking", "showing"}
     t = http_json(viewer + "api/transform?from=room&to=kinect")
-    assert t["translation"] == [2100.0, 1500.0, 1200.0] and t["chain"] == ["room", "robot", "kinect"]
+    assert t["translation"] == [2100.0, 1500.0, 1200.0] and t["chain"] == [
+        "room",
+        "robot",
+        "kinect",
+    ]
 
 
 def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
@@ -52,22 +56,47 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
     with chromium_page() as page:
         page.goto(viewer)
         page.wait_for_function("Number(document.body.dataset.nodes) === 13", timeout=15000)
-        assert page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 6  # the RT tree, drawn apart
+        assert (
+            page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 6
+        )  # the RT tree, drawn apart
         page.wait_for_timeout(500)  # the live stream is open
 
-        result = send_and_wait(ros, agent, {"ops": [
-            {"op": "insert_node", "name": "visitor", "type": "person"},
-            {"op": "insert_edge", "from": "kinect", "to": "visitor", "type": "RT",
-             "rt": {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}},
-            {"op": "insert_edge", "from": "visitor", "to": "robot", "type": "is_with"}]})
+        result = send_and_wait(
+            ros,
+            agent,
+            {
+                "ops": [
+                    {"op": "insert_node", "name": "visitor", "type": "person"},
+                    {
+                        "op": "insert_edge",
+                        "from": "kinect",
+                        "to": "visitor",
+                        "type": "RT",
+                        "rt": {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]},
+                    },
+                    {"op": "insert_edge", "from": "visitor", "to": "robot", "type": "is_with"},
+                ]
+            },
+        )
         accepted = time.monotonic()
         assert result.accepted
-        page.wait_for_function("window.dsrViewer.cy.getElementById('n:visitor').nonempty()", timeout=1000)
-        print(f"viewer showed the change {1000 * (time.monotonic() - accepted):.0f} ms after it was accepted")
-        assert page.evaluate("window.dsrViewer.cy.getElementById('e:visitor|is_with|robot').nonempty()")
+        page.wait_for_function(
+            "window.dsrViewer.cy.getElementById('n:visitor').nonempty()", timeout=1000
+        )
+        print(
+            f"viewer showed the change {1000 * (time.monotonic() - accepted):.0f} ms "
+            "after it was accepted"
+        )
+        assert page.evaluate(
+            "window.dsrViewer.cy.getElementById('e:visitor|is_with|robot').nonempty()"
+        )
         assert page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').hasClass('flash')")
 
-        send_and_wait(ros, agent, {"ops": [{"op": "set_node_attrs", "node": "visitor", "attrs": {"patient": "Carlos"}}]})
+        send_and_wait(
+            ros,
+            agent,
+            {"ops": [{"op": "set_node_attrs", "node": "visitor", "attrs": {"patient": "Carlos"}}]},
+        )
         page.wait_for_function("document.body.dataset.seq === '2'", timeout=3000)
         assert page.locator("#deltas li").count() == 2
 
@@ -77,8 +106,11 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
         table = page.inner_text("#node-table")
         assert "version\t2" in table and "patient\tCarlos" in table
         page.select_option("#frame", "room")
-        page.wait_for_function("document.getElementById('pose').dataset.translation &&"
-                               " JSON.parse(document.getElementById('pose').dataset.translation)[0] === 3000", timeout=3000)
+        page.wait_for_function(
+            "document.getElementById('pose').dataset.translation &&"
+            " JSON.parse(document.getElementById('pose').dataset.translation)[0] === 3000",
+            timeout=3000,
+        )
 
         # scrub back to seq 0: the visitor is not there yet; back to live: it is
         page.locator("#scrub").fill("0")
@@ -89,17 +121,36 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
         page.wait_for_function("document.body.dataset.shownSeq === '1'", timeout=3000)
         assert page.evaluate("window.dsrViewer.cy.getElementById('n:visitor').nonempty()")
         page.click("#live")
-        page.wait_for_function("document.body.dataset.live === 'true' && document.body.dataset.shownSeq === '2'", timeout=3000)
+        page.wait_for_function(
+            "document.body.dataset.live === 'true' && document.body.dataset.shownSeq === '2'",
+            timeout=3000,
+        )
 
 
 def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
     db = tmp_path / "cgamed.sqlite"
     port = free_port()
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    launch = subprocess.Popen([str(REPO / "scripts" / "launch.sh"), "--wait-start", "--db", str(db), "--timeout", "150",
-                               "--run-dir", str(tmp_path / "run"), "--viewer-port", str(free_port()),
-                               "--dashboard-port", str(port)],
-                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    launch = subprocess.Popen(
+        [
+            str(REPO / "scripts" / "launch.sh"),
+            "--wait-start",
+            "--db",
+            str(db),
+            "--timeout",
+            "150",
+            "--run-dir",
+            str(tmp_path / "run"),
+            "--viewer-port",
+            str(free_port()),
+            "--dashboard-port",
+            str(port),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=env,
+    )
     try:
         url = f"http://127.0.0.1:{port}/"
 
@@ -113,11 +164,15 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
         with chromium_page() as page:
             page.goto(url)
             page.click("#start")  # no patient chosen yet
-            page.wait_for_function("document.getElementById('start-error').textContent.includes('choose a patient')")
+            page.wait_for_function(
+                "document.getElementById('start-error').textContent.includes('choose a patient')"
+            )
             page.fill("#patient", "Carlos")
             page.click("#start")
             page.wait_for_selector("body[data-running=true]", timeout=20000)
-            page.wait_for_function("document.getElementById('live-item').textContent.includes('/10')", timeout=30000)
+            page.wait_for_function(
+                "document.getElementById('live-item').textContent.includes('/10')", timeout=30000
+            )
             page.wait_for_selector("body[data-running=false]", timeout=120000)
             page.wait_for_function("Number(document.body.dataset.results) === 1", timeout=10000)
             events = page.inner_text("#events")
@@ -132,6 +187,12 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
         if launch.poll() is None:
             launch.terminate()
             launch.wait(timeout=30)
-    stored = json.loads(subprocess.run(["clarc", "results", "--db", str(db), "--json"], capture_output=True,
-                                       text=True, timeout=60).stdout)
+    stored = json.loads(
+        subprocess.run(
+            ["clarc", "results", "--db", str(db), "--json"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        ).stdout
+    )
     assert [t["patient"] for t in stored] == ["Carlos"] and stored[0]["total"] == 80

@@ -11,7 +11,9 @@ DSR = shutil.which("dsr")
 
 
 def dsr(*args, timeout=60):
-    assert DSR, "dsr is not on PATH: run the tests through scripts/test.sh (it sources scripts/env.sh)"
+    assert DSR, (
+        "dsr is not on PATH: run the tests through scripts/test.sh (it sources scripts/env.sh)"
+    )
     return subprocess.run([DSR, *map(str, args)], capture_output=True, text=True, timeout=timeout)
 
 
@@ -53,10 +55,13 @@ def test_transform_on_a_world_with_violations_warns_and_answers(cortex_dir):
     assert "node-missing" in r.stderr
 
 
-@pytest.mark.parametrize("frm, to, fragment", [
-    ("robot", "ghost", "no node 'ghost'"),
-    ("robot", "mind", "not geometric"),
-])
+@pytest.mark.parametrize(
+    "frm, to, fragment",
+    [
+        ("robot", "ghost", "no node 'ghost'"),
+        ("robot", "mind", "not geometric"),
+    ],
+)
 def test_transform_errors(cortex_dir, frm, to, fragment):
     r = dsr("transform", cortex_dir / "Robot_viriato.json", frm, to)
     assert r.returncode == 1 and fragment in r.stderr and r.stdout == ""
@@ -72,7 +77,10 @@ def test_convert_both_ways_keeps_transforms(cortex_dir, tmp_path):
     assert "DSRModel" in json.loads(back.read_text())
     for f in (src, ours, back):
         t = json.loads(dsr("transform", f, "world", "camera_pose").stdout)
-        assert np.allclose(t["translation"], json.loads(dsr("transform", src, "world", "camera_pose").stdout)["translation"])
+        assert np.allclose(
+            t["translation"],
+            json.loads(dsr("transform", src, "world", "camera_pose").stdout)["translation"],
+        )
 
 
 def test_convert_strict_refuses_a_world_with_violations(cortex_dir, tmp_path):
@@ -85,11 +93,28 @@ def test_convert_strict_refuses_a_world_with_violations(cortex_dir, tmp_path):
 
 def test_a_vocabulary_extension_makes_unknown_types_valid(tmp_path):
     world = tmp_path / "w.json"
-    world.write_text(json.dumps({"format": "dsr-graph", "version": 1, "kind": "world",
-                                 "nodes": [{"name": "dock", "type": "charger"}], "edges": []}))
+    world.write_text(
+        json.dumps(
+            {
+                "format": "dsr-graph",
+                "version": 1,
+                "kind": "world",
+                "nodes": [{"name": "dock", "type": "charger"}],
+                "edges": [],
+            }
+        )
+    )
     r = dsr("validate", world)
     assert r.returncode == 1 and "unknown-node-type" in r.stdout
     vocab = tmp_path / "v.json"
-    vocab.write_text(json.dumps({"format": "dsr-vocabulary", "version": 1, "extends": "default",
-                                 "node_types": {"charger": "a docking station"}}))
+    vocab.write_text(
+        json.dumps(
+            {
+                "format": "dsr-vocabulary",
+                "version": 1,
+                "extends": "default",
+                "node_types": {"charger": "a docking station"},
+            }
+        )
+    )
     assert dsr("validate", world, "--vocabulary", vocab).returncode == 0

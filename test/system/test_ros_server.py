@@ -11,9 +11,10 @@ from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
 from dsr_graph.formats import dsr_json
+from dsr_graph.formats.world_files import read_world
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.qos import qos_latched, qos_stream
-from dsr_graph.formats.world_files import read_world
+
 from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
 
 
@@ -31,16 +32,34 @@ def canonical(doc):
 def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
     start(ros, cortex_dir)
     tx = tmp_path / "tx.json"
-    tx.write_text(json.dumps({"ops": [{"op": "insert_node", "name": "speaking", "type": "state"},
-                                      {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]}))
+    tx.write_text(
+        json.dumps(
+            {
+                "ops": [
+                    {"op": "insert_node", "name": "speaking", "type": "state"},
+                    {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+                ]
+            }
+        )
+    )
     r = ros.procs.run("dsr", "apply", tx)
     assert r.returncode == 0 and r.stdout.strip() == "accepted: seq 1", r.stderr
     r = ros.procs.run("dsr", "apply", tx)
     assert r.returncode == 1 and "unique-name" in r.stdout
-    r = ros.procs.run("dsr", "apply", "-", input='{"ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": "x"}}]}')
+    r = ros.procs.run(
+        "dsr",
+        "apply",
+        "-",
+        input='{"ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": "x"}}]}',
+    )
     assert r.returncode == 1 and "attribute-type" in r.stdout
     r = ros.procs.run("dsr", "get", "robot", "port")
-    assert r.returncode == 0 and json.loads(r.stdout) == {"value": 12238, "type": "int", "version": 1, "seq": 1}
+    assert r.returncode == 0 and json.loads(r.stdout) == {
+        "value": 12238,
+        "type": "int",
+        "version": 1,
+        "seq": 1,
+    }
     r = ros.procs.run("dsr", "get", "robot", "nothing")
     assert r.returncode == 1 and "has no attribute 'nothing'" in r.stderr
     r = ros.procs.run("dsr", "get", "speaking")
@@ -48,7 +67,11 @@ def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
     r = ros.procs.run("dsr", "get", "body", "rt", "--edge", "laser_pose", "RT")
     assert np.allclose(np.array(json.loads(r.stdout)["value"])[:3, 3], [0, 400, 0])
     r = ros.procs.run("dsr", "graph")
-    assert r.returncode == 0 and "seq 1: 15 nodes" in r.stdout and "robot -is_not-> speaking" in r.stdout
+    assert (
+        r.returncode == 0
+        and "seq 1: 15 nodes" in r.stdout
+        and "robot -is_not-> speaking" in r.stdout
+    )
     r = ros.procs.run("dsr", "save", tmp_path / "saved.json")
     assert r.returncode == 0
     saved = read_world(tmp_path / "saved.json")
@@ -72,7 +95,9 @@ def test_watch_prints_deltas_in_order(ros):
     i = 0
     deadline = time.monotonic() + 25
     while watch.poll() is None and time.monotonic() < deadline:
-        assert send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}).accepted
+        assert send_and_wait(
+            ros, agent, {"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}
+        ).accepted
         i += 1
         ros.session.spin_for(0.2)
     assert watch.wait(timeout=5) == 0, ros.procs.log("watch")
@@ -92,7 +117,12 @@ def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
         ros.procs.start(f"writer_{prefix}", ["python", writer, prefix, 50])
     for i in range(50):
         agent.send({"ops": [{"op": "insert_node", "name": f"c{i}", "type": "transform"}]})
-    wait_for(lambda: all(ros.procs.procs[f"writer_{p}"].poll() is not None for p in "ab"), 60, "the writers", ros.session)
+    wait_for(
+        lambda: all(ros.procs.procs[f"writer_{p}"].poll() is not None for p in "ab"),
+        60,
+        "the writers",
+        ros.session,
+    )
     assert [ros.procs.log(f"writer_{p}").strip().splitlines()[-1] for p in "ab"] == ["50", "50"]
     wait_for(lambda: agent.replica.seq >= 150, 20, "150 deltas", ros.session)
     # one total order: every replica applies consecutive seqs, never out of order or twice
@@ -107,14 +137,30 @@ def test_late_joiner_gets_the_same_graph(ros, cortex_dir):
     start(ros, cortex_dir, world="autonomyLab_complete.simscene.json")
     early = agent_in_session(ros)
     for i in range(20):
-        send_and_wait(ros, early, {"ops": [{"op": "set_rt", "from": "world", "to": "Wall2",
-                                            "rt": {"translation": [i, 0, 0], "rotation_euler_xyz": [0, 0, 0.1 * i]}}]})
+        send_and_wait(
+            ros,
+            early,
+            {
+                "ops": [
+                    {
+                        "op": "set_rt",
+                        "from": "world",
+                        "to": "Wall2",
+                        "rt": {"translation": [i, 0, 0], "rotation_euler_xyz": [0, 0, 0.1 * i]},
+                    }
+                ]
+            },
+        )
     late = DsrAgent()
     late.setup(ros.session.node, timeout_sec=10)  # a second replica in the same node, joining now
     wait_for(lambda: late.replica.synced, 10, "the late joiner's snapshot", ros.session)
-    send_and_wait(ros, early, {"ops": [{"op": "insert_node", "name": "after", "type": "transform"}]})
+    send_and_wait(
+        ros, early, {"ops": [{"op": "insert_node", "name": "after", "type": "transform"}]}
+    )
     wait_for(lambda: "after" in late.graph, 10, "the late joiner to follow", ros.session)
-    assert canonical(dsr_json.to_json(late.graph, "snapshot")) == canonical(dsr_json.to_json(early.graph, "snapshot"))
+    assert canonical(dsr_json.to_json(late.graph, "snapshot")) == canonical(
+        dsr_json.to_json(early.graph, "snapshot")
+    )
     assert np.allclose(late.graph.transform("world", "Wall2")[:3, 3], [19, 0, 0])
 
 
@@ -123,7 +169,9 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
     agent = agent_in_session(ros)
     accepted = 0
     for i in range(25):  # crosses several compactions
-        accepted += send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": f"k{i}", "type": "transform"}]}).accepted
+        accepted += send_and_wait(
+            ros, agent, {"ops": [{"op": "insert_node", "name": f"k{i}", "type": "transform"}]}
+        ).accepted
     assert accepted == 25
     before = snapshot_via(ros.session)
     ros.procs.kill9("server")
@@ -133,21 +181,36 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
     wait_for(lambda: agent.ready, 15, "the agent to see the new server", ros.session)
     result = send_and_wait(ros, agent, {"ops": [{"op": "delete_node", "node": "k0"}]})
     assert result.accepted and result.seq == 26
-    assert "restored" in ros.procs.log("server") and "not loaded (state exists)" in ros.procs.log("server")
+    assert "restored" in ros.procs.log("server") and "not loaded (state exists)" in ros.procs.log(
+        "server"
+    )
 
 
 def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
     start(ros, max_request_bytes=100000)
     rejections = []
     node = ros.session.node
-    node.create_subscription(String, "dsr/rejections", lambda m: rejections.append(json.loads(m.data)), qos_stream())
+    node.create_subscription(
+        String, "dsr/rejections", lambda m: rejections.append(json.loads(m.data)), qos_stream()
+    )
     pub = node.create_publisher(String, "dsr/transactions", qos_stream())
     wait_for(lambda: pub.get_subscription_count() > 0, 10, "the server's subscription", ros.session)
-    wait_for(lambda: node.count_publishers("dsr/rejections") > 0, 10, "the rejections topic", ros.session)
-    bad = ["", "not json", "[]", "null", '{"ops": 5}', '{"ops": [{"op": "explode"}]}',
-           '{"id": 7, "ops": [{"op": "delete_node"}]}', "x" * 200000, "[" * 50000 + "]" * 50000,
-           '{"ops": [{"op": "insert_node", "name": "a", "type": "robot", "attrs": {"level": 1e999}}]}',
-           '{"id": "mine", "agent": "/t", "ops": [{"op": "delete_node", "node": "nobody"}]}']
+    wait_for(
+        lambda: node.count_publishers("dsr/rejections") > 0, 10, "the rejections topic", ros.session
+    )
+    bad = [
+        "",
+        "not json",
+        "[]",
+        "null",
+        '{"ops": 5}',
+        '{"ops": [{"op": "explode"}]}',
+        '{"id": 7, "ops": [{"op": "delete_node"}]}',
+        "x" * 200000,
+        "[" * 50000 + "]" * 50000,
+        '{"ops": [{"op": "insert_node", "name": "a", "type": "robot", "attrs": {"level": 1e999}}]}',
+        '{"id": "mine", "agent": "/t", "ops": [{"op": "delete_node", "node": "nobody"}]}',
+    ]
     for text in bad:
         pub.publish(String(data=text))
     wait_for(lambda: len(rejections) >= len(bad), 15, "one rejection per bad message", ros.session)
@@ -163,7 +226,12 @@ def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
     poses = {}
     node = ros.session.node
     for name in ("viriato_mesh", "laser1", "viriato_head_camera_tilt_joint"):
-        node.create_subscription(PoseStamped, f"dsr/pose/{name}", lambda m, n=name: poses.__setitem__(n, m), qos_latched())
+        node.create_subscription(
+            PoseStamped,
+            f"dsr/pose/{name}",
+            lambda m, n=name: poses.__setitem__(n, m),
+            qos_latched(),
+        )
     wait_for(lambda: len(poses) == 3, 15, "three latched poses", ros.session)
     for name, msg in poses.items():
         parent = world.rt_parent(name).name
@@ -172,11 +240,26 @@ def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
         p, q = msg.pose.position, msg.pose.orientation
         assert np.allclose([p.x, p.y, p.z], t[:3, 3])
         from dsr_graph.model.rigid import from_translation_quaternion
-        assert np.allclose(from_translation_quaternion([p.x, p.y, p.z], [q.w, q.x, q.y, q.z]), t, atol=1e-9)
+
+        assert np.allclose(
+            from_translation_quaternion([p.x, p.y, p.z], [q.w, q.x, q.y, q.z]), t, atol=1e-9
+        )
     agent = agent_in_session(ros)
     poses.clear()
-    send_and_wait(ros, agent, {"ops": [{"op": "set_rt", "from": "laser_pose", "to": "laser1",
-                                        "rt": {"translation": [1, 2, 3], "rotation_euler_xyz": [0, 0, math.pi / 2]}}]})
+    send_and_wait(
+        ros,
+        agent,
+        {
+            "ops": [
+                {
+                    "op": "set_rt",
+                    "from": "laser_pose",
+                    "to": "laser1",
+                    "rt": {"translation": [1, 2, 3], "rotation_euler_xyz": [0, 0, math.pi / 2]},
+                }
+            ]
+        },
+    )
     wait_for(lambda: "laser1" in poses, 10, "the moved pose", ros.session)
     q = poses["laser1"].pose.orientation
     assert np.allclose([q.w, q.z], [math.cos(math.pi / 4), math.sin(math.pi / 4)])
@@ -185,22 +268,64 @@ def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
 def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
     start(ros, agent_grace=0.5, heartbeat_period=0.2)
     agent = agent_in_session(ros)
-    assert send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": "person", "type": "person"},
-                                              {"op": "insert_node", "name": "speaking", "type": "state"}]}).accepted
+    assert send_and_wait(
+        ros,
+        agent,
+        {
+            "ops": [
+                {"op": "insert_node", "name": "person", "type": "person"},
+                {"op": "insert_node", "name": "speaking", "type": "state"},
+            ]
+        },
+    ).accepted
     # another process claims the person and then dies without releasing
-    holder = ros.procs.run("dsr", "apply", "-", input=json.dumps(
-        {"agent": "/holder_that_dies", "priority": 3, "claim": [{"node": "person"}]}))
+    holder = ros.procs.run(
+        "dsr",
+        "apply",
+        "-",
+        input=json.dumps(
+            {"agent": "/holder_that_dies", "priority": 3, "claim": [{"node": "person"}]}
+        ),
+    )
     assert holder.returncode == 0, holder.stdout + holder.stderr
-    r = send_and_wait(ros, agent, {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]})
+    r = send_and_wait(
+        ros,
+        agent,
+        {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
+    )
     assert not r.accepted and r.reason["rule"] == "claimed"
-    wait_for(lambda: len(agent.replica.claims) == 0, 10, "the dead holder's claim to be freed", ros.session)
-    assert send_and_wait(ros, agent, {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]}).accepted
+    wait_for(
+        lambda: len(agent.replica.claims) == 0,
+        10,
+        "the dead holder's claim to be freed",
+        ros.session,
+    )
+    assert send_and_wait(
+        ros,
+        agent,
+        {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
+    ).accepted
     # a live holder (this node) is preempted by a higher priority, and told through the delta
     released = []
-    agent.add_listener(lambda ds, _: released.extend(c for d in ds for c in d.get("claims", {}).get("released", [])))
-    assert send_and_wait(ros, agent, {"priority": 2, "claim": [{"from": "person", "to": "speaking"}]}).accepted
-    r = ros.procs.run("dsr", "apply", "-", input=json.dumps(
-        {"priority": 9, "ops": [{"op": "insert_edge", "from": "person", "to": "speaking", "type": "is"}]}))
+    agent.add_listener(
+        lambda ds, _: released.extend(
+            c for d in ds for c in d.get("claims", {}).get("released", [])
+        )
+    )
+    assert send_and_wait(
+        ros, agent, {"priority": 2, "claim": [{"from": "person", "to": "speaking"}]}
+    ).accepted
+    r = ros.procs.run(
+        "dsr",
+        "apply",
+        "-",
+        input=json.dumps(
+            {
+                "priority": 9,
+                "ops": [{"op": "insert_edge", "from": "person", "to": "speaking", "type": "is"}],
+            }
+        ),
+    )
     assert r.returncode == 0
     wait_for(lambda: released, 10, "the preemption", ros.session)
     assert released[0]["reason"] == "preempted" and released[0]["agent"] == agent.name
@@ -209,35 +334,115 @@ def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
 def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
     start(ros)
     grammar = ros.tmp / "speech.yaml"
-    grammar.write_text(json.dumps([{
-        "name": "start_speaking",
-        "when": [{"edge": ["robot", "speaking", "is_not"]},
-                 {"edge": ["test", "test_part", "is_in"], "attrs": {"text": "$text", "sentence_id": "$sid"}}],
-        "once_per": ["$sid"],
-        "during": [{"delete_edge": ["robot", "speaking", "is_not"]}, {"insert_edge": ["robot", "speaking", "is"]}],
-        "claim": [{"from": "robot", "to": "speaking"}], "priority": 1,
-        "process": "wait",
-        "after": [{"delete_edge": ["robot", "speaking", "is"]}, {"insert_edge": ["robot", "speaking", "is_not"]}]}]))
+    grammar.write_text(
+        json.dumps(
+            [
+                {
+                    "name": "start_speaking",
+                    "when": [
+                        {"edge": ["robot", "speaking", "is_not"]},
+                        {
+                            "edge": ["test", "test_part", "is_in"],
+                            "attrs": {"text": "$text", "sentence_id": "$sid"},
+                        },
+                    ],
+                    "once_per": ["$sid"],
+                    "during": [
+                        {"delete_edge": ["robot", "speaking", "is_not"]},
+                        {"insert_edge": ["robot", "speaking", "is"]},
+                    ],
+                    "claim": [{"from": "robot", "to": "speaking"}],
+                    "priority": 1,
+                    "process": "wait",
+                    "after": [
+                        {"delete_edge": ["robot", "speaking", "is"]},
+                        {"insert_edge": ["robot", "speaking", "is_not"]},
+                    ],
+                }
+            ]
+        )
+    )
     for name in ("speech_a", "speech_b"):
-        ros.procs.start(name, ["dsr_rule_agent", "--ros-args", "-r", f"__node:={name}",
-                               "-p", f"grammar_file:={grammar}", "-p", "process_time:=0.3"])
+        ros.procs.start(
+            name,
+            [
+                "dsr_rule_agent",
+                "--ros-args",
+                "-r",
+                f"__node:={name}",
+                "-p",
+                f"grammar_file:={grammar}",
+                "-p",
+                "process_time:=0.3",
+            ],
+        )
     agent = agent_in_session(ros)
     deltas = []
     agent.add_listener(lambda ds, _: deltas.extend(ds))
-    assert send_and_wait(ros, agent, {"ops": [
-        {"op": "insert_node", "name": n, "type": t} for n, t in
-        [("robot", "robot"), ("speaking", "state"), ("test", "test"), ("test_part", "test_part")]] + [
-        {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]}).accepted
-    wait_for(lambda: ros.session.node.count_subscribers("dsr/deltas") >= 3, 20, "both rule agents", ros.session)
-    wait_for(lambda: all("running 1 rules" in ros.procs.log(n) for n in ("speech_a", "speech_b")), 20,
-             "both rule agents to be ready")
+    assert send_and_wait(
+        ros,
+        agent,
+        {
+            "ops": [
+                {"op": "insert_node", "name": n, "type": t}
+                for n, t in [
+                    ("robot", "robot"),
+                    ("speaking", "state"),
+                    ("test", "test"),
+                    ("test_part", "test_part"),
+                ]
+            ]
+            + [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]
+        },
+    ).accepted
+    wait_for(
+        lambda: ros.session.node.count_subscribers("dsr/deltas") >= 3,
+        20,
+        "both rule agents",
+        ros.session,
+    )
+    wait_for(
+        lambda: all("running 1 rules" in ros.procs.log(n) for n in ("speech_a", "speech_b")),
+        20,
+        "both rule agents to be ready",
+    )
     for sid in (1, 2, 3):
-        assert send_and_wait(ros, agent, {"ops": [
-            {"op": "insert_edge" if sid == 1 else "set_edge_attrs", "from": "test", "to": "test_part", "type": "is_in",
-             "attrs": {"text": "Hello", "sentence_id": sid}}]}).accepted
-        wait_for(lambda: sum(1 for d in deltas if any(o["op"] == "insert_edge" and o["to"] == "speaking" and o["type"] == "is_not"
-                                                      for o in d["ops"]) and d["agent"] != agent.name) >= sid,
-                 20, f"sentence {sid} to be spoken and finished", ros.session)
-    starts = [d for d in deltas if any(o["op"] == "insert_edge" and o["type"] == "is" for o in d["ops"])]
+        assert send_and_wait(
+            ros,
+            agent,
+            {
+                "ops": [
+                    {
+                        "op": "insert_edge" if sid == 1 else "set_edge_attrs",
+                        "from": "test",
+                        "to": "test_part",
+                        "type": "is_in",
+                        "attrs": {"text": "Hello", "sentence_id": sid},
+                    }
+                ]
+            },
+        ).accepted
+        wait_for(
+            lambda sid=sid: (
+                sum(
+                    1
+                    for d in deltas
+                    if any(
+                        o["op"] == "insert_edge" and o["to"] == "speaking" and o["type"] == "is_not"
+                        for o in d["ops"]
+                    )
+                    and d["agent"] != agent.name
+                )
+                >= sid
+            ),
+            20,
+            f"sentence {sid} to be spoken and finished",
+            ros.session,
+        )
+    starts = [
+        d for d in deltas if any(o["op"] == "insert_edge" and o["type"] == "is" for o in d["ops"])
+    ]
     assert len(starts) == 3, "exactly one agent took each sentence"
-    assert all(d["claims"]["granted"][0]["target"] == {"from": "robot", "to": "speaking"} for d in starts)
+    assert all(
+        d["claims"]["granted"][0]["target"] == {"from": "robot", "to": "speaking"} for d in starts
+    )

@@ -4,13 +4,13 @@ from pathlib import Path
 
 import pytest
 
+from clarc_agents.barthel.sentences import ask, sit_down
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea import high_to_low
-from clarc_agents.barthel.sentences import ask, sit_down
 from dsr_graph.exceptions import TransactionRejected
-from dsr_graph.rules.engine import GrammarEngine
-from dsr_graph.model.transaction import apply_ops
 from dsr_graph.formats.world_files import read_world
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.rules.engine import GrammarEngine
 
 ROOM = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
 POSE = {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
@@ -48,8 +48,13 @@ def test_person_rules_follow_the_kinect(room):
     assert person.signal(room, "seen", {"pose": POSE}) == []  # already with the robot
     [f] = person.signal(room, "lost", {})
     run(room, f.during_tx())
-    assert room.edge("person", "robot", "is_with") is None and room.node("person").attrs["detected"] is False
-    [f] = person.signal(room, "seen", {"pose": {"translation": [1000, 0, -400], "rotation_euler_xyz": [0, 0, 0]}})
+    assert (
+        room.edge("person", "robot", "is_with") is None
+        and room.node("person").attrs["detected"] is False
+    )
+    [f] = person.signal(
+        room, "seen", {"pose": {"translation": [1000, 0, -400], "rotation_euler_xyz": [0, 0, 0]}}
+    )
     assert f.rule.name == "person_back"
     run(room, f.during_tx())
     assert room.transform("kinect", "person")[0][3] == 1000
@@ -59,7 +64,9 @@ def test_speech_says_a_new_sentence_once_and_stops_when_the_person_leaves(room):
     speech = engine("speech")
     run(room, high_to_low.say(room, ask("feeding"), 1))
     f = fire(speech, room, "start_speaking")
-    assert f.bindings["$text"].startswith("Which option") and f.during_tx()["claim"] == [{"from": "robot", "to": "speaking"}]
+    assert f.bindings["$text"].startswith("Which option") and f.during_tx()["claim"] == [
+        {"from": "robot", "to": "speaking"}
+    ]
     speech.handled(f)
     speech.finished(f)
     assert [x.rule.name for x in speech.search(room)] == []  # same sentence: not again
@@ -98,7 +105,11 @@ def test_panel_shows_each_sentence_and_clears_when_the_person_leaves(room):
     panel = engine("panel")
     run(room, high_to_low.say(room, ask("stairs"), 1))
     f = fire(panel, room, "start_showing")
-    assert f.bindings["$options"] == ["I cannot use stairs", "I need help on stairs", "I use stairs by myself"]
+    assert f.bindings["$options"] == [
+        "I cannot use stairs",
+        "I need help on stairs",
+        "I use stairs by myself",
+    ]
     run(room, f.after_tx("done"))
     [lost] = engine("person").signal(room, "lost", {})
     run(room, lost.during_tx())

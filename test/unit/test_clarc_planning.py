@@ -14,8 +14,14 @@ def names(steps):
 
 def test_a_whole_test_from_start():
     steps = names(plan(initial_state(person_present=True)))
-    assert steps[:6] == ["(greet)", "(explain)", "(introduce feeding)", "(describe-options feeding)",
-                         "(ask feeding)", "(await-answer feeding)"]
+    assert steps[:6] == [
+        "(greet)",
+        "(explain)",
+        "(introduce feeding)",
+        "(describe-options feeding)",
+        "(ask feeding)",
+        "(await-answer feeding)",
+    ]
     for item in ORDER:  # every item introduced, described, asked and awaited, in order
         assert steps.index(f"(introduce {item})") < steps.index(f"(await-answer {item})")
     assert [s for s in steps if s.startswith("(introduce")] == [f"(introduce {i})" for i in ORDER]
@@ -24,7 +30,11 @@ def test_a_whole_test_from_start():
 
 
 def test_nobody_in_front_of_the_robot_at_start():
-    assert names(plan(initial_state(person_present=False)))[:3] == ["(ask-to-sit)", "(wait-for-person)", "(greet)"]
+    assert names(plan(initial_state(person_present=False)))[:3] == [
+        "(ask-to-sit)",
+        "(wait-for-person)",
+        "(greet)",
+    ]
 
 
 def started(*extra, drop=()):
@@ -35,14 +45,22 @@ def started(*extra, drop=()):
 def test_silence_then_options_again_then_skip():
     state = started("(asked feeding)", drop=["(pending feeding)"])
     state = monitoring.window_failed(state, "feeding", 1, "no_answer")
-    assert names(plan(state))[:3] == ["(options-again feeding)", "(await-answer-again feeding)", "(next-item feeding bathing)"]
+    assert names(plan(state))[:3] == [
+        "(options-again feeding)",
+        "(await-answer-again feeding)",
+        "(next-item feeding bathing)",
+    ]
     state = monitoring.window_failed(state | {"(retry-asked feeding)"}, "feeding", 2, "no_answer")
     assert names(plan(state))[:2] == ["(skip-item feeding)", "(next-item feeding bathing)"]
 
 
 def test_not_understood_then_clarify():
-    state = monitoring.window_failed(started("(asked dressing)", "(current dressing)", drop=["(current feeding)"]),
-                                     "dressing", 1, "not_understood")
+    state = monitoring.window_failed(
+        started("(asked dressing)", "(current dressing)", drop=["(current feeding)"]),
+        "dressing",
+        1,
+        "not_understood",
+    )
     assert names(plan(state))[:2] == ["(clarify dressing)", "(await-answer-again dressing)"]
 
 
@@ -52,10 +70,17 @@ def test_asking_to_skip_closes_the_item_at_once():
 
 
 def test_person_lost_asks_to_sit_and_starts_the_item_again():
-    state = started("(described bowels)", "(current bowels)", drop=["(current feeding)", "(pending bowels)"])
+    state = started(
+        "(described bowels)", "(current bowels)", drop=["(current feeding)", "(pending bowels)"]
+    )
     state = monitoring.person_lost(state, "bowels")
     steps = names(plan(state))
-    assert steps[:4] == ["(ask-to-sit)", "(wait-for-person)", "(introduce bowels)", "(describe-options bowels)"]
+    assert steps[:4] == [
+        "(ask-to-sit)",
+        "(wait-for-person)",
+        "(introduce bowels)",
+        "(describe-options bowels)",
+    ]
 
 
 def test_two_unanswered_call_the_clinician_before_going_on():

@@ -8,25 +8,54 @@ import pytest
 from clarc_agents.barthel.answers import understand
 from clarc_agents.barthel.items import BY_KEY, ITEMS, MAX_TOTAL, ORDER, band
 from clarc_agents.barthel.record import BarthelRecord
-from clarc_sim.patient.script import ASK, GARBLED, PatientScript
 from clarc_agents.exceptions import InvalidResult, ScenarioError
 from clarc_sim.hospital.results_store import ResultsStore
 from clarc_sim.patient.scenario import parse
+from clarc_sim.patient.script import ASK, GARBLED, PatientScript
 
 
 def test_barthel_items_and_points_follow_mahoney_and_barthel():
-    assert ORDER == ("feeding", "bathing", "grooming", "dressing", "bowels", "bladder", "toilet_use",
-                     "transfers", "mobility", "stairs")
+    assert ORDER == (
+        "feeding",
+        "bathing",
+        "grooming",
+        "dressing",
+        "bowels",
+        "bladder",
+        "toilet_use",
+        "transfers",
+        "mobility",
+        "stairs",
+    )
     assert {i.key: i.points for i in ITEMS} == {
-        "feeding": (0, 5, 10), "bathing": (0, 5), "grooming": (0, 5), "dressing": (0, 5, 10),
-        "bowels": (0, 5, 10), "bladder": (0, 5, 10), "toilet_use": (0, 5, 10), "transfers": (0, 5, 10, 15),
-        "mobility": (0, 5, 10, 15), "stairs": (0, 5, 10)}
+        "feeding": (0, 5, 10),
+        "bathing": (0, 5),
+        "grooming": (0, 5),
+        "dressing": (0, 5, 10),
+        "bowels": (0, 5, 10),
+        "bladder": (0, 5, 10),
+        "toilet_use": (0, 5, 10),
+        "transfers": (0, 5, 10, 15),
+        "mobility": (0, 5, 10, 15),
+        "stairs": (0, 5, 10),
+    }
     assert MAX_TOTAL == 100
 
 
-@pytest.mark.parametrize("total, expected", [(0, "total"), (20, "total"), (21, "severe"), (60, "severe"),
-                                             (61, "moderate"), (90, "moderate"), (91, "slight"), (99, "slight"),
-                                             (100, "independent")])
+@pytest.mark.parametrize(
+    "total, expected",
+    [
+        (0, "total"),
+        (20, "total"),
+        (21, "severe"),
+        (60, "severe"),
+        (61, "moderate"),
+        (90, "moderate"),
+        (91, "slight"),
+        (99, "slight"),
+        (100, "independent"),
+    ],
+)
 def test_dependency_bands(total, expected):
     assert band(total) == expected
 
@@ -51,21 +80,38 @@ def test_every_option_is_understood_from_its_own_words():
             assert understand(it, f"option {n}").points == o.points
 
 
-@pytest.mark.parametrize("text, kind", [(GARBLED, "not_understood"), ("", "not_understood"),
-                                        ("please skip this one", "skip"), ("next question", "skip"),
-                                        ("yes and no", "not_understood")])
+@pytest.mark.parametrize(
+    "text, kind",
+    [
+        (GARBLED, "not_understood"),
+        ("", "not_understood"),
+        ("please skip this one", "skip"),
+        ("next question", "skip"),
+        ("yes and no", "not_understood"),
+    ],
+)
 def test_what_is_not_an_answer(text, kind):
     assert understand(BY_KEY["bowels"], text).kind == kind
 
 
 def test_scenario_defaults_and_errors_name_the_line():
     s = parse("patient: Carlos\nitems:\n  stairs: {answer: 5, via: touch, leave: 2.0}\n")
-    assert (s.plan("stairs").answer, s.plan("stairs").via, s.plan("stairs").leave) == (5, "touch", 2.0)
+    assert (s.plan("stairs").answer, s.plan("stairs").via, s.plan("stairs").leave) == (
+        5,
+        "touch",
+        2.0,
+    )
     assert (s.plan("feeding").answer, s.plan("feeding").via) == (10, "voice")
     for text, fragment in [
-        ("patient: C\nitems:\n  feeding: {answer: 7}\n", "x.yaml:3: feeding: answer 7 is not an option"),
+        (
+            "patient: C\nitems:\n  feeding: {answer: 7}\n",
+            "x.yaml:3: feeding: answer 7 is not an option",
+        ),
         ("patient: C\nitems:\n  cooking: {answer: 5}\n", "x.yaml:3: unknown item 'cooking'"),
-        ("patient: C\nitems:\n  feeding:\n    answer: 5\n    mood: happy\n", "x.yaml:5: feeding: unknown key 'mood'"),
+        (
+            "patient: C\nitems:\n  feeding:\n    answer: 5\n    mood: happy\n",
+            "x.yaml:5: feeding: unknown key 'mood'",
+        ),
         ("patient: C\nitems:\n  feeding: {via: shouting}\n", "via must be one of"),
         ("patient: C\nitems:\n  feeding: {first: loud}\n", "first must be one of"),
         ("patient: C\nitems:\n  feeding: {leave: -1}\n", "leave is a number"),
@@ -77,8 +123,10 @@ def test_scenario_defaults_and_errors_name_the_line():
 
 
 def test_patient_script_follows_the_scenario():
-    s = parse("patient: C\nitems:\n  feeding: {answer: 5, via: voice, first: garbled}\n"
-              "  bathing: {answer: 0, via: touch, first: silence}\n  grooming: {via: silence, leave: 2}\n")
+    s = parse(
+        "patient: C\nitems:\n  feeding: {answer: 5, via: voice, first: garbled}\n"
+        "  bathing: {answer: 0, via: touch, first: silence}\n  grooming: {via: silence, leave: 2}\n"
+    )
     p = PatientScript(s, reaction=1.0)
     assert p.heard("Question 1 of 10, Feeding. Can you eat by yourself?", "start") == []
     [a] = p.heard(ASK + " Say it, or touch it on the screen.", "end")
@@ -89,7 +137,11 @@ def test_patient_script_follows_the_scenario():
     assert p.heard(ASK, "end") == []  # silent on the first try
     [a] = p.heard("Let me say the options again. ...", "end")
     assert (a.kind, a.points) == ("tap", 0)
-    [a] = p.heard("Question 3 of 10, Grooming. Can you wash your face, comb your hair and brush your teeth by yourself?", "start")
+    [a] = p.heard(
+        "Question 3 of 10, Grooming. "
+        "Can you wash your face, comb your hair and brush your teeth by yourself?",
+        "start",
+    )
     assert (a.kind, a.seconds) == ("leave", 2.0)
 
 

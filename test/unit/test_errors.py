@@ -5,8 +5,19 @@ import ast
 from pathlib import Path
 
 SRC = Path(__file__).resolve().parents[2] / "src"
-HOMES = {SRC / "dsr_graph" / "dsr_graph" / "exceptions.py", SRC / "clarc_agents" / "clarc_agents" / "exceptions.py"}
-BUILTIN_ERRORS = {"Exception", "ValueError", "RuntimeError", "LookupError", "KeyError", "TypeError", "OSError"}
+HOMES = {
+    SRC / "dsr_graph" / "dsr_graph" / "exceptions.py",
+    SRC / "clarc_agents" / "clarc_agents" / "exceptions.py",
+}
+BUILTIN_ERRORS = {
+    "Exception",
+    "ValueError",
+    "RuntimeError",
+    "LookupError",
+    "KeyError",
+    "TypeError",
+    "OSError",
+}
 
 
 def error_classes():
@@ -14,7 +25,11 @@ def error_classes():
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.ClassDef):
                 bases = {b.id for b in node.bases if isinstance(b, ast.Name)}
-                if bases & BUILTIN_ERRORS or any(b.endswith("Error") for b in bases) or node.name.endswith("Error"):
+                if (
+                    bases & BUILTIN_ERRORS
+                    or any(b.endswith("Error") for b in bases)
+                    or node.name.endswith("Error")
+                ):
                     yield path, node.name
 
 

@@ -8,6 +8,7 @@ import pytest
 from dsr_graph.exceptions import LookupFailed, RuleViolation
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
+
 from invariants import assert_invariants
 
 IDENTITY = {"matrix": np.eye(4).tolist()}
@@ -26,8 +27,12 @@ def g():
     graph.insert_node("robot", "robot", id=2)
     graph.insert_node("person", "person", id=3)
     graph.insert_node("speaking", "state", id=4)
-    graph.insert_edge("room", "robot", "RT", rt={"translation": [1, 0, 0], "rotation_euler_xyz": [0, 0, 0]})
-    graph.insert_edge("room", "person", "RT", rt={"translation": [0, 2, 0], "rotation_euler_xyz": [0, 0, 0]})
+    graph.insert_edge(
+        "room", "robot", "RT", rt={"translation": [1, 0, 0], "rotation_euler_xyz": [0, 0, 0]}
+    )
+    graph.insert_edge(
+        "room", "person", "RT", rt={"translation": [0, 2, 0], "rotation_euler_xyz": [0, 0, 0]}
+    )
     graph.insert_edge("robot", "speaking", "is_not")
     return graph
 
@@ -43,7 +48,7 @@ def test_nodes_have_unique_ids_and_names(g):
 
 def test_node_names_must_be_printable_and_trimmed(g):
     for bad in ["", " robot2", "a\nb", "x" * 300, 7]:
-        assert rule_of(lambda: g.insert_node(bad, "robot")) == "node-name"
+        assert rule_of(lambda bad=bad: g.insert_node(bad, "robot")) == "node-name"
 
 
 def test_types_come_from_the_vocabulary(g):
@@ -54,9 +59,11 @@ def test_types_come_from_the_vocabulary(g):
 
 def test_the_vocabulary_can_be_extended_with_data(tmp_path):
     path = tmp_path / "vocab.json"
-    path.write_text('{"format": "dsr-vocabulary", "version": 1, "extends": "default",'
-                    ' "node_types": {"spaceship": "a ship"}, "edge_types": {"loves": "x"},'
-                    ' "attributes": {"flavour": "string"}}')
+    path.write_text(
+        '{"format": "dsr-vocabulary", "version": 1, "extends": "default",'
+        ' "node_types": {"spaceship": "a ship"}, "edge_types": {"loves": "x"},'
+        ' "attributes": {"flavour": "string"}}'
+    )
     g = Graph(Vocabulary.load(path))
     g.insert_node("ufo", "spaceship", attrs={"flavour": "mint"})
     g.insert_node("robot", "robot")
@@ -66,7 +73,9 @@ def test_the_vocabulary_can_be_extended_with_data(tmp_path):
 
 def test_attribute_values_are_typed(g):
     g.set_node_attrs("robot", {"level": 3, "pos_x": 2, "collidable": True, "options": ["a", "b"]})
-    assert g.node("robot").attrs["pos_x"] == 2.0 and isinstance(g.node("robot").attrs["pos_x"], float)
+    assert g.node("robot").attrs["pos_x"] == 2.0 and isinstance(
+        g.node("robot").attrs["pos_x"], float
+    )
     assert rule_of(lambda: g.set_node_attrs("robot", {"level": 2.5})) == "attribute-type"
     assert rule_of(lambda: g.set_node_attrs("robot", {"level": True})) == "attribute-type"
     assert rule_of(lambda: g.set_node_attrs("robot", {"collidable": 1})) == "attribute-type"
@@ -112,11 +121,16 @@ def test_rt_edges_hold_rigid_transforms(g):
     g.insert_node("cam", "rgbd")
     reflection = np.diag([1.0, 1.0, -1.0, 1.0]).tolist()
     scaled = np.diag([2.0, 2.0, 2.0, 1.0]).tolist()
-    for rt in [None, {"matrix": reflection}, {"matrix": scaled}, {"matrix": [[1, 0], [0, 1]]},
-               {"translation": [0, 0], "rotation_euler_xyz": [0, 0, 0]},
-               {"translation": [0, 0, 0], "quaternion_wxyz": [2, 0, 0, 0]},
-               {"translation": [0, 0, 0]}]:
-        assert rule_of(lambda: g.insert_edge("robot", "cam", "RT", rt=rt)) == "rt-rigid"
+    for rt in [
+        None,
+        {"matrix": reflection},
+        {"matrix": scaled},
+        {"matrix": [[1, 0], [0, 1]]},
+        {"translation": [0, 0], "rotation_euler_xyz": [0, 0, 0]},
+        {"translation": [0, 0, 0], "quaternion_wxyz": [2, 0, 0, 0]},
+        {"translation": [0, 0, 0]},
+    ]:
+        assert rule_of(lambda rt=rt: g.insert_edge("robot", "cam", "RT", rt=rt)) == "rt-rigid"
     assert rule_of(lambda: g.insert_edge("robot", "cam", "has", rt=IDENTITY)) == "rt-rigid"
     # within tolerance: float32 angles round-tripped through JSON are accepted
     nearly = np.eye(4)
@@ -126,7 +140,9 @@ def test_rt_edges_hold_rigid_transforms(g):
 
 
 def test_rt_single_parent_and_acyclic(g):
-    assert rule_of(lambda: g.insert_edge("person", "robot", "RT", rt=IDENTITY)) == "rt-single-parent"
+    assert (
+        rule_of(lambda: g.insert_edge("person", "robot", "RT", rt=IDENTITY)) == "rt-single-parent"
+    )
     g.insert_node("cam", "rgbd")
     g.insert_edge("robot", "cam", "RT", rt=IDENTITY)
     # cam -> room would close room -> robot -> cam -> room
@@ -156,7 +172,10 @@ def test_deleting_a_node_deletes_its_edges_but_never_orphans_a_subtree(g):
         with g.atomic():
             g.delete_node("robot")
     assert info.value.violation.rule == "rt-orphan" and "'cam'" in info.value.violation.message
-    assert g.edge("robot", "cam", "RT") is not None and g.edge("robot", "speaking", "is_not") is not None
+    assert (
+        g.edge("robot", "cam", "RT") is not None
+        and g.edge("robot", "speaking", "is_not") is not None
+    )
     with g.atomic():
         g.delete_node("cam")
         g.delete_node("robot")

@@ -4,10 +4,10 @@ import json
 
 import pytest
 
-from dsr_graph.formats import dsr_json
-from dsr_graph.protocol import history
-from dsr_graph.model.graph import Graph
 from dsr_graph.exceptions import SeqUnavailable
+from dsr_graph.formats import dsr_json
+from dsr_graph.model.graph import Graph
+from dsr_graph.protocol import history
 from dsr_graph.protocol.history import History
 from dsr_graph.protocol.server_core import ServerCore
 
@@ -15,8 +15,12 @@ from dsr_graph.protocol.server_core import ServerCore
 def deltas(n):
     core = ServerCore(Graph())
     start = core.snapshot()
-    return start, [core.submit(json.dumps({"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}))
-                   for i in range(n)]
+    return start, [
+        core.submit(
+            json.dumps({"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]})
+        )
+        for i in range(n)
+    ]
 
 
 def test_graph_at_every_past_seq_across_checkpoints(monkeypatch):
@@ -28,7 +32,9 @@ def test_graph_at_every_past_seq_across_checkpoints(monkeypatch):
         h.add(d)
     assert (h.first_seq, h.seq) == (0, 11)
     for seq in range(12):
-        assert sorted(n.name for n in h.graph_at(seq).nodes()) == sorted(f"n{i}" for i in range(seq))
+        assert sorted(n.name for n in h.graph_at(seq).nodes()) == sorted(
+            f"n{i}" for i in range(seq)
+        )
     assert [d["seq"] for d in h.since(8)] == [9, 10, 11]
     assert [d["seq"] for d in h.since(0, limit=2)] == [1, 2]
     with pytest.raises(SeqUnavailable):
@@ -42,12 +48,19 @@ def test_a_gap_after_a_resync_is_refused_not_guessed():
     h.add(ds[0])
     with pytest.raises(SeqUnavailable):
         h.add(ds[2])  # seq 2 never came
-    later, _ = dsr_json.snapshot_from_json(json.loads(json.dumps(start)))  # build the state at seq 4
+    later, _ = dsr_json.snapshot_from_json(
+        json.loads(json.dumps(start))
+    )  # build the state at seq 4
     core = ServerCore(later)
     for d in ds[:4]:
         core.replay(d)
     h.reset(core.snapshot())  # the replica resynchronised at seq 4
     h.add(ds[4])
-    assert h.seq == 5 and len(h.graph_at(5)) == 5 and len(h.graph_at(4)) == 4 and len(h.graph_at(1)) == 1
+    assert (
+        h.seq == 5
+        and len(h.graph_at(5)) == 5
+        and len(h.graph_at(4)) == 4
+        and len(h.graph_at(1)) == 1
+    )
     with pytest.raises(SeqUnavailable, match="gap"):
         h.graph_at(2)

@@ -28,16 +28,38 @@ def test_euler_convention_is_translation_rx_ry_rz():
 
 def test_hand_derived_chain_through_the_common_ancestor():
     g = Graph()
-    apply_ops(g, [
-        {"op": "insert_node", "name": "room", "type": "room"},
-        {"op": "insert_node", "name": "robot", "type": "robot"},
-        {"op": "insert_node", "name": "person", "type": "person"},
-        {"op": "insert_node", "name": "camera", "type": "rgbd"},
-        # robot at (1000, 0) facing +y (yaw 90 deg); camera 500 up on the robot; person at (1000, 2000)
-        {"op": "insert_edge", "from": "room", "to": "robot", "type": "RT", "rt": pose([1000, 0, 0], [0, 0, math.pi / 2])},
-        {"op": "insert_edge", "from": "robot", "to": "camera", "type": "RT", "rt": pose([0, 0, 500])},
-        {"op": "insert_edge", "from": "room", "to": "person", "type": "RT", "rt": pose([1000, 2000, 0])},
-    ])
+    apply_ops(
+        g,
+        [
+            {"op": "insert_node", "name": "room", "type": "room"},
+            {"op": "insert_node", "name": "robot", "type": "robot"},
+            {"op": "insert_node", "name": "person", "type": "person"},
+            {"op": "insert_node", "name": "camera", "type": "rgbd"},
+            # robot at (1000, 0) facing +y (yaw 90 deg); camera 500 up on the robot;
+            # person at (1000, 2000)
+            {
+                "op": "insert_edge",
+                "from": "room",
+                "to": "robot",
+                "type": "RT",
+                "rt": pose([1000, 0, 0], [0, 0, math.pi / 2]),
+            },
+            {
+                "op": "insert_edge",
+                "from": "robot",
+                "to": "camera",
+                "type": "RT",
+                "rt": pose([0, 0, 500]),
+            },
+            {
+                "op": "insert_edge",
+                "from": "room",
+                "to": "person",
+                "type": "RT",
+                "rt": pose([1000, 2000, 0]),
+            },
+        ],
+    )
     assert g.chain("camera", "person") == ["camera", "robot", "room", "person"]
     t = g.transform("camera", "person")
     # Seen from the camera, the person is 2000 straight ahead (+x after the yaw) and 500 below.
@@ -49,19 +71,45 @@ def test_hand_derived_chain_through_the_common_ancestor():
 
 def test_the_cache_follows_moves():
     g = Graph()
-    apply_ops(g, [
-        {"op": "insert_node", "name": "room", "type": "room"},
-        {"op": "insert_node", "name": "robot", "type": "robot"},
-        {"op": "insert_node", "name": "camera", "type": "rgbd"},
-        {"op": "insert_edge", "from": "room", "to": "robot", "type": "RT", "rt": pose([1, 0, 0])},
-        {"op": "insert_edge", "from": "robot", "to": "camera", "type": "RT", "rt": pose([0, 0, 1])},
-    ])
+    apply_ops(
+        g,
+        [
+            {"op": "insert_node", "name": "room", "type": "room"},
+            {"op": "insert_node", "name": "robot", "type": "robot"},
+            {"op": "insert_node", "name": "camera", "type": "rgbd"},
+            {
+                "op": "insert_edge",
+                "from": "room",
+                "to": "robot",
+                "type": "RT",
+                "rt": pose([1, 0, 0]),
+            },
+            {
+                "op": "insert_edge",
+                "from": "robot",
+                "to": "camera",
+                "type": "RT",
+                "rt": pose([0, 0, 1]),
+            },
+        ],
+    )
     assert np.allclose(g.transform("room", "camera")[:3, 3], [1, 0, 1])
     apply_ops(g, [{"op": "set_rt", "from": "room", "to": "robot", "rt": pose([5, 0, 0])}])
     assert np.allclose(g.transform("room", "camera")[:3, 3], [5, 0, 1])
     # re-parent the camera onto the room in one transaction
-    apply_ops(g, [{"op": "delete_edge", "from": "robot", "to": "camera", "type": "RT"},
-                  {"op": "insert_edge", "from": "room", "to": "camera", "type": "RT", "rt": pose([0, 7, 0])}])
+    apply_ops(
+        g,
+        [
+            {"op": "delete_edge", "from": "robot", "to": "camera", "type": "RT"},
+            {
+                "op": "insert_edge",
+                "from": "room",
+                "to": "camera",
+                "type": "RT",
+                "rt": pose([0, 7, 0]),
+            },
+        ],
+    )
     assert np.allclose(g.transform("robot", "camera")[:3, 3], [-5, 7, 0])
 
 
@@ -83,17 +131,24 @@ coords = st.floats(-5000, 5000, allow_nan=False)
 def random_tree(draw):
     n = draw(st.integers(2, 12))
     parents = [draw(st.integers(0, i - 1)) for i in range(1, n)]
-    poses = [pose([draw(coords) for _ in range(3)], [draw(angles) for _ in range(3)]) for _ in range(1, n)]
+    poses = [
+        pose([draw(coords) for _ in range(3)], [draw(angles) for _ in range(3)])
+        for _ in range(1, n)
+    ]
     ops = [{"op": "insert_node", "name": f"n{i}", "type": "transform"} for i in range(n)]
-    ops += [{"op": "insert_edge", "from": f"n{p}", "to": f"n{i + 1}", "type": "RT", "rt": poses[i]}
-            for i, p in enumerate(parents)]
+    ops += [
+        {"op": "insert_edge", "from": f"n{p}", "to": f"n{i + 1}", "type": "RT", "rt": poses[i]}
+        for i, p in enumerate(parents)
+    ]
     g = Graph()
     apply_ops(g, ops)
     return g, n, parents
 
 
 def naive(g, parents, a, b):
-    """Pose of b in a's frame, multiplying every edge matrix from the root, with general inverses."""
+    """Pose of b in a's frame, multiplying every edge matrix from the root, with general
+    inverses."""
+
     def from_root(i):
         m = np.eye(4)
         path = []
@@ -103,6 +158,7 @@ def naive(g, parents, a, b):
         for j in reversed(path):
             m = m @ g.edge(f"n{parents[j - 1]}", f"n{j}", "RT").rt
         return m
+
     return np.linalg.inv(from_root(a)) @ from_root(b)
 
 
@@ -111,7 +167,11 @@ def naive(g, parents, a, b):
 def test_chain_composition_and_inverse(tree, data):
     g, n, parents = tree
     a, b, c = (data.draw(st.integers(0, n - 1)) for _ in range(3))
-    tab, tbc, tac = g.transform(f"n{a}", f"n{b}"), g.transform(f"n{b}", f"n{c}"), g.transform(f"n{a}", f"n{c}")
+    tab, tbc, tac = (
+        g.transform(f"n{a}", f"n{b}"),
+        g.transform(f"n{b}", f"n{c}"),
+        g.transform(f"n{a}", f"n{c}"),
+    )
     assert np.allclose(tab @ tbc, tac, atol=1e-6)
     assert np.allclose(tab, np.linalg.inv(g.transform(f"n{b}", f"n{a}")), atol=1e-6)
     assert np.allclose(tab, naive(g, parents, a, b), atol=1e-6)
@@ -126,5 +186,7 @@ def test_chain_passes_through_the_closest_common_ancestor(tree, data):
     path = g.chain(f"n{a}", f"n{b}")
     assert path[0] == f"n{a}" and path[-1] == f"n{b}"
     assert len(path) == len(set(path)), "a simple path"
-    for x, y in zip(path, path[1:]):  # consecutive nodes are joined by an RT edge one way or the other
+    for x, y in zip(
+        path, path[1:], strict=False
+    ):  # consecutive nodes are joined by an RT edge one way or the other
         assert g.edge(x, y, "RT") is not None or g.edge(y, x, "RT") is not None

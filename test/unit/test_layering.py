@@ -16,8 +16,14 @@ PLUMBING = ("ros", "web", "cli")  # the only folders of dsr_graph allowed to tou
 
 def is_forbidden(module: str) -> bool:
     top = module.split(".")[0]
-    return (top in ("rclpy", "rcl_interfaces", "aiohttp", "rosidl_runtime_py", "launch", "launch_ros")
-            or top.endswith(("_msgs", "_srvs", "_interfaces")))
+    return top in (
+        "rclpy",
+        "rcl_interfaces",
+        "aiohttp",
+        "rosidl_runtime_py",
+        "launch",
+        "launch_ros",
+    ) or top.endswith(("_msgs", "_srvs", "_interfaces"))
 
 
 def pure_modules():
@@ -36,13 +42,23 @@ def imports_of(path: Path):
 
 
 def test_the_rule_itself():
-    assert is_forbidden("rclpy.node") and is_forbidden("std_msgs.msg") and is_forbidden("dsr_msgs.srv")
-    assert is_forbidden("aiohttp.web") and not is_forbidden("numpy") and not is_forbidden("dsr_graph.model")
+    assert (
+        is_forbidden("rclpy.node") and is_forbidden("std_msgs.msg") and is_forbidden("dsr_msgs.srv")
+    )
+    assert (
+        is_forbidden("aiohttp.web")
+        and not is_forbidden("numpy")
+        and not is_forbidden("dsr_graph.model")
+    )
 
 
 def test_no_pure_module_imports_ros_or_the_web_directly():
-    offenders = [f"{module}: imports {name}" for path, module in pure_modules()
-                 for name in imports_of(path) if is_forbidden(name)]
+    offenders = [
+        f"{module}: imports {name}"
+        for path, module in pure_modules()
+        for name in imports_of(path)
+        if is_forbidden(name)
+    ]
     assert len(list(pure_modules())) > 20
     assert not offenders, "\n".join(offenders)
 
@@ -53,7 +69,8 @@ def test_no_pure_module_needs_ros_or_the_web_through_another_module():
         "class Block(importlib.abc.MetaPathFinder):\n"
         "    def find_spec(self, name, path, target=None):\n"
         "        top = name.split('.')[0]\n"
-        "        if top in ('rclpy', 'rcl_interfaces', 'aiohttp') or top.endswith(('_msgs', '_srvs')):\n"
+        "        if (top in ('rclpy', 'rcl_interfaces', 'aiohttp')\n"
+        "                or top.endswith(('_msgs', '_srvs'))):\n"
         "            raise ImportError(f'{name} is not allowed here')\n"
         "sys.meta_path.insert(0, Block())\n"
         "import importlib\n"
@@ -61,13 +78,23 @@ def test_no_pure_module_needs_ros_or_the_web_through_another_module():
         "    importlib.import_module(name)\n"
     )
     modules = [module for _, module in pure_modules()]
-    done = subprocess.run([sys.executable, "-c", blocker, *modules], capture_output=True, text=True, timeout=120)
+    done = subprocess.run(
+        [sys.executable, "-c", blocker, *modules], capture_output=True, text=True, timeout=120
+    )
     assert done.returncode == 0, done.stderr[-2000:]
 
 
-@pytest.mark.parametrize("module", ["clarc_agents.pelea.hle", "clarc_agents.behaviours.speech",
-                                    "clarc_agents.behaviours.panel", "clarc_agents.barthel.record",
-                                    "clarc_agents.grammar_files", "clarc_sim.patient.script"])
+@pytest.mark.parametrize(
+    "module",
+    [
+        "clarc_agents.pelea.hle",
+        "clarc_agents.behaviours.speech",
+        "clarc_agents.behaviours.panel",
+        "clarc_agents.barthel.record",
+        "clarc_agents.grammar_files",
+        "clarc_sim.patient.script",
+    ],
+)
 def test_clarc_logic_is_pure_too(module):
     path = SRC / module.split(".")[0] / Path(*module.split(".")).with_suffix(".py")
     assert not [name for name in imports_of(path) if is_forbidden(name)]

@@ -7,6 +7,7 @@ from pyperplan.pddl.parser import Parser
 from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.hle import HighLevelExecutive
+
 from local_clarc import Patient, Robot
 
 
@@ -33,10 +34,14 @@ def test_a_test_without_deviations():
     assert result["total"] == 100 and result["band"] == "independent"
     assert all(i["via"] == "voice" and i["attempts"] == 1 for i in result["items"])
     assert replans(robot) == ["start"]
-    assert robot.said[0].startswith("Hello Carlos") and robot.said[-1].startswith("That was the last question")
+    assert robot.said[0].startswith("Hello Carlos") and robot.said[-1].startswith(
+        "That was the last question"
+    )
     introduced = [s for s in robot.said if s.startswith("Question ")]
-    assert introduced == [f"Question {n} of 10, {BY_KEY[i].title}. {BY_KEY[i].question}"
-                          for n, i in enumerate(ORDER, 1)]
+    assert introduced == [
+        f"Question {n} of 10, {BY_KEY[i].title}. {BY_KEY[i].question}"
+        for n, i in enumerate(ORDER, 1)
+    ]
     test = robot.pelea_link.graph.node("test")
     assert test.attrs["status"] == "finished" and test.attrs["patient"] == "Carlos"
 
@@ -46,7 +51,9 @@ def test_silence_then_the_options_again_by_voice_and_on_the_screen():
     result = robot.run_test()
     assert items(result)["feeding"] == (5, "voice", 2)
     assert replans(robot) == ["start", "deviation in (await-answer feeding)"]
-    again = [s for s in robot.screen if s.get("text", "").startswith("Let me say the options again")]
+    again = [
+        s for s in robot.screen if s.get("text", "").startswith("Let me say the options again")
+    ]
     assert again and again[0]["option_points"] == [0.0, 5.0, 10.0]
 
 
@@ -76,13 +83,18 @@ def test_asking_to_skip_closes_the_item_at_once():
 
 
 def test_two_unanswered_items_call_the_clinician_once():
-    robot = Robot(Patient(answers={"grooming": ["silence", "silence"], "bowels": ["skip"],
-                                   "stairs": ["skip"]}))
+    robot = Robot(
+        Patient(
+            answers={"grooming": ["silence", "silence"], "bowels": ["skip"], "stairs": ["skip"]}
+        )
+    )
     result = robot.run_test()
     assert result["unanswered"] == ["grooming", "bowels", "stairs"] and result["clinician_called"]
     assert len(robot.port.notifications) == 1 and "grooming, bowels" in robot.port.notifications[0]
     assert "two items unanswered: call the clinician" in replans(robot)
-    assert robot.pelea_link.graph.edge("test", "clinician", "requests") is None  # cleared at the end
+    assert (
+        robot.pelea_link.graph.edge("test", "clinician", "requests") is None
+    )  # cleared at the end
 
 
 def test_the_person_leaves_speech_stops_and_the_item_starts_again():
@@ -92,18 +104,25 @@ def test_the_person_leaves_speech_stops_and_the_item_starts_again():
     kinds = robot.kinds()
     assert kinds.index("person_lost") < kinds.index("person_back")
     assert "Please, sit down in front of me." in robot.said
-    assert [s for s in robot.said if s.startswith("Question 6 of 10")] and \
-        len([s for s in robot.said if s.startswith("Question 6 of 10")]) == 2  # asked again
+    assert [s for s in robot.said if s.startswith("Question 6 of 10")] and len(
+        [s for s in robot.said if s.startswith("Question 6 of 10")]
+    ) == 2  # asked again
     assert {"clear": True} in robot.screen  # the panel cleared while the person was away
     assert "the person left" in replans(robot)
 
 
 def test_nobody_there_at_start_asks_to_sit_first():
     robot = Robot(present=False)
-    robot.bus.after(5.0, lambda: robot.person.signal("seen", pose={"translation": [900, 0, -400],
-                                                                     "rotation_euler_xyz": [0, 0, 0]}))
+    robot.bus.after(
+        5.0,
+        lambda: robot.person.signal(
+            "seen", pose={"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
+        ),
+    )
     result = robot.run_test()
-    assert robot.said[0] == "Please, sit down in front of me." and robot.said[1].startswith("Hello Carlos")
+    assert robot.said[0] == "Please, sit down in front of me." and robot.said[1].startswith(
+        "Hello Carlos"
+    )
     assert result["total"] == 100
 
 
@@ -127,6 +146,11 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
     robot = Robot(Patient(answers={"stairs": [("touch", 5)]}))
     robot.run_test()
     graph = robot.pelea_link.graph
-    assert graph.node("item_stairs").attrs == {"item": "stairs", "position": 10, "attempts": 1,
-                                               "answer": 5, "via": "touch"}
+    assert graph.node("item_stairs").attrs == {
+        "item": "stairs",
+        "position": 10,
+        "attempts": 1,
+        "answer": 5,
+        "via": "touch",
+    }
     assert graph.node("item_feeding").attrs["answer"] == 10

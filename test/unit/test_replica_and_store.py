@@ -4,19 +4,21 @@ import json
 
 import pytest
 
+from dsr_graph.exceptions import CorruptState, StateDirLocked
 from dsr_graph.formats import dsr_json
+from dsr_graph.formats.state_store import StateStore
 from dsr_graph.model.graph import Graph
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import ServerCore
-from dsr_graph.exceptions import CorruptState, StateDirLocked
-from dsr_graph.formats.state_store import StateStore
 
 
 def make_deltas(n):
     c = ServerCore(Graph())
     snap0 = c.snapshot()
-    deltas = [c.submit(json.dumps({"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}))
-              for i in range(n)]
+    deltas = [
+        c.submit(json.dumps({"ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}))
+        for i in range(n)
+    ]
     return snap0, deltas, c
 
 
@@ -69,7 +71,9 @@ def test_store_journal_survives_and_torn_tail_is_dropped(tmp_path):
     core = ServerCore.from_snapshot(again.load_snapshot())
     assert again.replay_journal(core.seq, core.replay) == 4
     assert core.seq == 4 and "torn" in again.warnings[0]
-    assert json.dumps(core.snapshot(), sort_keys=True) == json.dumps(server.snapshot(), sort_keys=True)
+    assert json.dumps(core.snapshot(), sort_keys=True) == json.dumps(
+        server.snapshot(), sort_keys=True
+    )
     again.close()
 
 

@@ -14,40 +14,80 @@ log = logging.getLogger("test_rule_runner")
 
 SPEAK = {
     "name": "speak",
-    "when": [{"edge": ["robot", "speaking", "is_not"]},
-             {"edge": ["test", "test_part", "is_in"], "attrs": {"text": "$text", "sentence_id": "$sid"}}],
+    "when": [
+        {"edge": ["robot", "speaking", "is_not"]},
+        {"edge": ["test", "test_part", "is_in"], "attrs": {"text": "$text", "sentence_id": "$sid"}},
+    ],
     "once_per": ["$sid"],
-    "during": [{"delete_edge": ["robot", "speaking", "is_not"]}, {"insert_edge": ["robot", "speaking", "is"]}],
+    "during": [
+        {"delete_edge": ["robot", "speaking", "is_not"]},
+        {"insert_edge": ["robot", "speaking", "is"]},
+    ],
     "claim": [{"from": "robot", "to": "speaking"}],
     "priority": 1,
     "process": "say",
-    "after": {"done": [{"delete_edge": ["robot", "speaking", "is"]},
-                       {"insert_edge": ["robot", "speaking", "finish", {"sentence_id": "$sid"}]}],
-              "interrupted": [{"delete_edge": ["robot", "speaking", "is"]},
-                              {"insert_edge": ["robot", "speaking", "is_not"]}]},
+    "after": {
+        "done": [
+            {"delete_edge": ["robot", "speaking", "is"]},
+            {"insert_edge": ["robot", "speaking", "finish", {"sentence_id": "$sid"}]},
+        ],
+        "interrupted": [
+            {"delete_edge": ["robot", "speaking", "is"]},
+            {"insert_edge": ["robot", "speaking", "is_not"]},
+        ],
+    },
 }
-SEEN = {"name": "seen", "trigger": "seen", "given": ["$pose"], "when": [{"no_node": "person"}],
-        "during": [{"insert_node": {"name": "person", "type": "person"}},
-                   {"insert_edge": {"from": "robot", "to": "person", "type": "RT", "rt": "$pose"}}]}
+SEEN = {
+    "name": "seen",
+    "trigger": "seen",
+    "given": ["$pose"],
+    "when": [{"no_node": "person"}],
+    "during": [
+        {"insert_node": {"name": "person", "type": "person"}},
+        {"insert_edge": {"from": "robot", "to": "person", "type": "RT", "rt": "$pose"}},
+    ],
+}
 POSE = {"translation": [1.0, 2.0, 0.0], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
 
 
 def world():
     g = Graph()
     with g.atomic():
-        for name, kind in [("world", "transform"), ("robot", "robot"), ("speaking", "state"),
-                           ("test", "test"), ("test_part", "test_part")]:
+        for name, kind in [
+            ("world", "transform"),
+            ("robot", "robot"),
+            ("speaking", "state"),
+            ("test", "test"),
+            ("test_part", "test_part"),
+        ]:
             g.insert_node(name, kind)
-        g.insert_edge("world", "robot", "RT", rt={"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]})
+        g.insert_edge(
+            "world", "robot", "RT", rt={"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]}
+        )
         g.insert_edge("robot", "speaking", "is_not")
     return g
 
 
 def write_sentence(bus, sid, text="Hello"):
     writer = bus.agents[0] if bus.agents else bus.agent("/pelea")
-    op = "insert_edge" if bus.core.graph.edge("test", "test_part", "is_in") is None else "set_edge_attrs"
-    writer.send({"ops": [{"op": op, "from": "test", "to": "test_part", "type": "is_in",
-                          "attrs": {"text": text, "sentence_id": sid}}]})
+    op = (
+        "insert_edge"
+        if bus.core.graph.edge("test", "test_part", "is_in") is None
+        else "set_edge_attrs"
+    )
+    writer.send(
+        {
+            "ops": [
+                {
+                    "op": op,
+                    "from": "test",
+                    "to": "test_part",
+                    "type": "is_in",
+                    "attrs": {"text": text, "sentence_id": sid},
+                }
+            ]
+        }
+    )
 
 
 class Speaker:
@@ -68,7 +108,11 @@ def speech_agent(bus, name="/speech", rules=(SPEAK,), speaker=None):
 
 
 def edges_from_robot_to_speaking(bus):
-    return sorted(e.type for e in bus.core.graph.out_edges("robot") if e.dst == bus.core.graph.node("speaking").id)
+    return sorted(
+        e.type
+        for e in bus.core.graph.out_edges("robot")
+        if e.dst == bus.core.graph.node("speaking").id
+    )
 
 
 def test_before_during_process_after():
@@ -145,9 +189,16 @@ def test_a_higher_priority_preempts_and_the_holder_is_told():
     speaker.saying[0].on_preempted = lambda: told.append(True)
     urgent = bus.agent("/urgent")
     verdicts = []
-    urgent.send({"priority": 5, "ops": [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"},
-                                        {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"}]},
-                verdicts.append)
+    urgent.send(
+        {
+            "priority": 5,
+            "ops": [
+                {"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"},
+                {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+            ],
+        },
+        verdicts.append,
+    )
     bus.run()
     assert verdicts[0].accepted and told == [True] and speaker.saying[0].preempted
     speaker.saying[0].finish("done")  # its after no longer applies: the during state was undone
@@ -162,8 +213,10 @@ def test_a_lower_priority_write_is_refused_while_the_claim_is_held():
     write_sentence(bus, 1)
     bus.run()
     verdicts = []
-    bus.agent("/other").send({"ops": [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"}]},
-                             verdicts.append)
+    bus.agent("/other").send(
+        {"ops": [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"}]},
+        verdicts.append,
+    )
     bus.run()
     assert not verdicts[0].accepted and verdicts[0].reason["rule"] == "claimed"
 

@@ -5,21 +5,29 @@ import json
 import pytest
 
 from dsr_graph.model.graph import Graph
-from dsr_graph.protocol.server_core import Rejection, ServerCore
 from dsr_graph.model.transaction import apply_ops
+from dsr_graph.protocol.server_core import Rejection, ServerCore
 
 
 def core():
     g = Graph()
-    apply_ops(g, [
-        {"op": "insert_node", "name": "room", "type": "room"},
-        {"op": "insert_node", "name": "robot", "type": "robot"},
-        {"op": "insert_node", "name": "person", "type": "person"},
-        {"op": "insert_node", "name": "speaking", "type": "state"},
-        {"op": "insert_edge", "from": "room", "to": "person", "type": "RT",
-         "rt": {"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]}},
-        {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
-    ])
+    apply_ops(
+        g,
+        [
+            {"op": "insert_node", "name": "room", "type": "room"},
+            {"op": "insert_node", "name": "robot", "type": "robot"},
+            {"op": "insert_node", "name": "person", "type": "person"},
+            {"op": "insert_node", "name": "speaking", "type": "state"},
+            {
+                "op": "insert_edge",
+                "from": "room",
+                "to": "person",
+                "type": "RT",
+                "rt": {"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]},
+            },
+            {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+        ],
+    )
     return ServerCore(g, max_request_bytes=10_000)
 
 
@@ -29,22 +37,40 @@ def submit(c, doc, now=100.0):
 
 def test_accepted_transactions_get_consecutive_seqs():
     c = core()
-    d1 = submit(c, {"id": "a", "agent": "/x", "ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": 1}}]})
+    d1 = submit(
+        c,
+        {
+            "id": "a",
+            "agent": "/x",
+            "ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": 1}}],
+        },
+    )
     d2 = submit(c, {"ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": 2}}]})
     assert (d1["seq"], d2["seq"], c.seq) == (1, 2, 2)
     assert d1["id"] == "a" and d1["agent"] == "/x" and d1["stamp"] == 100.0
     assert d1["ops"] == [{"op": "set_node_attrs", "node": "robot", "attrs": {"level": 1}}]
 
 
-@pytest.mark.parametrize("text, rule, fragment", [
-    ("{not json", "malformed", "not JSON"),
-    ("[1, 2]", "malformed", "must be a JSON object"),
-    ('{"ops": [{"op": "fly"}]}', "malformed", "unknown op 'fly'"),
-    ('{"ops": [{"op": "delete_node", "node": {"a": 1}}]}', "malformed", "node name (string) or id"),
-    ("[" * 100_000 + "]" * 100_000, "too-large", "exceeds"),
-    ("[" * 5000 + "]" * 5000, "malformed", ""),
-    ('{"ops": [{"op": "delete_node", "node": "ghost"}], "id": "r1", "agent": "/y"}', "node-missing", "'ghost'"),
-])
+@pytest.mark.parametrize(
+    "text, rule, fragment",
+    [
+        ("{not json", "malformed", "not JSON"),
+        ("[1, 2]", "malformed", "must be a JSON object"),
+        ('{"ops": [{"op": "fly"}]}', "malformed", "unknown op 'fly'"),
+        (
+            '{"ops": [{"op": "delete_node", "node": {"a": 1}}]}',
+            "malformed",
+            "node name (string) or id",
+        ),
+        ("[" * 100_000 + "]" * 100_000, "too-large", "exceeds"),
+        ("[" * 5000 + "]" * 5000, "malformed", ""),
+        (
+            '{"ops": [{"op": "delete_node", "node": "ghost"}], "id": "r1", "agent": "/y"}',
+            "node-missing",
+            "'ghost'",
+        ),
+    ],
+)
 def test_hostile_requests_are_rejected_and_change_nothing(text, rule, fragment):
     c = core()
     before = json.dumps(c.snapshot(), sort_keys=True)
@@ -55,9 +81,14 @@ def test_hostile_requests_are_rejected_and_change_nothing(text, rule, fragment):
 
 
 def test_rejection_carries_the_request_id_and_agent():
-    r = core().submit('{"id": "r1", "agent": "/y", "ops": [{"op": "delete_node", "node": "ghost"}]}')
+    r = core().submit(
+        '{"id": "r1", "agent": "/y", "ops": [{"op": "delete_node", "node": "ghost"}]}'
+    )
     assert r.to_json()["id"] == "r1" and r.to_json()["agent"] == "/y"
-    assert r.to_json()["error"] == "op 0 (delete_node): node 'ghost': node-missing: node 'ghost' does not exist"
+    assert (
+        r.to_json()["error"]
+        == "op 0 (delete_node): node 'ghost': node-missing: node 'ghost' does not exist"
+    )
 
 
 def test_claims_block_lower_and_equal_priorities_and_yield_to_higher():
@@ -70,25 +101,61 @@ def test_claims_block_lower_and_equal_priorities_and_yield_to_higher():
         assert isinstance(r, Rejection) and r.violation.rule == "claimed"
         assert "claimed by '/person' with priority 2" in r.violation.message
     # moving the person (its RT edge) is protected too
-    r = submit(c, {"agent": "/speech", "ops": [{"op": "set_rt", "from": "room", "to": "person",
-                                                "rt": {"translation": [1, 0, 0], "rotation_euler_xyz": [0, 0, 0]}}]})
+    r = submit(
+        c,
+        {
+            "agent": "/speech",
+            "ops": [
+                {
+                    "op": "set_rt",
+                    "from": "room",
+                    "to": "person",
+                    "rt": {"translation": [1, 0, 0], "rotation_euler_xyz": [0, 0, 0]},
+                }
+            ],
+        },
+    )
     assert isinstance(r, Rejection) and r.violation.rule == "claimed"
     # the holder itself writes freely
     assert not isinstance(submit(c, {"agent": "/person", "ops": [write]}), Rejection)
     # a higher priority goes through and preempts; the holder learns it from the delta
     d = submit(c, {"agent": "/pelea", "priority": 5, "ops": [write]})
-    assert d["claims"]["released"] == [{"target": {"node": "person"}, "agent": "/person", "reason": "preempted", "by": "/pelea"}]
+    assert d["claims"]["released"] == [
+        {"target": {"node": "person"}, "agent": "/person", "reason": "preempted", "by": "/pelea"}
+    ]
     assert len(c.claims) == 0
 
 
 def test_pair_claims_cover_every_edge_type_between_the_pair():
     c = core()
     submit(c, {"agent": "/speech", "priority": 1, "claim": [{"from": "robot", "to": "speaking"}]})
-    r = submit(c, {"agent": "/panel", "ops": [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"}]})
+    r = submit(
+        c,
+        {
+            "agent": "/panel",
+            "ops": [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"}],
+        },
+    )
     assert isinstance(r, Rejection) and "edge 'robot'->'speaking' (is)" in r.violation.element
-    d = submit(c, {"agent": "/speech", "release": "all", "ops": [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"}]})
+    d = submit(
+        c,
+        {
+            "agent": "/speech",
+            "release": "all",
+            "ops": [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"}],
+        },
+    )
     assert d["claims"]["released"][0]["reason"] == "released"
-    assert not isinstance(submit(c, {"agent": "/panel", "ops": [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"}]}), Rejection)
+    assert not isinstance(
+        submit(
+            c,
+            {
+                "agent": "/panel",
+                "ops": [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"}],
+            },
+        ),
+        Rejection,
+    )
 
 
 def test_claims_need_an_agent_and_existing_nodes():
@@ -103,7 +170,11 @@ def test_leases_expire_and_deleted_nodes_free_their_claims():
     submit(c, {"agent": "/a", "lease": 5, "claim": [{"node": "person"}]}, now=10.0)
     assert c.claims.expired(14.0) == [] and len(c.claims.expired(15.0)) == 1
     d = c.end_claims(c.claims.expired(15.0), "expired", now=15.0)
-    assert d["agent"] == "dsr_server" and d["ops"] == [] and d["claims"]["released"][0]["reason"] == "expired"
+    assert (
+        d["agent"] == "dsr_server"
+        and d["ops"] == []
+        and d["claims"]["released"][0]["reason"] == "expired"
+    )
     submit(c, {"agent": "/a", "claim": [{"node": "speaking"}]})
     d = submit(c, {"agent": "/a", "ops": [{"op": "delete_node", "node": "speaking"}]})
     assert d["claims"]["released"][0]["reason"] == "node-deleted" and len(c.claims) == 0
@@ -112,8 +183,10 @@ def test_leases_expire_and_deleted_nodes_free_their_claims():
 def test_replay_rebuilds_the_same_state_from_snapshot_and_deltas():
     c = core()
     start = c.snapshot()
-    deltas = [submit(c, {"agent": "/a", "claim": [{"node": "person"}]}),
-              submit(c, {"ops": [{"op": "insert_node", "name": "x", "type": "transform"}]})]
+    deltas = [
+        submit(c, {"agent": "/a", "claim": [{"node": "person"}]}),
+        submit(c, {"ops": [{"op": "insert_node", "name": "x", "type": "transform"}]}),
+    ]
     again = ServerCore.from_snapshot(json.loads(json.dumps(start)))
     for d in deltas:
         again.replay(json.loads(json.dumps(d)))

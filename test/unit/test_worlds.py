@@ -7,17 +7,20 @@ import math
 import numpy as np
 import pytest
 
-from dsr_graph.formats import cortex
 from dsr_graph.exceptions import WorldLoadError
+from dsr_graph.formats import cortex
 from dsr_graph.formats.world_files import parse_world, read_world, world_document
+
 from invariants import assert_invariants
 
 EXPECTED = {  # file -> the violations a careful reader finds in it
     "Robot_giraff.json": ["edge 'mind'->#36451350883598337 (has): node-missing"],
     "Robot_viriato.json": [],
     "autonomyLab_complete.simscene.json": [],
-    "autonomyLab_objects.simscene.json": ["edge 'fridge'->'fridge' (interactive): no-self-loop",
-                                          "edge 'table'->'table' (interactive): no-self-loop"],
+    "autonomyLab_objects.simscene.json": [
+        "edge 'fridge'->'fridge' (interactive): no-self-loop",
+        "edge 'table'->'table' (interactive): no-self-loop",
+    ],
 }
 
 
@@ -47,7 +50,9 @@ def test_viriato_transforms_by_hand(cortex_dir):
     # (-sin a cos b, cos a cos b, sin b)
     a, b = -0.0005755375605076551, 0.0011809815187007189
     r = g.transform("viriato_head_camera_pan_tilt", "viriato_head_camera_tilt_joint")[:3, :3]
-    assert np.allclose(r @ [0, 1, 0], [-math.sin(a) * math.cos(b), math.cos(a) * math.cos(b), math.sin(b)])
+    assert np.allclose(
+        r @ [0, 1, 0], [-math.sin(a) * math.cos(b), math.cos(a) * math.cos(b), math.sin(b)]
+    )
     # the camera sensor, four frames down the head, in the base laser's frame: only translations
     # (57, 1368 up the body) and the tiny head rotations, which move nothing at the origin
     t = g.transform("laser", "viriato_head_camera_sensor")
@@ -56,8 +61,10 @@ def test_viriato_transforms_by_hand(cortex_dir):
 
 def test_autonomy_lab_transform_with_a_real_rotation(cortex_dir):
     g = read_world(cortex_dir / "autonomyLab_complete.simscene.json").graph
-    raw = json.loads((cortex_dir / "autonomyLab_complete.simscene.json").read_text())["DSRModel"]["symbols"]
-    link = next(l for l in raw["1"]["links"] if l["dst"] == 2)
+    raw = json.loads((cortex_dir / "autonomyLab_complete.simscene.json").read_text())["DSRModel"][
+        "symbols"
+    ]
+    link = next(k for k in raw["1"]["links"] if k["dst"] == 2)
     (tx, ty, tz) = link["linkAttribute"]["rt_translation"]["value"]
     (ax, ay, az) = link["linkAttribute"]["rt_rotation_euler_xyz"]["value"]
     child = raw["2"]["name"]
@@ -77,7 +84,9 @@ def test_round_trip_through_both_formats(cortex_dir, name):
     theirs = parse_world(json.loads(json.dumps(world_document(ours.graph, "cortex"))))
     assert theirs.violations == [] and theirs.format == "cortex"
     for g in (ours.graph, theirs.graph):
-        assert sorted((n.id, n.name, n.type) for n in g.nodes()) == sorted((n.id, n.name, n.type) for n in original.nodes())
+        assert sorted((n.id, n.name, n.type) for n in g.nodes()) == sorted(
+            (n.id, n.name, n.type) for n in original.nodes()
+        )
         assert {n.name: n.attrs for n in g.nodes()} == {n.name: n.attrs for n in original.nodes()}
         for e in original.edges():
             copy = g.edge(e.src, e.dst, e.type)
@@ -92,33 +101,52 @@ def test_cortex_uint64_is_written_back_as_a_string(cortex_dir):
     assert doc["DSRModel"]["symbols"]["1000"]["attribute"]["parent"] == {"type": 7, "value": "200"}
 
 
-@pytest.mark.parametrize("doc, fragment", [
-    ({"nodes": []}, "not a world file"),
-    ({"format": "dsr-graph", "version": 9, "kind": "world"}, "unsupported version 9"),
-    ({"format": "dsr-graph", "version": 1, "kind": "movie"}, "\"kind\""),
-    ({"DSRModel": {"symbols": []}}, "symbols must be an object"),
-])
+@pytest.mark.parametrize(
+    "doc, fragment",
+    [
+        ({"nodes": []}, "not a world file"),
+        ({"format": "dsr-graph", "version": 9, "kind": "world"}, "unsupported version 9"),
+        ({"format": "dsr-graph", "version": 1, "kind": "movie"}, '"kind"'),
+        ({"DSRModel": {"symbols": []}}, "symbols must be an object"),
+    ],
+)
 def test_unreadable_documents_say_why(doc, fragment):
     with pytest.raises(WorldLoadError, match=fragment):
         parse_world(doc)
 
 
 def test_our_world_format_reports_each_bad_element():
-    doc = {"format": "dsr-graph", "version": 1, "kind": "world",
-           "nodes": [{"name": "room", "type": "room"}, {"name": "x", "type": "spaceship"},
-                     {"name": "robot", "type": "robot", "attrs": {"level": "high", "pos_x": 1}},
-                     {"type": "robot"}],
-           "edges": [{"from": "room", "to": "robot", "type": "RT",
-                      "rt": {"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]}},
-                     {"from": "robot", "to": "room", "type": "RT", "rt": {"matrix": np.eye(4).tolist()}},
-                     {"from": "room", "to": "x", "type": "has"}]}
+    doc = {
+        "format": "dsr-graph",
+        "version": 1,
+        "kind": "world",
+        "nodes": [
+            {"name": "room", "type": "room"},
+            {"name": "x", "type": "spaceship"},
+            {"name": "robot", "type": "robot", "attrs": {"level": "high", "pos_x": 1}},
+            {"type": "robot"},
+        ],
+        "edges": [
+            {
+                "from": "room",
+                "to": "robot",
+                "type": "RT",
+                "rt": {"translation": [0, 0, 0], "rotation_euler_xyz": [0, 0, 0]},
+            },
+            {"from": "robot", "to": "room", "type": "RT", "rt": {"matrix": np.eye(4).tolist()}},
+            {"from": "room", "to": "x", "type": "has"},
+        ],
+    }
     world = parse_world(doc, source="w.json")
     lines = [str(v) for v in world.violations]
     assert lines == [
-        "w.json: nodes[1]: node 'x': unknown-node-type: node type 'spaceship' is not in the vocabulary (extend it to add one)",
-        "w.json: nodes[2]: node 'robot': attribute-type: attribute 'level' must be int: expected an integer, got str 'high'",
-        "w.json: nodes[3]: nodes[3]: malformed: a node needs \"name\" and \"type\"",
-        "w.json: edges[1]: edge 'robot'->'room' (RT): rt-acyclic: 'room' is an RT ancestor of 'robot': this edge would close a cycle",
+        "w.json: nodes[1]: node 'x': unknown-node-type: node type 'spaceship' is not in the "
+        "vocabulary (extend it to add one)",
+        "w.json: nodes[2]: node 'robot': attribute-type: attribute 'level' must be int: "
+        "expected an integer, got str 'high'",
+        'w.json: nodes[3]: nodes[3]: malformed: a node needs "name" and "type"',
+        "w.json: edges[1]: edge 'robot'->'room' (RT): rt-acyclic: 'room' is an RT ancestor of "
+        "'robot': this edge would close a cycle",
         "w.json: edges[2]: edge 'room'->'x' (has): node-missing: node 'x' does not exist",
     ]
     assert world.graph.node("robot").attrs == {"pos_x": 1.0}  # the good attribute stays

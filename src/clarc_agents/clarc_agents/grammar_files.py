@@ -6,8 +6,6 @@ from importlib import resources
 
 from dsr_graph.rules.syntax import Rule, load_grammar_file
 
-AGENTS = ("speech", "panel", "person")
-
 
 def grammar_path(agent: str) -> str:
     return str(resources.files("clarc_agents").joinpath(f"grammars/{agent}.yaml"))

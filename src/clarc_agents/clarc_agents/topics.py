@@ -5,11 +5,16 @@ SPEAKER_SAY = "clarc/speaker/say"  # Speech -> TTS: {"id", "text"}
 SPEAKER_STOP = "clarc/speaker/stop"  # Speech -> TTS: {"id"}
 SPEAKER = "clarc/speaker/events"  # TTS -> all: {"id", "text", "event": "start" | "end" | "stopped"}
 ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text"}
-PANEL_DISPLAY = "clarc/panel/display"  # Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
+# Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
+PANEL_DISPLAY = "clarc/panel/display"
 PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}
-KINECT_PERSON = "clarc/kinect/person"  # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}
+KINECT_PERSON = (
+    "clarc/kinect/person"  # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}
+)
 PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
 CGAMED_START = "clarc/cgamed/start"  # CGAmed -> PELEA: {"patient"}
 CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
-CGAMED_NOTIFICATIONS = "clarc/cgamed/notifications"  # CGAmed -> the clinician's phone: {"kind", "message", ...}
+CGAMED_NOTIFICATIONS = (
+    "clarc/cgamed/notifications"  # CGAmed -> the clinician's phone: {"kind", "message", ...}
+)
 CGAMED_STORE = "clarc/cgamed/store_result"  # service dsr_msgs/srv/StoreResult

@@ -5,7 +5,6 @@ fatal line and exit code 1. A rejection names the element and the rule it broke.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
 
 
 @dataclass(frozen=True)
@@ -20,13 +19,13 @@ class Violation:
     rule: str
     element: str
     message: str
-    at: Optional[str] = None
+    at: str | None = None
 
     def __str__(self) -> str:
         where = f"{self.at}: " if self.at else ""
         return f"{where}{self.element}: {self.rule}: {self.message}"
 
-    def located(self, at: str) -> "Violation":
+    def located(self, at: str) -> Violation:
         return Violation(self.rule, self.element, self.message, at)
 
     def to_json(self) -> dict:

@@ -9,20 +9,31 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
-from typing import Optional
 
 from clarc_agents.barthel.items import Item
 
 SKIP = ("skip", "next question", "pass", "go to the next")
-NUMBERS = {"one": 1, "first": 1, "1": 1, "two": 2, "second": 2, "2": 2, "three": 3, "third": 3, "3": 3,
-           "four": 4, "fourth": 4, "4": 4}
+NUMBERS = {
+    "one": 1,
+    "first": 1,
+    "1": 1,
+    "two": 2,
+    "second": 2,
+    "2": 2,
+    "three": 3,
+    "third": 3,
+    "3": 3,
+    "four": 4,
+    "fourth": 4,
+    "4": 4,
+}
 _BY_NUMBER = re.compile(r"\b(?:option|number)\s+(\w+)\b|\bthe\s+(first|second|third|fourth)\b")
 
 
 @dataclass(frozen=True)
 class Understanding:
     kind: str  # "answer", "skip" or "not_understood"
-    points: Optional[int] = None
+    points: int | None = None
 
 
 def normalise(text: str) -> str:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Dict, List, Optional
 
 from clarc_agents.barthel.items import BY_KEY, ORDER, band
 
@@ -11,13 +10,18 @@ from clarc_agents.barthel.items import BY_KEY, ORDER, band
 @dataclass
 class ItemResult:
     item: str
-    points: Optional[int] = None  # None: unanswered
-    via: Optional[str] = None  # "voice" | "touch" | None
+    points: int | None = None  # None: unanswered
+    via: str | None = None  # "voice" | "touch" | None
     attempts: int = 0  # answer windows opened for this item
     closed: bool = False  # answered, or given up on
 
     def to_json(self) -> dict:
-        return {"item": self.item, "points": self.points, "via": self.via, "attempts": self.attempts}
+        return {
+            "item": self.item,
+            "points": self.points,
+            "via": self.via,
+            "attempts": self.attempts,
+        }
 
 
 @dataclass
@@ -26,8 +30,8 @@ class BarthelRecord:
 
     patient: str
     started: str
-    items: Dict[str, ItemResult] = field(default_factory=lambda: {k: ItemResult(k) for k in ORDER})
-    finished: Optional[str] = None
+    items: dict[str, ItemResult] = field(default_factory=lambda: {k: ItemResult(k) for k in ORDER})
+    finished: str | None = None
     clinician_called: bool = False
     person_lost_count: int = 0
 
@@ -47,7 +51,7 @@ class BarthelRecord:
         return sum(r.points for r in self.items.values() if r.points is not None)
 
     @property
-    def unanswered(self) -> List[str]:
+    def unanswered(self) -> list[str]:
         """Items closed without an answer so far (an item still being asked is not one)."""
         return [k for k in ORDER if self.items[k].closed and self.items[k].points is None]
 

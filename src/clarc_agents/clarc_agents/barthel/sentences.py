@@ -5,7 +5,6 @@ which options, if any, the touch screen shows with it."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import List
 
 from clarc_agents.barthel.items import BY_KEY, ORDER
 
@@ -15,28 +14,40 @@ class Sentence:
     text: str
     needs_person: bool = True
     item: str = ""
-    options: List[str] = field(default_factory=list)  # shown as buttons
-    option_points: List[float] = field(default_factory=list)
+    options: list[str] = field(default_factory=list)  # shown as buttons
+    option_points: list[float] = field(default_factory=list)
 
 
 def greet(patient: str) -> Sentence:
-    return Sentence(f"Hello {patient}, I am CLARC. I will ask you a few questions so that your doctor "
-                    "knows how you are getting on.")
+    return Sentence(
+        f"Hello {patient}, I am CLARC. I will ask you a few questions so that your doctor "
+        "knows how you are getting on."
+    )
 
 
 def explain() -> Sentence:
-    return Sentence("I will ask you about ten everyday activities. For each one I will read some options: "
-                    "choose one by saying it, or by touching it on the screen on my chest.")
+    return Sentence(
+        "I will ask you about ten everyday activities. For each one I will read some options: "
+        "choose one by saying it, or by touching it on the screen on my chest."
+    )
 
 
 def introduce(item: str) -> Sentence:
     position = ORDER.index(item) + 1
-    return Sentence(f"Question {position} of {len(ORDER)}, {BY_KEY[item].title}. {BY_KEY[item].question}", item=item)
+    return Sentence(
+        f"Question {position} of {len(ORDER)}, {BY_KEY[item].title}. {BY_KEY[item].question}",
+        item=item,
+    )
 
 
 def _with_options(text: str, item: str) -> Sentence:
     opts = BY_KEY[item].options
-    return Sentence(text, item=item, options=[o.text for o in opts], option_points=[float(o.points) for o in opts])
+    return Sentence(
+        text,
+        item=item,
+        options=[o.text for o in opts],
+        option_points=[float(o.points) for o in opts],
+    )
 
 
 def describe_options(item: str) -> Sentence:
@@ -53,13 +64,18 @@ def options_again(item: str) -> Sentence:
     """No answer in time: the options again by voice, all of them on the screen."""
     opts = BY_KEY[item].options
     spoken = " ".join(f"Option {i + 1}: {o.text}." for i, o in enumerate(opts))
-    return _with_options(f"Let me say the options again. {spoken} You can also touch one on the screen.", item)
+    return _with_options(
+        f"Let me say the options again. {spoken} You can also touch one on the screen.", item
+    )
 
 
 def clarify(item: str) -> Sentence:
     """Not understood: repeat, offer the touch screen, offer to skip."""
-    return _with_options(f"Sorry, I did not understand. {BY_KEY[item].question} You can touch your answer "
-                         "on the screen, or say skip to go to the next question.", item)
+    return _with_options(
+        f"Sorry, I did not understand. {BY_KEY[item].question} You can touch your answer "
+        "on the screen, or say skip to go to the next question.",
+        item,
+    )
 
 
 def sit_down() -> Sentence:
@@ -71,4 +87,6 @@ def call_clinician() -> Sentence:
 
 
 def goodbye(patient: str) -> Sentence:
-    return Sentence(f"That was the last question. Thank you {patient}, goodbye!", needs_person=False)
+    return Sentence(
+        f"That was the last question. Thank you {patient}, goodbye!", needs_person=False
+    )

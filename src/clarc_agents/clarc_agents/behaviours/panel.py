@@ -22,8 +22,14 @@ class PanelBehaviour:
         return {"show": self.show, "clear": self.clear}
 
     def show(self, ctx: ActionContext) -> str:
-        self.screen.display({"sid": ctx["sid"], "text": ctx["text"], "options": ctx["options"],
-                             "option_points": ctx["points"]})
+        self.screen.display(
+            {
+                "sid": ctx["sid"],
+                "text": ctx["text"],
+                "options": ctx["options"],
+                "option_points": ctx["points"],
+            }
+        )
         return "done"
 
     def clear(self, ctx: ActionContext) -> str:

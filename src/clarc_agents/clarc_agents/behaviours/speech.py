@@ -7,11 +7,10 @@ from __future__ import annotations
 
 from typing import Protocol
 
-from dsr_graph.model.graph import Graph
-from dsr_graph.rules.runner import ActionContext, Process
-
 from clarc_agents.barthel.answers import understand
 from clarc_agents.barthel.items import BY_KEY
+from dsr_graph.model.graph import Graph
+from dsr_graph.rules.runner import ActionContext, Process
 
 
 class Speaker(Protocol):
@@ -66,7 +65,8 @@ class SpeechBehaviour:
             ctx.finish(meaning.kind, heard=text)
 
     def on_graph(self, graph: Graph) -> None:
-        """The window closed without us (a tap answered, or PELEA stopped waiting): stop listening."""
+        """The window closed without us (a tap answered, or PELEA stopped waiting): stop
+        listening."""
         ctx = self.listening
         if ctx is not None and not ctx.done and graph.edge("person", "answer", "waiting") is None:
             self.listening = None

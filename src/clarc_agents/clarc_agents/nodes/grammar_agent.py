@@ -5,12 +5,12 @@ attach their devices in ``setup()``."""
 from __future__ import annotations
 
 import abc
+
+from clarc_agents.grammar_files import load_grammar
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode
 from dsr_graph.ros.parameters import declare, float_param
 from dsr_graph.rules.runner import Process, RuleRunner
-
-from clarc_agents.grammar_files import load_grammar
 
 
 class GrammarAgentNode(DsrNode, abc.ABC):
@@ -21,11 +21,22 @@ class GrammarAgentNode(DsrNode, abc.ABC):
 
     def __init__(self, node_name: str):
         super().__init__(node_name)
-        declare(self, "time_scale", 1.0,
-                "multiplies every time of the flow (0.1: ten times faster than a real session)",
-                read_only=True, minimum=0.0)
-        declare(self, "setup_timeout", 20.0, "seconds to wait for the DSR server", read_only=True,
-                minimum=0.0)
+        declare(
+            self,
+            "time_scale",
+            1.0,
+            "multiplies every time of the flow (0.1: ten times faster than a real session)",
+            read_only=True,
+            minimum=0.0,
+        )
+        declare(
+            self,
+            "setup_timeout",
+            20.0,
+            "seconds to wait for the DSR server",
+            read_only=True,
+            minimum=0.0,
+        )
         self.dsr = DsrAgent()
         self.runner: RuleRunner | None = None
 
@@ -39,7 +50,8 @@ class GrammarAgentNode(DsrNode, abc.ABC):
 
     def setup(self) -> None:
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
-        self.runner = RuleRunner(self.dsr, load_grammar(self.GRAMMAR),
-                                 self.processes(), self.get_logger())
+        self.runner = RuleRunner(
+            self.dsr, load_grammar(self.GRAMMAR), self.processes(), self.get_logger()
+        )
         self.runner.setup()
         self.get_logger().info(f"{self.GRAMMAR} agent up: {len(self.runner.engine.rules)} rules")

@@ -14,10 +14,15 @@ Clients: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topi
 from __future__ import annotations
 
 import json
-from datetime import datetime, timezone
+from collections.abc import Callable
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Callable, Dict
+from typing import Any
 
+from std_msgs.msg import String
+
+from clarc_agents import topics
+from clarc_agents.pelea.hle import HighLevelExecutive, Times
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
@@ -27,10 +32,6 @@ from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 from dsr_msgs.srv import StoreResult
-from std_msgs.msg import String
-
-from clarc_agents import topics
-from clarc_agents.pelea.hle import HighLevelExecutive, Times
 
 STORE_TIMEOUT = 5.0  # seconds CGAmed may take to acknowledge a result
 
@@ -38,14 +39,42 @@ STORE_TIMEOUT = 5.0  # seconds CGAmed may take to acknowledge a result
 class PeleaNode(DsrNode):
     def __init__(self):
         super().__init__("pelea")
-        declare(self, "time_scale", 1.0, "multiplies every time of the flow", read_only=True, minimum=0.0)
-        declare(self, "answer_timeout", 8.0, "seconds of a real session an answer window stays open",
-                read_only=True, minimum=0.0)
-        declare(self, "outbox_dir", state_path("clarc", "pelea_outbox"),
-                "results CGAmed has not acknowledged wait here", read_only=True)
-        declare(self, "setup_timeout", 20.0, "seconds to wait for the DSR server", read_only=True, minimum=0.0)
+        declare(
+            self,
+            "time_scale",
+            1.0,
+            "multiplies every time of the flow",
+            read_only=True,
+            minimum=0.0,
+        )
+        declare(
+            self,
+            "answer_timeout",
+            8.0,
+            "seconds of a real session an answer window stays open",
+            read_only=True,
+            minimum=0.0,
+        )
+        declare(
+            self,
+            "outbox_dir",
+            state_path("clarc", "pelea_outbox"),
+            "results CGAmed has not acknowledged wait here",
+            read_only=True,
+        )
+        declare(
+            self,
+            "setup_timeout",
+            20.0,
+            "seconds to wait for the DSR server",
+            read_only=True,
+            minimum=0.0,
+        )
         self.dsr = DsrAgent()
-        times = Times(scale=float_param(self, "time_scale"), answer_timeout=float_param(self, "answer_timeout"))
+        times = Times(
+            scale=float_param(self, "time_scale"),
+            answer_timeout=float_param(self, "answer_timeout"),
+        )
         self.hle = HighLevelExecutive(self, times, self.get_logger())
         self.outbox = Path(param(self, "outbox_dir"))
         self._waiting_start: str | None = None
@@ -62,7 +91,7 @@ class PeleaNode(DsrNode):
         self.create_timer(2.0, self._flush_outbox)
         self.get_logger().info("PELEA up: waiting for the clinician's Start")
 
-    def on_start(self, command: Dict[str, Any]) -> None:
+    def on_start(self, command: dict[str, Any]) -> None:
         patient = str(command["patient"]).strip()
         if not patient:
             raise ValueError("the patient's name is empty")
@@ -78,7 +107,7 @@ class PeleaNode(DsrNode):
         self.hle.on_graph(self.dsr.graph)
 
     # ------------------------------------------------------------------ the HLE's port
-    def send(self, tx: Dict[str, Any], on_done=None) -> None:
+    def send(self, tx: dict[str, Any], on_done=None) -> None:
         self.dsr.send(tx, on_done)
 
     def after(self, seconds: float, callback: Callable[[], None]) -> OneShot:
@@ -91,22 +120,32 @@ class PeleaNode(DsrNode):
         publish_json(self._notify, {"message": message})
 
     def now(self) -> str:
-        return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+        return datetime.now(UTC).isoformat(timespec="milliseconds")
 
-    def store_result(self, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
+    def store_result(self, result: dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
         # Kept on disk until CGAmed acknowledges it: a crash of PELEA or CGAmed loses nothing.
-        path = self.outbox / f"{result['patient']}-{result['started']}.json".replace(":", "").replace("/", "_")
+        path = self.outbox / f"{result['patient']}-{result['started']}.json".replace(
+            ":", ""
+        ).replace("/", "_")
         write_json_atomically(result, path)
         self._send_stored(path, result, on_done)
 
-    def _send_stored(self, path: Path, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
+    def _send_stored(
+        self, path: Path, result: dict[str, Any], on_done: Callable[[bool, str], None]
+    ) -> None:
         if not self._store.service_is_ready():
             on_done(False, "the CGAmed results service is not available")
             return
         future = self._store.call_async(StoreResult.Request(result_json=json.dumps(result)))
         # An unanswered call (CGAmed restarting) is withdrawn and reported, so the HLE retries.
-        watchdog = OneShot(self, STORE_TIMEOUT, lambda: (self._store.remove_pending_request(future),
-                                                          on_done(False, f"no answer within {STORE_TIMEOUT} s")))
+        watchdog = OneShot(
+            self,
+            STORE_TIMEOUT,
+            lambda: (
+                self._store.remove_pending_request(future),
+                on_done(False, f"no answer within {STORE_TIMEOUT} s"),
+            ),
+        )
 
         def answered(f) -> None:
             watchdog.cancel()

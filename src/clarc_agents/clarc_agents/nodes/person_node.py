@@ -14,14 +14,13 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from clarc_agents import topics
+from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.rules.runner import Process
-
-from clarc_agents import topics
-from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 
 
 class PersonAgent(GrammarAgentNode):
@@ -29,10 +28,16 @@ class PersonAgent(GrammarAgentNode):
 
     def __init__(self):
         super().__init__("person")
-        declare(self, "seen_frames", 2, "frames with a face before the person counts as seen",
-                minimum=1)
-        declare(self, "lost_frames", 3, "frames without a face before the person counts as lost",
-                minimum=1)
+        declare(
+            self, "seen_frames", 2, "frames with a face before the person counts as seen", minimum=1
+        )
+        declare(
+            self,
+            "lost_frames",
+            3,
+            "frames without a face before the person counts as lost",
+            minimum=1,
+        )
         declare(self, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
         self._present_frames = 0
         self._absent_frames = 0
@@ -60,13 +65,17 @@ class PersonAgent(GrammarAgentNode):
                 if self._present_frames >= param(self, "seen_frames"):
                     self.runner.signal("seen", pose=pose)
                     self._last_face = face
-            elif self._last_face is None or math.dist(face, self._last_face) > float_param(self, "move_mm"):
+            elif self._last_face is None or math.dist(face, self._last_face) > float_param(
+                self, "move_mm"
+            ):
                 self.runner.signal("moved", pose=pose)
                 self._last_face = face
         else:
             self._absent_frames, self._present_frames = self._absent_frames + 1, 0
             if self._with_robot() and self._absent_frames >= param(self, "lost_frames"):
-                self.runner.signal("lost")  # a repeat before the replica catches up is refused (CAS)
+                self.runner.signal(
+                    "lost"
+                )  # a repeat before the replica catches up is refused (CAS)
 
 
 main = main_for(PersonAgent)

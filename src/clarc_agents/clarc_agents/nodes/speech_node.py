@@ -10,15 +10,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from dsr_graph.ros.dsr_node import main_for
-from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.qos import qos_stream
-from dsr_graph.rules.runner import Process
 from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+from dsr_graph.ros.dsr_node import main_for
+from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.qos import qos_stream
+from dsr_graph.rules.runner import Process
 
 
 class SpeechAgent(GrammarAgentNode):

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass
 from importlib import resources
-from typing import FrozenSet, Iterable, List, Optional, Tuple
 
 from pyperplan import grounding, search
 from pyperplan.heuristics.relaxation import hFFHeuristic
@@ -25,33 +25,38 @@ class Step:
     """One grounded action of a plan, with what it is expected to change."""
 
     name: str  # "introduce"
-    args: Tuple[str, ...]  # ("feeding",)
-    add: FrozenSet[Fact]
-    delete: FrozenSet[Fact]
+    args: tuple[str, ...]  # ("feeding",)
+    add: frozenset[Fact]
+    delete: frozenset[Fact]
 
     def __str__(self) -> str:
         return "(" + " ".join((self.name,) + self.args) + ")"
 
-    def apply(self, state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+    def apply(self, state: frozenset[Fact]) -> frozenset[Fact]:
         return (state - self.delete) | self.add
-
 
 
 def domain_path() -> str:
     return str(resources.files("clarc_agents").joinpath("data/barthel_domain.pddl"))
 
 
-def problem_pddl(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",), items=ORDER) -> str:
+def problem_pddl(
+    state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",), items=ORDER
+) -> str:
     items = list(items)
-    static = [f"(next {a} {b})" for a, b in zip(items, items[1:])] + [f"(last {items[-1]})"]
+    static = [f"(next {a} {b})" for a, b in zip(items, items[1:], strict=False)] + [
+        f"(last {items[-1]})"
+    ]
     init = sorted(set(state) | set(static))
-    return (f"(define (problem barthel-run) (:domain barthel)\n"
-            f"  (:objects {' '.join(items)} - item)\n"
-            f"  (:init {' '.join(init)})\n"
-            f"  (:goal (and {' '.join(goal)})))\n")
+    return (
+        f"(define (problem barthel-run) (:domain barthel)\n"
+        f"  (:objects {' '.join(items)} - item)\n"
+        f"  (:init {' '.join(init)})\n"
+        f"  (:goal (and {' '.join(goal)})))\n"
+    )
 
 
-def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> List[Step]:
+def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> list[Step]:
     """The planner's plan from ``state``; ``NoPlan`` if there is none."""
     fd, problem_file = tempfile.mkstemp(suffix=".pddl", prefix="barthel-problem-")
     try:
@@ -62,7 +67,7 @@ def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> 
     finally:
         os.unlink(problem_file)
     task = grounding.ground(problem)
-    solution: Optional[list] = search.greedy_best_first_search(task, hFFHeuristic(task))
+    solution: list | None = search.greedy_best_first_search(task, hFFHeuristic(task))
     if solution is None:
         raise NoPlan(f"no plan reaches {list(goal)} from {sorted(state)}")
     steps = []
@@ -72,8 +77,10 @@ def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> 
     return steps
 
 
-def initial_state(person_present: bool, items=ORDER) -> FrozenSet[Fact]:
+def initial_state(person_present: bool, items=ORDER) -> frozenset[Fact]:
     """The state when the clinician presses Start."""
-    facts = {"(started)", "(clinician-ok)", f"(current {items[0]})"} | {f"(pending {i})" for i in items}
+    facts = {"(started)", "(clinician-ok)", f"(current {items[0]})"} | {
+        f"(pending {i})" for i in items
+    }
     facts.add("(person-present)" if person_present else "(person-absent)")
     return frozenset(facts)

@@ -10,16 +10,16 @@ as facts (Monitoring) and plan again from there.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable, Dict, FrozenSet, List, Optional, Protocol, Union
-
-from dsr_graph.model.graph import Graph
+from typing import Any, Protocol
 
 from clarc_agents.barthel import sentences
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.barthel.record import BarthelRecord
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
+from dsr_graph.model.graph import Graph
 
 # Actions that must not be broken off when the person leaves: the test is over by then.
 CLOSING = ("say-goodbye", "store-result")
@@ -67,7 +67,7 @@ class AnswerWait:
     token: int
 
 
-Wait = Union[SentenceWait, PersonWait, AnswerWait]
+Wait = SentenceWait | PersonWait | AnswerWait
 
 
 class Timer(Protocol):
@@ -75,11 +75,13 @@ class Timer(Protocol):
 
 
 class Port(Protocol):
-    def send(self, tx: Dict[str, Any], on_done: Optional[Callable[[Any], None]] = None) -> None: ...
+    def send(self, tx: dict[str, Any], on_done: Callable[[Any], None] | None = None) -> None: ...
     def after(self, seconds: float, callback: Callable[[], None]) -> Timer: ...
     def event(self, **fields: Any) -> None: ...
     def notify_clinician(self, message: str) -> None: ...
-    def store_result(self, result: Dict[str, Any], on_done: Callable[[bool, str], None]) -> None: ...
+    def store_result(
+        self, result: dict[str, Any], on_done: Callable[[bool, str], None]
+    ) -> None: ...
     def now(self) -> str: ...
 
 
@@ -88,23 +90,25 @@ class HighLevelExecutive:
         self.port = port
         self.times = times
         self.log = log
-        self.graph: Optional[Graph] = None
+        self.graph: Graph | None = None
         self.running = False
-        self.record: Optional[BarthelRecord] = None
-        self.state: FrozenSet[str] = frozenset()
-        self.plan: List[Step] = []
-        self.current: Optional[Step] = None
+        self.record: BarthelRecord | None = None
+        self.state: frozenset[str] = frozenset()
+        self.plan: list[Step] = []
+        self.current: Step | None = None
         self._token = 0  # identifies the step in progress; stale callbacks compare it
-        self._wait: Optional[Wait] = None  # what the current step waits for in the graph
-        self._timer: Optional[Timer] = None
-        self._pending_say: Optional[sentences.Sentence] = None
+        self._wait: Wait | None = None  # what the current step waits for in the graph
+        self._timer: Timer | None = None
+        self._pending_say: sentences.Sentence | None = None
         self._say_in_flight = False
 
     # ------------------------------------------------------------------ inputs
     def start(self, graph: Graph, patient: str) -> bool:
         """The clinician pressed Start. False if a test is already running."""
         if self.running:
-            self.log.warning(f"a test is already running (patient {self.record.patient}); start ignored")
+            self.log.warning(
+                f"a test is already running (patient {self.record.patient}); start ignored"
+            )
             return False
         self.graph = graph
         self.running = True
@@ -121,7 +125,11 @@ class HighLevelExecutive:
         if not self.running:
             return
         self._watch_person(graph)
-        if self._pending_say is not None and not self._say_in_flight and low_to_high.channels_idle(graph):
+        if (
+            self._pending_say is not None
+            and not self._say_in_flight
+            and low_to_high.channels_idle(graph)
+        ):
             self._write_sentence()
         self._check_wait(graph)
 
@@ -135,7 +143,12 @@ class HighLevelExecutive:
             self.port.event(event="error", message=str(e))
             self.running = False
             return
-        self.port.event(event="plan", reason=reason, steps=len(self.plan), first=str(self.plan[0]) if self.plan else "")
+        self.port.event(
+            event="plan",
+            reason=reason,
+            steps=len(self.plan),
+            first=str(self.plan[0]) if self.plan else "",
+        )
         self._next()
 
     def _next(self) -> None:
@@ -154,7 +167,7 @@ class HighLevelExecutive:
             return
         handler(self, step, *step.args)
 
-    def _complete(self, token: int, state: Optional[FrozenSet[str]] = None) -> None:
+    def _complete(self, token: int, state: frozenset[str] | None = None) -> None:
         """The step with ``token`` ended: as planned (``state`` None) or with a deviation."""
         if token != self._token or self.current is None:
             return  # a step already abandoned
@@ -172,8 +185,11 @@ class HighLevelExecutive:
 
     def _monitor(self) -> bool:
         """Deviations visible only at the high level: two unanswered items need the clinician."""
-        if (not self.record.clinician_called and len(self.record.unanswered) >= 2
-                and "(clinician-ok)" in self.state):
+        if (
+            not self.record.clinician_called
+            and len(self.record.unanswered) >= 2
+            and "(clinician-ok)" in self.state
+        ):
             self.state = monitoring.clinician_needed(self.state)
             return True
         return False
@@ -224,7 +240,9 @@ class HighLevelExecutive:
             self._replan("the person is back")
 
     def _current_item(self) -> str:
-        return next((f[len("(current "):-1] for f in self.state if f.startswith("(current ")), ORDER[0])
+        return next(
+            (f[len("(current ") : -1] for f in self.state if f.startswith("(current ")), ORDER[0]
+        )
 
     # ------------------------------------------------------------------ sentences
     def _say(self, sentence: sentences.Sentence) -> None:
@@ -249,8 +267,10 @@ class HighLevelExecutive:
                 return
             self._pending_say = None
             self._wait = SentenceWait(sid, token)
-            self._timer = self.port.after(self.times.sentence_timeout(sentence.text),
-                                          lambda: self._sentence_timed_out(token, sentence.text))
+            self._timer = self.port.after(
+                self.times.sentence_timeout(sentence.text),
+                lambda: self._sentence_timed_out(token, sentence.text),
+            )
             self._check_wait(self.graph)
 
         self.port.send(high_to_low.say(self.graph, sentence, sid), written)
@@ -311,7 +331,10 @@ class HighLevelExecutive:
                 self.log.info(f"could not open the answer window: {r.error}")
                 return
             self._wait = AnswerWait(item, window, token)
-            self._timer = self.port.after(self.times(self.times.answer_timeout), lambda: self._answer_timed_out(item, window, token))
+            self._timer = self.port.after(
+                self.times(self.times.answer_timeout),
+                lambda: self._answer_timed_out(item, window, token),
+            )
             self._check_wait(self.graph)
 
         self.port.send(high_to_low.open_answer(item), opened)
@@ -326,12 +349,18 @@ class HighLevelExecutive:
             return
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via)
-            self.port.send(high_to_low.record_item(item, self.record.items[item].attempts, answer.points, answer.via))
+            self.port.send(
+                high_to_low.record_item(
+                    item, self.record.items[item].attempts, answer.points, answer.via
+                )
+            )
             self.port.event(event="answer", item=item, points=answer.points, via=answer.via)
             self._complete(token)
         else:
             self.port.event(event=answer.outcome, item=item, heard=answer.heard, window=window)
-            self._complete(token, monitoring.window_failed(self.state, item, window, answer.outcome))
+            self._complete(
+                token, monitoring.window_failed(self.state, item, window, answer.outcome)
+            )
 
     def _answer_timed_out(self, item: str, window: int, token: int) -> None:
         if token != self._token or self.graph is None:
@@ -343,7 +372,9 @@ class HighLevelExecutive:
         def closed(r) -> None:
             if r.accepted:
                 self.port.event(event="no_answer", item=item, window=window)
-                self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
+                self._complete(
+                    token, monitoring.window_failed(self.state, item, window, "no_answer")
+                )
             # else an answer won the race: it is in the graph and _check_wait takes it
 
         self.port.send(close, closed)
@@ -361,8 +392,10 @@ class HighLevelExecutive:
     def _call_clinician(self, step: Step) -> None:
         self.record.clinician_called = True
         unanswered = ", ".join(self.record.unanswered)
-        self.port.notify_clinician(f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
-                                   f"({unanswered}) in the Barthel test: please come and attend.")
+        self.port.notify_clinician(
+            f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
+            f"({unanswered}) in the Barthel test: please come and attend."
+        )
         self.port.event(event="clinician_called", unanswered=self.record.unanswered)
         tx = high_to_low.call_clinician(self.graph)
         if tx is not None:
@@ -382,7 +415,9 @@ class HighLevelExecutive:
                 return
             if not ok:  # the hospital server is down or refused: keep the result and try again
                 self.log.warning(f"result not stored yet ({error}); retrying")
-                self._timer = self.port.after(self.times.store_retry, lambda: self.port.store_result(result, stored))
+                self._timer = self.port.after(
+                    self.times.store_retry, lambda: self.port.store_result(result, stored)
+                )
                 return
             self.port.send(high_to_low.finish_test(self.graph, self.record.finished))
             self.port.event(event="finished", result=result)
@@ -391,7 +426,7 @@ class HighLevelExecutive:
         self.port.store_result(result, stored)
 
     # The plan's actions, each with its handler; a test checks it against the PDDL domain.
-    ACTIONS: Dict[str, Callable[..., None]] = {
+    ACTIONS: dict[str, Callable[..., None]] = {
         "ask-to-sit": _ask_to_sit,
         "wait-for-person": _wait_for_person,
         "greet": _greet,

@@ -6,11 +6,11 @@ declared here, in one place, as data."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Dict, Optional
+from typing import Any
 
+from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match
 from dsr_graph.rules.syntax import Pattern
-from dsr_graph.model.graph import Graph
 
 PATTERNS = {
     "person_present": [Pattern("edge", "person", "robot", "is_with")],
@@ -28,12 +28,12 @@ class Answer:
 
     item: str
     outcome: str
-    points: Optional[int] = None
-    via: Optional[str] = None
+    points: int | None = None
+    via: str | None = None
     heard: str = ""
 
 
-def _first(graph: Graph, name: str) -> Optional[Dict[str, Any]]:
+def _first(graph: Graph, name: str) -> dict[str, Any] | None:
     return next(match(graph, PATTERNS[name]), None)
 
 
@@ -41,7 +41,7 @@ def person_present(graph: Graph) -> bool:
     return _first(graph, "person_present") is not None
 
 
-def answer(graph: Graph) -> Optional[Answer]:
+def answer(graph: Graph) -> Answer | None:
     found = _first(graph, "answer")
     if found is None:
         return None
@@ -50,7 +50,9 @@ def answer(graph: Graph) -> Optional[Answer]:
         return Answer(found["$item"], "skip", heard=attrs.get("heard", ""))
     if not attrs.get("understood", False):
         return Answer(found["$item"], "not_understood", heard=attrs.get("heard", ""))
-    return Answer(found["$item"], "answered", int(attrs["answer"]), attrs.get("via"), attrs.get("heard", ""))
+    return Answer(
+        found["$item"], "answered", int(attrs["answer"]), attrs.get("via"), attrs.get("heard", "")
+    )
 
 
 def sentence_done(graph: Graph, sid: int) -> bool:

@@ -3,32 +3,42 @@ Decision Support replans from what really happened (pure)."""
 
 from __future__ import annotations
 
-from typing import FrozenSet, Iterable
+from collections.abc import Iterable
 
 from clarc_agents.pelea.decision_support import Fact
 
-ITEM_PROGRESS = ("pending", "introduced", "described", "asked", "no-answer", "not-understood",
-                 "retry-asked", "failed-again")
+ITEM_PROGRESS = (
+    "pending",
+    "introduced",
+    "described",
+    "asked",
+    "no-answer",
+    "not-understood",
+    "retry-asked",
+    "failed-again",
+)
 
 
-def _without(state: FrozenSet[Fact], facts: Iterable[Fact]) -> FrozenSet[Fact]:
+def _without(state: frozenset[Fact], facts: Iterable[Fact]) -> frozenset[Fact]:
     return frozenset(state - set(facts))
 
 
-def person_lost(state: FrozenSet[Fact], item: str) -> FrozenSet[Fact]:
+def person_lost(state: frozenset[Fact], item: str) -> frozenset[Fact]:
     """The person left: everything waits for them, and the current item starts over when they
     are back (it is introduced again)."""
-    state = _without(state, {"(person-present)", "(sit-requested)"} | {f"({p} {item})" for p in ITEM_PROGRESS})
+    state = _without(
+        state, {"(person-present)", "(sit-requested)"} | {f"({p} {item})" for p in ITEM_PROGRESS}
+    )
     if f"(closed {item})" not in state:
         state |= {f"(pending {item})"}
     return state | {"(person-absent)"}
 
 
-def person_back(state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+def person_back(state: frozenset[Fact]) -> frozenset[Fact]:
     return _without(state, {"(person-absent)", "(sit-requested)"}) | {"(person-present)"}
 
 
-def window_failed(state: FrozenSet[Fact], item: str, window: int, outcome: str) -> FrozenSet[Fact]:
+def window_failed(state: frozenset[Fact], item: str, window: int, outcome: str) -> frozenset[Fact]:
     """An answer window ended without an answer: silence (``no_answer``) or words that were not
     understood (``not_understood``). The first failure leads to a second try; the second, or an
     explicit skip (``skip``), closes the item unanswered."""
@@ -38,5 +48,5 @@ def window_failed(state: FrozenSet[Fact], item: str, window: int, outcome: str) 
     return state | {f"({'no-answer' if outcome == 'no_answer' else 'not-understood'} {item})"}
 
 
-def clinician_needed(state: FrozenSet[Fact]) -> FrozenSet[Fact]:
+def clinician_needed(state: frozenset[Fact]) -> frozenset[Fact]:
     return _without(state, {"(clinician-ok)"}) | {"(clinician-needed)"}

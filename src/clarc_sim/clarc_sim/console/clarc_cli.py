@@ -1,8 +1,8 @@
 """``clarc``: the CLARC command line.
 
-    clarc results [--db PATH] [--json]   the stored Barthel tests (CGAmed's results store)
-    clarc scenario FILE                  check a scenario file and show what the patient will do
-    clarc start PATIENT                  press Start (a running CGAmed-less PELEA hears it)
+clarc results [--db PATH] [--json]   the stored Barthel tests (CGAmed's results store)
+clarc scenario FILE                  check a scenario file and show what the patient will do
+clarc start PATIENT                  press Start (a running CGAmed-less PELEA hears it)
 """
 
 from __future__ import annotations
@@ -10,12 +10,10 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from typing import List, Optional
 
 from clarc_agents.barthel.items import ORDER
-
-from clarc_sim.hospital.results_store import ResultsStore, default_db
 from clarc_agents.exceptions import ScenarioError
+from clarc_sim.hospital.results_store import ResultsStore, default_db
 from clarc_sim.patient.scenario import load
 
 
@@ -31,9 +29,18 @@ def results(args: argparse.Namespace) -> int:
     if not tests:
         print(f"no tests stored in {args.db}")
     for t in tests:
-        flags = [f for f, on in (("clinician called", t["clinician_called"]), ("person left", t["person_lost"])) if on]
-        print(f"#{t['id']} {t['patient']}  {t['started']}  Barthel {t['total']}/100 ({t['band']})"
-              + (f"  [{', '.join(flags)}]" if flags else ""))
+        flags = [
+            f
+            for f, on in (
+                ("clinician called", t["clinician_called"]),
+                ("person left", t["person_lost"]),
+            )
+            if on
+        ]
+        print(
+            f"#{t['id']} {t['patient']}  {t['started']}  Barthel {t['total']}/100 ({t['band']})"
+            + (f"  [{', '.join(flags)}]" if flags else "")
+        )
         for i in t["items"]:
             got = "unanswered" if i["points"] is None else f"{i['points']:>2} by {i['via']}"
             print(f"    {i['item']:<11} {got}  ({i['attempts']} tries)")
@@ -53,21 +60,26 @@ def scenario(args: argparse.Namespace) -> int:
     for item in ORDER:
         p = s.plan(item)
         what = "silent" if p.via == "silence" else f"{p.answer} points by {p.via}"
-        extra = (f", first try {p.first}" if p.first else "") + (f", leaves for {p.leave} s" if p.leave is not None else "")
+        extra = (f", first try {p.first}" if p.first else "") + (
+            f", leaves for {p.leave} s" if p.leave is not None else ""
+        )
         print(f"  {item:<11} {what}{extra}")
     return 0
 
 
 def start(args: argparse.Namespace) -> int:
+    from std_msgs.msg import String
+
     from clarc_agents import topics
     from dsr_graph.ros.qos import qos_stream
     from dsr_graph.ros.session import RosSession
-    from std_msgs.msg import String
 
     with RosSession() as ros:
         pub = ros.node.create_publisher(String, topics.CGAMED_START, qos_stream())
         try:
-            ros.spin_until(lambda: pub.get_subscription_count() > 0, args.timeout, "PELEA to listen")
+            ros.spin_until(
+                lambda: pub.get_subscription_count() > 0, args.timeout, "PELEA to listen"
+            )
         except Exception as e:  # noqa: BLE001
             print(f"clarc: error: {e}", file=sys.stderr)
             return 1
@@ -77,8 +89,10 @@ def start(args: argparse.Namespace) -> int:
     return 0
 
 
-def main(argv: Optional[List[str]] = None) -> int:
-    parser = argparse.ArgumentParser(prog="clarc", description="CLARC: the Barthel test robot's tools")
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="clarc", description="CLARC: the Barthel test robot's tools"
+    )
     sub = parser.add_subparsers(dest="verb", required=True)
     p = sub.add_parser("results", help="the stored tests")
     p.add_argument("--db", default=default_db(), help=f"results store (default {default_db()})")

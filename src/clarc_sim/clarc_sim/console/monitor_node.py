@@ -9,9 +9,10 @@ clarc/pelea/events, clarc/cgamed/notifications.
 from __future__ import annotations
 
 import time
-from typing import Any, List, Optional
+from typing import Any
 
 import rclpy
+
 from clarc_agents import topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -19,7 +20,7 @@ from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 
 
-def describe_event(event: dict) -> Optional[str]:
+def describe_event(event: dict) -> str | None:
     kind = event.get("event")
     if kind == "started":
         return f"Start pressed: Barthel test for {event['patient']}"
@@ -50,13 +51,18 @@ def describe_event(event: dict) -> Optional[str]:
     return None
 
 
-def describe_result(result: dict) -> List[str]:
-    lines = [f"RESULT {result['patient']}: Barthel index {result['total']}/100 ({result['band']} dependency)"]
+def describe_result(result: dict) -> list[str]:
+    lines = [
+        f"RESULT {result['patient']}: Barthel index {result['total']}/100 "
+        f"({result['band']} dependency)"
+    ]
     for i in result["items"]:
         got = "unanswered" if i["points"] is None else f"{i['points']:>2} points by {i['via']}"
         lines.append(f"  {i['item']:<11} {got}  ({i['attempts']} tries)")
-    lines.append(f"  clinician called: {'yes' if result['clinician_called'] else 'no'}; "
-                 f"person left: {result.get('person_lost_count', 0)} time(s)")
+    lines.append(
+        f"  clinician called: {'yes' if result['clinician_called'] else 'no'}; "
+        f"person left: {result.get('person_lost_count', 0)} time(s)"
+    )
     return lines
 
 

@@ -11,14 +11,14 @@ from __future__ import annotations
 import random
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
+from clarc_sim import sim_topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param
 from dsr_graph.ros.qos import qos_latched, qos_stream
-from std_msgs.msg import String
-
-from clarc_sim import sim_topics
 
 
 class KinectStandIn(DsrNode):
@@ -34,8 +34,10 @@ class KinectStandIn(DsrNode):
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
 
     def on_presence(self, doc: dict[str, Any]) -> None:
-        self.presence = {"present": bool(doc["present"]),
-                         "face": [float(v) for v in doc.get("face", [0, 0, 0])]}
+        self.presence = {
+            "present": bool(doc["present"]),
+            "face": [float(v) for v in doc.get("face", [0, 0, 0])],
+        }
 
     def on_frame(self) -> None:
         frame: dict[str, Any] = {"present": self.presence["present"]}

@@ -10,15 +10,15 @@ from __future__ import annotations
 
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
+from clarc_sim import sim_topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
-from std_msgs.msg import String
-
-from clarc_sim import sim_topics
 
 
 class MicrophoneStandIn(DsrNode):

@@ -9,13 +9,13 @@ from __future__ import annotations
 
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
+from clarc_sim import sim_topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.qos import qos_latched, qos_stream
-from std_msgs.msg import String
-
-from clarc_sim import sim_topics
 
 
 class TouchscreenStandIn(DsrNode):
@@ -30,13 +30,17 @@ class TouchscreenStandIn(DsrNode):
 
     def on_display(self, shown: dict[str, Any]) -> None:
         self.shown = shown
-        self.get_logger().info("screen: " + ("(blank)" if shown.get("clear") else str(shown.get("text"))))
+        self.get_logger().info(
+            "screen: " + ("(blank)" if shown.get("clear") else str(shown.get("text")))
+        )
 
     def on_touch(self, touch: dict[str, Any]) -> None:
         points = int(touch["points"])
         shown_points = [int(p) for p in self.shown.get("option_points", [])]
         if points not in shown_points:
-            self.get_logger().info(f"touch on {points} points, but that option is not on the screen")
+            self.get_logger().info(
+                f"touch on {points} points, but that option is not on the screen"
+            )
             return
         text = self.shown["options"][shown_points.index(points)]
         publish_json(self._tap, {"points": points, "text": text})

@@ -14,13 +14,14 @@ import shutil
 import subprocess
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
-from std_msgs.msg import String
 
 
 def speaking_time(text: str, words_per_second: float) -> float:
@@ -33,14 +34,18 @@ class TtsStandIn(DsrNode):
         super().__init__("tts")
         declare(self, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
         declare(self, "words_per_second", 2.5, "speaking rate", minimum=0.1)
-        declare(self, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True)
+        declare(
+            self, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True
+        )
         self._current: dict[str, Any] | None = None
         self._timer: OneShot | None = None
         self._espeak = shutil.which("espeak-ng")
 
     def setup(self) -> None:
         if param(self, "wav_dir") and not self._espeak:
-            self.get_logger().warning("wav_dir is set but espeak-ng is not installed: no audio files")
+            self.get_logger().warning(
+                "wav_dir is set but espeak-ng is not installed: no audio files"
+            )
         self._events = self.create_publisher(String, topics.SPEAKER, qos_stream())
         subscribe_json(self, topics.SPEAKER_SAY, self.on_say, qos_stream())
         subscribe_json(self, topics.SPEAKER_STOP, self.on_stop, qos_stream())
@@ -55,7 +60,9 @@ class TtsStandIn(DsrNode):
         self._current = sentence
         self._emit(sentence, "start")
         seconds = speaking_time(sentence["text"], float_param(self, "words_per_second"))
-        self._timer = OneShot(self, seconds * float_param(self, "time_scale"), lambda: self._cut("end"))
+        self._timer = OneShot(
+            self, seconds * float_param(self, "time_scale"), lambda: self._cut("end")
+        )
         self._write_wav(sentence)
 
     def on_stop(self, request: dict[str, Any]) -> None:
@@ -76,8 +83,11 @@ class TtsStandIn(DsrNode):
             return
         os.makedirs(wav_dir, exist_ok=True)
         path = os.path.join(wav_dir, f"sentence-{sentence['id']}.wav")
-        subprocess.Popen([self._espeak, "-w", path, sentence["text"]], stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL)
+        subprocess.Popen(
+            [self._espeak, "-w", path, sentence["text"]],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
 
 
 main = main_for(TtsStandIn)

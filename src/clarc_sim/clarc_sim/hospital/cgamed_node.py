@@ -13,8 +13,12 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
 from clarc_agents.exceptions import InvalidResult
+from clarc_sim.hospital.dashboard_app import TestStatus, make_app
+from clarc_sim.hospital.results_store import ResultsStore, default_db
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, param
@@ -22,18 +26,19 @@ from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
 from dsr_msgs.srv import StoreResult
-from std_msgs.msg import String
-
-from clarc_sim.hospital.dashboard_app import TestStatus, make_app
-from clarc_sim.hospital.results_store import ResultsStore, default_db
 
 
 class CgamedStandIn(DsrNode):
     def __init__(self):
         super().__init__("cgamed")
         declare(self, "db", default_db(), "SQLite results store", read_only=True)
-        declare(self, "start_patient", "", "press Start for this patient as soon as PELEA listens",
-                read_only=True)
+        declare(
+            self,
+            "start_patient",
+            "",
+            "press Start for this patient as soon as PELEA listens",
+            read_only=True,
+        )
         declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
         declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
         declare(self, "port", 8081, "dashboard port", read_only=True, minimum=1, maximum=65535)
@@ -47,7 +52,9 @@ class CgamedStandIn(DsrNode):
         self.store = ResultsStore(param(self, "db"), shared=True)  # used by the ROS thread
         self.bridge = Bridge(self)
         self._start = self.create_publisher(String, topics.CGAMED_START, qos_stream())
-        self._notifications = self.create_publisher(String, topics.CGAMED_NOTIFICATIONS, qos_stream())
+        self._notifications = self.create_publisher(
+            String, topics.CGAMED_NOTIFICATIONS, qos_stream()
+        )
         self.create_service(StoreResult, topics.CGAMED_STORE, self.on_store)
         subscribe_json(self, topics.CGAMED_NOTIFY, self.on_notify, qos_stream())
         subscribe_json(self, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
@@ -93,9 +100,13 @@ class CgamedStandIn(DsrNode):
         except (ValueError, InvalidResult) as e:
             response.stored, response.error = False, f"result refused: {e}"
             return response
-        self._tell("result_stored", f"The Barthel test of {result['patient']} is stored (test {response.test_id}: "
-                   f"{result['total']}/100, {result['band']} dependency); please validate it.",
-                   test_id=response.test_id, result=result)
+        self._tell(
+            "result_stored",
+            f"The Barthel test of {result['patient']} is stored (test {response.test_id}: "
+            f"{result['total']}/100, {result['band']} dependency); please validate it.",
+            test_id=response.test_id,
+            result=result,
+        )
         return response
 
     def on_notify(self, note: dict[str, Any]) -> None:
@@ -105,8 +116,12 @@ class CgamedStandIn(DsrNode):
         if not param(self, "dashboard"):
             return super().run() or 0
         app = make_app(param(self, "db"), self.status, self.events, self.press_start)
-        served = self.bridge.serve(app, param(self, "host"), param(self, "port"),
-                                   on_ready=lambda url: self.get_logger().info(f"clinician's dashboard on {url}"))
+        served = self.bridge.serve(
+            app,
+            param(self, "host"),
+            param(self, "port"),
+            on_ready=lambda url: self.get_logger().info(f"clinician's dashboard on {url}"),
+        )
         return 0 if served else 1
 
     def close(self) -> None:

@@ -11,14 +11,15 @@ press Start, follow the running test, see the results and the history from the r
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
-from typing import Any, Callable, Dict
+from typing import Any
 
 from aiohttp import web
-from dsr_graph.web.events import Broadcaster
 
 from clarc_sim.hospital.results_store import ResultsStore
+from dsr_graph.web.events import Broadcaster
 
 WEB = Path(str(resources.files("clarc_sim").joinpath("hospital/web")))
 
@@ -32,7 +33,7 @@ class TestStatus:
         self.item = ""
         self.position = 0
 
-    def follow(self, event: Dict[str, Any]) -> None:
+    def follow(self, event: dict[str, Any]) -> None:
         kind = event.get("event")
         if kind == "started":
             self.running, self.patient, self.item, self.position = True, event["patient"], "", 0
@@ -41,12 +42,19 @@ class TestStatus:
         elif kind in ("finished", "error"):
             self.running = False
 
-    def to_json(self) -> Dict[str, Any]:
-        return {"running": self.running, "patient": self.patient, "item": self.item, "position": self.position}
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "running": self.running,
+            "patient": self.patient,
+            "item": self.item,
+            "position": self.position,
+        }
 
 
-def make_app(db_path: str, status: TestStatus, events: Broadcaster, press_start: Callable[[str], None]) -> web.Application:
-    store: Dict[str, ResultsStore] = {}
+def make_app(
+    db_path: str, status: TestStatus, events: Broadcaster, press_start: Callable[[str], None]
+) -> web.Application:
+    store: dict[str, ResultsStore] = {}
 
     def results() -> list:
         if "db" not in store:  # this thread's own connection (SQLite connections are per thread)

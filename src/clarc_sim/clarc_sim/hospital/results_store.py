@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import json
 import sqlite3
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Dict, List
+from typing import Any
 
 from clarc_agents.barthel.items import BY_KEY, ORDER, band
 from clarc_agents.exceptions import InvalidResult
@@ -58,8 +58,7 @@ def default_db() -> str:
     return data_path("clarc", "cgamed.sqlite")
 
 
-
-def check_result(result: Any) -> Dict[str, Any]:
+def check_result(result: Any) -> dict[str, Any]:
     """Refuse a result whose numbers do not add up, before it reaches the clinician."""
     if not isinstance(result, dict):
         raise InvalidResult("a result is a JSON object")
@@ -73,10 +72,15 @@ def check_result(result: Any) -> Dict[str, Any]:
         if i["points"] is not None and BY_KEY[i["item"]].option(i["points"]) is None:
             raise InvalidResult(f"{i['item']}: {i['points']} is not an option")
         if i["via"] not in ("voice", "touch", None) or (i["points"] is None) != (i["via"] is None):
-            raise InvalidResult(f"{i['item']}: via must be voice or touch for an answer, null otherwise")
+            raise InvalidResult(
+                f"{i['item']}: via must be voice or touch for an answer, null otherwise"
+            )
     total = sum(i["points"] for i in items if i["points"] is not None)
     if result["total"] != total or result["band"] != band(total):
-        raise InvalidResult(f"total/band {result['total']}/{result['band']} do not match the items ({total}/{band(total)})")
+        raise InvalidResult(
+            f"total/band {result['total']}/{result['band']} do not match the items "
+            f"({total}/{band(total)})"
+        )
     return result
 
 
@@ -94,44 +98,77 @@ class ResultsStore:
     def close(self) -> None:
         self.db.close()
 
-    def store(self, result: Dict[str, Any]) -> int:
+    def store(self, result: dict[str, Any]) -> int:
         check_result(result)
-        now = datetime.now(timezone.utc).isoformat(timespec="seconds")
+        now = datetime.now(UTC).isoformat(timespec="seconds")
         with self.db:  # one transaction: the test and its items, or nothing
-            row = self.db.execute("SELECT id FROM tests WHERE patient = ? AND started = ?",
-                                  (result["patient"], result["started"])).fetchone()
+            row = self.db.execute(
+                "SELECT id FROM tests WHERE patient = ? AND started = ?",
+                (result["patient"], result["started"]),
+            ).fetchone()
             if row is not None:
                 return row[0]
             cur = self.db.execute(
-                "INSERT INTO tests (patient, started, finished, total, band, clinician_called, person_lost,"
-                " result_json, stored) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-                (result["patient"], result["started"], result.get("finished"), result["total"], result["band"],
-                 int(bool(result.get("clinician_called"))), int(bool(result.get("person_lost"))),
-                 json.dumps(result), now))
+                "INSERT INTO tests (patient, started, finished, total, band, clinician_called,"
+                " person_lost, result_json, stored) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                (
+                    result["patient"],
+                    result["started"],
+                    result.get("finished"),
+                    result["total"],
+                    result["band"],
+                    int(bool(result.get("clinician_called"))),
+                    int(bool(result.get("person_lost"))),
+                    json.dumps(result),
+                    now,
+                ),
+            )
             test_id = cur.lastrowid
             self.db.executemany(
-                "INSERT INTO items (test_id, position, item, points, via, attempts) VALUES (?, ?, ?, ?, ?, ?)",
-                [(test_id, n, i["item"], i["points"], i["via"], i["attempts"]) for n, i in enumerate(result["items"], 1)])
+                "INSERT INTO items (test_id, position, item, points, via, attempts)"
+                " VALUES (?, ?, ?, ?, ?, ?)",
+                [
+                    (test_id, n, i["item"], i["points"], i["via"], i["attempts"])
+                    for n, i in enumerate(result["items"], 1)
+                ],
+            )
         return test_id
 
     def notify(self, kind: str, message: str) -> None:
         with self.db:
-            self.db.execute("INSERT INTO notifications (time, kind, message) VALUES (?, ?, ?)",
-                            (datetime.now(timezone.utc).isoformat(timespec="seconds"), kind, message))
+            self.db.execute(
+                "INSERT INTO notifications (time, kind, message) VALUES (?, ?, ?)",
+                (datetime.now(UTC).isoformat(timespec="seconds"), kind, message),
+            )
 
-    def tests(self) -> List[Dict[str, Any]]:
+    def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
         out = []
-        for test_id, result_json in self.db.execute("SELECT id, result_json FROM tests ORDER BY id"):
+        for test_id, result_json in self.db.execute(
+            "SELECT id, result_json FROM tests ORDER BY id"
+        ):
             result = json.loads(result_json)
-            out.append({"id": test_id, "patient": result["patient"], "started": result["started"],
-                        "finished": result.get("finished"), "total": result["total"], "band": result["band"],
-                        "items": result["items"], "unanswered": result.get("unanswered", []),
-                        "clinician_called": bool(result.get("clinician_called")),
-                        "person_lost": bool(result.get("person_lost")),
-                        "person_lost_count": int(result.get("person_lost_count", 0))})
+            out.append(
+                {
+                    "id": test_id,
+                    "patient": result["patient"],
+                    "started": result["started"],
+                    "finished": result.get("finished"),
+                    "total": result["total"],
+                    "band": result["band"],
+                    "items": result["items"],
+                    "unanswered": result.get("unanswered", []),
+                    "clinician_called": bool(result.get("clinician_called")),
+                    "person_lost": bool(result.get("person_lost")),
+                    "person_lost_count": int(result.get("person_lost_count", 0)),
+                }
+            )
         return out
 
-    def notifications(self) -> List[Dict[str, Any]]:
-        return [{"time": t, "kind": k, "message": m}
-                for t, k, m in self.db.execute("SELECT time, kind, message FROM notifications ORDER BY id")]
+    def notifications(self) -> list[dict[str, Any]]:
+        return [
+            {"time": t, "kind": k, "message": m}
+            for t, k, m in self.db.execute(
+                "SELECT time, kind, message FROM notifications ORDER BY id"
+            )
+        ]

@@ -12,17 +12,17 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from std_msgs.msg import String
+
 from clarc_agents import topics
+from clarc_sim import sim_topics
+from clarc_sim.patient.scenario import load
+from clarc_sim.patient.script import Action, PatientScript
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_graph.ros.timers import OneShot
-from std_msgs.msg import String
-
-from clarc_sim import sim_topics
-from clarc_sim.patient.scenario import load
-from clarc_sim.patient.script import Action, PatientScript
 
 
 class SimulatedPatient(DsrNode):
@@ -30,7 +30,9 @@ class SimulatedPatient(DsrNode):
         super().__init__("patient")
         declare(self, "scenario", "", "scenario YAML file", read_only=True)
         declare(self, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
-        declare(self, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0)
+        declare(
+            self, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0
+        )
         declare(self, "face", [900.0, 0.0, -400.0], "where the face is, in the Kinect's frame (mm)")
         self.script: PatientScript | None = None
 
@@ -59,7 +61,9 @@ class SimulatedPatient(DsrNode):
         if action.kind == "leave":
             self.get_logger().info(f"walks away for {action.seconds} s")
             self._set_present(False)
-            self._later(action.seconds, lambda: (self.get_logger().info("is back"), self._set_present(True)))
+            self._later(
+                action.seconds, lambda: (self.get_logger().info("is back"), self._set_present(True))
+            )
         elif not self.script.present:
             return
         elif action.kind == "say":

@@ -18,7 +18,7 @@ other time) the patient is away after walking off when the item is introduced.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Dict, Optional
+from typing import Any
 
 import yaml
 
@@ -30,20 +30,19 @@ FIRSTS = ("garbled", "silence")
 ITEM_KEYS = ("answer", "via", "first", "leave")
 
 
-
 @dataclass(frozen=True)
 class ItemPlan:
     item: str
-    answer: Optional[int]  # None with via: silence
+    answer: int | None  # None with via: silence
     via: str
-    first: Optional[str] = None
-    leave: Optional[float] = None
+    first: str | None = None
+    leave: float | None = None
 
 
 @dataclass
 class Scenario:
     patient: str
-    items: Dict[str, ItemPlan] = field(default_factory=dict)
+    items: dict[str, ItemPlan] = field(default_factory=dict)
     source: str = ""
 
     def plan(self, item: str) -> ItemPlan:
@@ -51,7 +50,9 @@ class Scenario:
 
 
 def _err(source: str, node: Any, message: str) -> ScenarioError:
-    line = node.start_mark.line + 1 if node is not None and getattr(node, "start_mark", None) else "?"
+    line = (
+        node.start_mark.line + 1 if node is not None and getattr(node, "start_mark", None) else "?"
+    )
     return ScenarioError(f"{source}:{line}: {message}")
 
 
@@ -66,31 +67,37 @@ def parse(text: str, source: str = "scenario") -> Scenario:
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         line = mark.line + 1 if mark else "?"
-        raise ScenarioError(f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}") from None
+        raise ScenarioError(
+            f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}"
+        ) from None
     if not isinstance(root, yaml.MappingNode):
-        raise _err(source, root, "a scenario is a mapping with \"patient\" and \"items\"")
+        raise _err(source, root, 'a scenario is a mapping with "patient" and "items"')
     patient, items_node = None, None
     for key_node, value_node in root.value:
         key = _scalar(key_node)
         if key == "patient":
             patient = _scalar(value_node)
             if not isinstance(patient, str) or not patient.strip():
-                raise _err(source, value_node, "\"patient\" must be a name")
+                raise _err(source, value_node, '"patient" must be a name')
         elif key == "items":
             items_node = value_node
         else:
             raise _err(source, key_node, f"unknown key {key!r} (a scenario has patient and items)")
     if patient is None:
-        raise _err(source, root, "missing \"patient\"")
+        raise _err(source, root, 'missing "patient"')
     scenario = Scenario(patient.strip(), source=source)
-    listed: Dict[str, ItemPlan] = {}
-    if items_node is not None and not (isinstance(items_node, yaml.ScalarNode) and _scalar(items_node) is None):
+    listed: dict[str, ItemPlan] = {}
+    if items_node is not None and not (
+        isinstance(items_node, yaml.ScalarNode) and _scalar(items_node) is None
+    ):
         if not isinstance(items_node, yaml.MappingNode):
-            raise _err(source, items_node, "\"items\" maps item names to what the patient does")
+            raise _err(source, items_node, '"items" maps item names to what the patient does')
         for key_node, value_node in items_node.value:
             item = _scalar(key_node)
             if item not in BY_KEY:
-                raise _err(source, key_node, f"unknown item {item!r}; the items are {', '.join(ORDER)}")
+                raise _err(
+                    source, key_node, f"unknown item {item!r}; the items are {', '.join(ORDER)}"
+                )
             if item in listed:
                 raise _err(source, key_node, f"item {item!r} is listed twice")
             listed[item] = _item(source, item, value_node)
@@ -103,11 +110,15 @@ def parse(text: str, source: str = "scenario") -> Scenario:
 def _item(source: str, item: str, node: Any) -> ItemPlan:
     if not isinstance(node, yaml.MappingNode):
         raise _err(source, node, f"{item}: expected a mapping like {{answer: 10, via: voice}}")
-    values: Dict[str, Any] = {}
+    values: dict[str, Any] = {}
     for key_node, value_node in node.value:
         key = _scalar(key_node)
         if key not in ITEM_KEYS:
-            raise _err(source, key_node, f"{item}: unknown key {key!r}; the keys are {', '.join(ITEM_KEYS)}")
+            raise _err(
+                source,
+                key_node,
+                f"{item}: unknown key {key!r}; the keys are {', '.join(ITEM_KEYS)}",
+            )
         values[key] = (_scalar(value_node), value_node)
     via, via_node = values.get("via", ("voice", node))
     if via not in VIAS:
@@ -115,18 +126,32 @@ def _item(source: str, item: str, node: Any) -> ItemPlan:
     answer, answer_node = values.get("answer", (None, node))
     if via == "silence":
         if "answer" in values:
-            raise _err(source, answer_node, f"{item}: a silent patient gives no answer; drop \"answer\"")
+            raise _err(
+                source, answer_node, f'{item}: a silent patient gives no answer; drop "answer"'
+            )
     else:
         if answer is None:
             answer = max(BY_KEY[item].points)
-        if isinstance(answer, bool) or not isinstance(answer, int) or BY_KEY[item].option(answer) is None:
-            raise _err(source, answer_node, f"{item}: answer {answer!r} is not an option; the options are "
-                                            f"{', '.join(str(p) for p in BY_KEY[item].points)} points")
+        if (
+            isinstance(answer, bool)
+            or not isinstance(answer, int)
+            or BY_KEY[item].option(answer) is None
+        ):
+            raise _err(
+                source,
+                answer_node,
+                f"{item}: answer {answer!r} is not an option; the options are "
+                f"{', '.join(str(p) for p in BY_KEY[item].points)} points",
+            )
     first, first_node = values.get("first", (None, node))
     if first is not None and first not in FIRSTS:
-        raise _err(source, first_node, f"{item}: first must be one of {', '.join(FIRSTS)}, got {first!r}")
+        raise _err(
+            source, first_node, f"{item}: first must be one of {', '.join(FIRSTS)}, got {first!r}"
+        )
     leave, leave_node = values.get("leave", (None, node))
-    if leave is not None and (isinstance(leave, bool) or not isinstance(leave, (int, float)) or leave < 0):
+    if leave is not None and (
+        isinstance(leave, bool) or not isinstance(leave, (int, float)) or leave < 0
+    ):
         raise _err(source, leave_node, f"{item}: leave is a number of seconds, got {leave!r}")
     return ItemPlan(item, answer, via, first, None if leave is None else float(leave))
 

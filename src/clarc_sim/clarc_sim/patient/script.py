@@ -9,10 +9,8 @@ in seconds of a real session (the node scales them).
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import List, Optional, Set
 
 from clarc_agents.barthel.items import BY_KEY, ITEMS
-
 from clarc_sim.patient.scenario import Scenario
 
 GARBLED = "mmh... the, eh... brr"
@@ -26,7 +24,7 @@ class Action:
     kind: str  # "say" (text), "tap" (points), "leave" (seconds away)
     delay: float
     text: str = ""
-    points: Optional[int] = None
+    points: int | None = None
     seconds: float = 0.0
 
 
@@ -34,16 +32,18 @@ class PatientScript:
     def __init__(self, scenario: Scenario, reaction: float = 1.0):
         self.scenario = scenario
         self.reaction = reaction
-        self.item: Optional[str] = None  # the item being asked, from the last question heard
-        self._left: Set[str] = set()
-        self._first_done: Set[str] = set()
+        self.item: str | None = None  # the item being asked, from the last question heard
+        self._left: set[str] = set()
+        self._first_done: set[str] = set()
         self.present = True
 
-    def heard(self, text: str, event: str) -> List[Action]:
+    def heard(self, text: str, event: str) -> list[Action]:
         """A sentence started ("start") or ended ("end") on the speaker."""
         if not self.present:
             return []
-        item = next((i.key for i in ITEMS if i.question in text and text.startswith("Question")), None)
+        item = next(
+            (i.key for i in ITEMS if i.question in text and text.startswith("Question")), None
+        )
         if item is not None and event == "start":
             self.item = item
             plan = self.scenario.plan(item)
@@ -66,7 +66,7 @@ class PatientScript:
             return self._answer()
         return []
 
-    def _answer(self) -> List[Action]:
+    def _answer(self) -> list[Action]:
         plan = self.scenario.plan(self.item)
         if plan.via == "silence":
             return []

@@ -1,1 +1,2 @@
-"""``dsr``, the command line: ``main`` finds the verbs in ``verb/``; ``api/`` holds what they share."""
+"""``dsr``, the command line: ``main`` finds the verbs in ``verb/``; ``api/`` holds what they
+share."""

@@ -8,7 +8,6 @@ import argparse
 import importlib
 import pkgutil
 import sys
-from typing import List, Optional
 
 from dsr_graph import __version__
 from dsr_graph.cli import verb
@@ -23,7 +22,9 @@ def _verbs():
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="dsr", description="Deep State Representation: inspect, validate and change DSR graphs.")
+        prog="dsr",
+        description="Deep State Representation: inspect, validate and change DSR graphs.",
+    )
     parser.add_argument("--version", action="version", version=f"dsr {__version__}")
     sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
     for name, module in sorted(_verbs()):
@@ -33,7 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: Optional[List[str]] = None) -> int:
+def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.run(args)

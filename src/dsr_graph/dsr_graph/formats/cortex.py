@@ -12,13 +12,13 @@ Translation * Rx * Ry * Rz: the child's pose in the parent's frame.
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any
 
-from dsr_graph.model import rigid
 from dsr_graph.exceptions import FormatError, Violation
+from dsr_graph.formats.world_builder import WorldBuilder
+from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT, Vocabulary
-from dsr_graph.formats.world_builder import WorldBuilder
 
 TYPE_CODES = {
     "string": 0,
@@ -37,7 +37,7 @@ def is_cortex_document(doc: Any) -> bool:
     return isinstance(doc, dict) and "DSRModel" in doc
 
 
-def _id(value: Any) -> Optional[int]:
+def _id(value: Any) -> int | None:
     if isinstance(value, bool):
         return None
     if isinstance(value, int):
@@ -47,7 +47,7 @@ def _id(value: Any) -> Optional[int]:
     return None
 
 
-def _values(attributes: Any) -> Optional[Dict[str, Any]]:
+def _values(attributes: Any) -> dict[str, Any] | None:
     if not isinstance(attributes, dict):
         return None
     out = {}
@@ -56,10 +56,13 @@ def _values(attributes: Any) -> Optional[Dict[str, Any]]:
     return out
 
 
-def from_cortex(doc: Any, vocabulary: Optional[Vocabulary] = None,
-                source: str = "cortex world") -> Tuple[Graph, List[Violation]]:
+def from_cortex(
+    doc: Any, vocabulary: Vocabulary | None = None, source: str = "cortex world"
+) -> tuple[Graph, list[Violation]]:
     """Build a graph from a CORTEX document; every element it cannot accept is reported."""
-    symbols = doc.get("DSRModel", {}).get("symbols") if isinstance(doc.get("DSRModel"), dict) else None
+    symbols = (
+        doc.get("DSRModel", {}).get("symbols") if isinstance(doc.get("DSRModel"), dict) else None
+    )
     if not isinstance(symbols, dict):
         raise FormatError(f"{source}: DSRModel.symbols must be an object of symbols")
     builder = WorldBuilder(vocabulary, source)
@@ -71,11 +74,18 @@ def from_cortex(doc: Any, vocabulary: Optional[Vocabulary] = None,
             continue
         node_id = _id(symbol.get("id", key))
         if node_id is None or (_id(key) is not None and _id(key) != node_id):
-            builder.report("node-id", f"symbol {key}", f"id {symbol.get('id')!r} is not the integer id {key!r}", at)
+            builder.report(
+                "node-id",
+                f"symbol {key}",
+                f"id {symbol.get('id')!r} is not the integer id {key!r}",
+                at,
+            )
             continue
         attrs = _values(symbol.get("attribute", {}))
         if attrs is None:
-            builder.report("malformed", f"node {symbol.get('name')!r}", "\"attribute\" must be an object", at)
+            builder.report(
+                "malformed", f"node {symbol.get('name')!r}", '"attribute" must be an object', at
+            )
         builder.node(symbol.get("name"), symbol.get("type"), id=node_id, attrs=attrs or {}, at=at)
         for j, link in enumerate(symbol.get("links") or []):
             links.append((f"{at} links[{j}]", link))
@@ -85,8 +95,12 @@ def from_cortex(doc: Any, vocabulary: Optional[Vocabulary] = None,
             continue
         src, dst, label = _id(link.get("src")), _id(link.get("dst")), link.get("label")
         if src is None or dst is None:
-            builder.report("malformed", f"edge {link.get('src')!r}->{link.get('dst')!r} ({label})",
-                           "src and dst must be integer ids", at)
+            builder.report(
+                "malformed",
+                f"edge {link.get('src')!r}->{link.get('dst')!r} ({label})",
+                "src and dst must be integer ids",
+                at,
+            )
             continue
         element = builder.graph.describe_edge(src, dst, label)
         for end in (src, dst):
@@ -99,37 +113,57 @@ def from_cortex(doc: Any, vocabulary: Optional[Vocabulary] = None,
             if label == RT:
                 missing = [k for k in RT_KEYS if k not in attrs]
                 if missing:
-                    builder.report("rt-rigid", element, f"an RT link needs {', '.join(missing)}", at)
+                    builder.report(
+                        "rt-rigid", element, f"an RT link needs {', '.join(missing)}", at
+                    )
                     continue
-                rt = {"translation": attrs.pop("rt_translation"),
-                      "rotation_euler_xyz": attrs.pop("rt_rotation_euler_xyz")}
+                rt = {
+                    "translation": attrs.pop("rt_translation"),
+                    "rotation_euler_xyz": attrs.pop("rt_rotation_euler_xyz"),
+                }
             builder.edge(src, dst, label, attrs=attrs, rt=rt, at=at)
     return builder.finish(), builder.violations
 
 
-def _attribute(graph: Graph, element: str, name: str, value: Any) -> Dict[str, Any]:
+def _attribute(graph: Graph, element: str, name: str, value: Any) -> dict[str, Any]:
     type_name = graph.vocabulary.attribute_type(name)
     code = TYPE_CODES.get(type_name)
     if code is None:
-        raise FormatError(f"{element}: attribute {name!r} is {type_name}, which CORTEX files cannot hold")
+        raise FormatError(
+            f"{element}: attribute {name!r} is {type_name}, which CORTEX files cannot hold"
+        )
     return {"type": code, "value": str(value) if type_name == "uint64" else value}
 
 
-def to_cortex(graph: Graph) -> Dict[str, Any]:
+def to_cortex(graph: Graph) -> dict[str, Any]:
     """The graph as a CORTEX document (ids and link ends written as strings, as CORTEX does)."""
-    symbols: Dict[str, Any] = {}
+    symbols: dict[str, Any] = {}
     for node in sorted(graph.nodes(), key=lambda n: n.id):
         element = f"node {node.name!r}"
         links = []
         for edge in sorted(graph.out_edges(node.id), key=lambda e: (e.dst, e.type)):
             link_element = graph.describe_edge(*edge.key)
-            link_attrs = {k: _attribute(graph, link_element, k, v) for k, v in sorted(edge.attrs.items())}
+            link_attrs = {
+                k: _attribute(graph, link_element, k, v) for k, v in sorted(edge.attrs.items())
+            }
             if edge.rt is not None:
                 link_attrs["rt_rotation_euler_xyz"] = {"type": 3, "value": rigid.euler_xyz(edge.rt)}
-                link_attrs["rt_translation"] = {"type": 3, "value": [float(v) for v in edge.rt[:3, 3]]}
-            links.append({"dst": str(edge.dst), "label": edge.type, "linkAttribute": link_attrs, "src": str(node.id)})
+                link_attrs["rt_translation"] = {
+                    "type": 3,
+                    "value": [float(v) for v in edge.rt[:3, 3]],
+                }
+            links.append(
+                {
+                    "dst": str(edge.dst),
+                    "label": edge.type,
+                    "linkAttribute": link_attrs,
+                    "src": str(node.id),
+                }
+            )
         symbols[str(node.id)] = {
-            "attribute": {k: _attribute(graph, element, k, v) for k, v in sorted(node.attrs.items())},
+            "attribute": {
+                k: _attribute(graph, element, k, v) for k, v in sorted(node.attrs.items())
+            },
             "id": str(node.id),
             "links": links,
             "name": node.name,

@@ -10,13 +10,13 @@ Transactions share the header; see ``transaction.py``.
 from __future__ import annotations
 
 from operator import attrgetter
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any
 
-from dsr_graph.model import rigid
 from dsr_graph.exceptions import FormatError, Violation
+from dsr_graph.formats.world_builder import WorldBuilder
+from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
-from dsr_graph.formats.world_builder import WorldBuilder
 
 FORMAT = "dsr-graph"
 VERSION = 1
@@ -27,7 +27,7 @@ def is_dsr_document(doc: Any) -> bool:
     return isinstance(doc, dict) and doc.get("format") == FORMAT
 
 
-def to_json(graph: Graph, kind: str = "world", seq: Optional[int] = None) -> Dict[str, Any]:
+def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[str, Any]:
     """The whole graph as a document; snapshots also carry versions and the sequence number."""
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}")
@@ -35,18 +35,26 @@ def to_json(graph: Graph, kind: str = "world", seq: Optional[int] = None) -> Dic
     ordered = sorted(graph.nodes(), key=attrgetter("id"))
     names = {n.id: n.name for n in ordered}  # edge ends by name, without a lookup per edge
     if with_versions:
-        nodes = [{"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs, "version": n.version} for n in ordered]
+        nodes = [
+            {"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs, "version": n.version}
+            for n in ordered
+        ]
     else:
         nodes = [{"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs} for n in ordered]
     edges = []
     for edge in sorted(graph.edges(), key=attrgetter("key")):
-        item = {"from": names[edge.src], "to": names[edge.dst], "type": edge.type, "attrs": edge.attrs}
+        item = {
+            "from": names[edge.src],
+            "to": names[edge.dst],
+            "type": edge.type,
+            "attrs": edge.attrs,
+        }
         if edge.rt is not None:
             item["rt"] = rigid.to_json(edge.rt)
         if with_versions:
             item["version"] = edge.version
         edges.append(item)
-    doc: Dict[str, Any] = {"format": FORMAT, "version": VERSION, "kind": kind}
+    doc: dict[str, Any] = {"format": FORMAT, "version": VERSION, "kind": kind}
     if seq is not None:
         doc["seq"] = seq
     doc["nodes"] = nodes
@@ -58,46 +66,64 @@ def _header(doc: Any, source: str) -> str:
     if not isinstance(doc, dict):
         raise FormatError(f"{source}: top level must be a JSON object")
     if doc.get("format") != FORMAT:
-        raise FormatError(f"{source}: \"format\" must be \"{FORMAT}\", got {doc.get('format')!r}")
+        raise FormatError(f'{source}: "format" must be "{FORMAT}", got {doc.get("format")!r}')
     if doc.get("version") != VERSION:
-        raise FormatError(f"{source}: unsupported version {doc.get('version')!r} (this reader knows {VERSION})")
+        raise FormatError(
+            f"{source}: unsupported version {doc.get('version')!r} (this reader knows {VERSION})"
+        )
     kind = doc.get("kind")
     if kind not in KINDS:
-        raise FormatError(f"{source}: \"kind\" must be one of {list(KINDS)}, got {kind!r}")
+        raise FormatError(f'{source}: "kind" must be one of {list(KINDS)}, got {kind!r}')
     for key in ("nodes", "edges"):
         if not isinstance(doc.get(key, []), list):
-            raise FormatError(f"{source}: \"{key}\" must be a list")
+            raise FormatError(f'{source}: "{key}" must be a list')
     return kind
 
 
-def from_json(doc: Any, vocabulary: Optional[Vocabulary] = None,
-              source: str = "world") -> Tuple[Graph, List[Violation]]:
+def from_json(
+    doc: Any, vocabulary: Vocabulary | None = None, source: str = "world"
+) -> tuple[Graph, list[Violation]]:
     """Build a graph from a world or snapshot document; bad elements are reported, not loaded."""
     kind = _header(doc, source)
     builder = WorldBuilder(vocabulary, source)
-    node_versions: Dict[int, int] = {}
+    node_versions: dict[int, int] = {}
     edge_versions = {}
     for i, item in enumerate(doc.get("nodes", [])):
         at = f"{source}: nodes[{i}]"
         if not isinstance(item, dict) or "name" not in item or "type" not in item:
-            builder.report("malformed", f"nodes[{i}]", "a node needs \"name\" and \"type\"", at)
+            builder.report("malformed", f"nodes[{i}]", 'a node needs "name" and "type"', at)
             continue
         unknown = set(item) - {"id", "name", "type", "attrs", "version"}
         if unknown:
-            builder.report("malformed", f"node {item['name']!r}", f"unknown keys {sorted(unknown)}", at)
-        if builder.node(item["name"], item["type"], id=item.get("id"), attrs=item.get("attrs"), at=at):
+            builder.report(
+                "malformed", f"node {item['name']!r}", f"unknown keys {sorted(unknown)}", at
+            )
+        if builder.node(
+            item["name"], item["type"], id=item.get("id"), attrs=item.get("attrs"), at=at
+        ):
             if kind == "snapshot" and isinstance(item.get("version"), int):
                 node_versions[builder.graph.node(item["name"]).id] = item["version"]
     for i, item in enumerate(doc.get("edges", [])):
         at = f"{source}: edges[{i}]"
         if not isinstance(item, dict) or not all(k in item for k in ("from", "to", "type")):
-            builder.report("malformed", f"edges[{i}]", "an edge needs \"from\", \"to\" and \"type\"", at)
+            builder.report("malformed", f"edges[{i}]", 'an edge needs "from", "to" and "type"', at)
             continue
         unknown = set(item) - {"from", "to", "type", "attrs", "rt", "version"}
         if unknown:
-            builder.report("malformed", f"edge {item['from']!r}->{item['to']!r} ({item['type']})",
-                           f"unknown keys {sorted(unknown)}", at)
-        if builder.edge(item["from"], item["to"], item["type"], attrs=item.get("attrs"), rt=item.get("rt"), at=at):
+            builder.report(
+                "malformed",
+                f"edge {item['from']!r}->{item['to']!r} ({item['type']})",
+                f"unknown keys {sorted(unknown)}",
+                at,
+            )
+        if builder.edge(
+            item["from"],
+            item["to"],
+            item["type"],
+            attrs=item.get("attrs"),
+            rt=item.get("rt"),
+            at=at,
+        ):
             if kind == "snapshot" and isinstance(item.get("version"), int):
                 edge = builder.graph.edge(item["from"], item["to"], item["type"])
                 edge_versions[edge.key] = item["version"]
@@ -106,13 +132,15 @@ def from_json(doc: Any, vocabulary: Optional[Vocabulary] = None,
     return graph, builder.violations
 
 
-def snapshot_from_json(doc: Any, vocabulary: Optional[Vocabulary] = None, trusted: bool = False) -> Tuple[Graph, int]:
+def snapshot_from_json(
+    doc: Any, vocabulary: Vocabulary | None = None, trusted: bool = False
+) -> tuple[Graph, int]:
     """A snapshot must load whole: any violation is a ``FormatError`` (it came from a valid graph).
     ``trusted``: it comes straight from a DSR server (a replica's resync), so its elements are not
     checked again, only its structure."""
     if trusted:
         if _header(doc, "snapshot") != "snapshot":
-            raise FormatError("snapshot: \"kind\" must be \"snapshot\"")
+            raise FormatError('snapshot: "kind" must be "snapshot"')
         graph = Graph(vocabulary)
         try:
             graph.restore(doc.get("nodes", []), doc.get("edges", []))
@@ -121,8 +149,10 @@ def snapshot_from_json(doc: Any, vocabulary: Optional[Vocabulary] = None, truste
     else:
         graph, violations = from_json(doc, vocabulary, source="snapshot")
         if violations:
-            raise FormatError("snapshot is not a valid graph: " + "; ".join(str(v) for v in violations[:5]))
+            raise FormatError(
+                "snapshot is not a valid graph: " + "; ".join(str(v) for v in violations[:5])
+            )
     seq = doc.get("seq", 0)
     if isinstance(seq, bool) or not isinstance(seq, int) or seq < 0:
-        raise FormatError(f"snapshot: \"seq\" must be a non-negative integer, got {seq!r}")
+        raise FormatError(f'snapshot: "seq" must be a non-negative integer, got {seq!r}')
     return graph, seq

@@ -1,6 +1,7 @@
 """Durable server state in a directory: a snapshot plus a journal of the deltas after it.
 
-    state_dir/snapshot.json   {"format": "dsr-graph", "kind": "snapshot", "seq": S, ..., "claims": [...]}
+    state_dir/snapshot.json   {"format": "dsr-graph", "kind": "snapshot", "seq": S, ...,
+                               "claims": [...]}
     state_dir/journal.jsonl   one accepted delta per line, seq S+1, S+2, ...
     state_dir/lock            held (flock) by the running server: one server per directory
 
@@ -17,19 +18,18 @@ import fcntl
 import json
 import logging
 import os
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Optional
+from typing import Any
 
-from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.exceptions import CorruptState, StateDirLocked
+from dsr_graph.formats.world_files import write_json_atomically
 
 log = logging.getLogger("dsr_graph.state_store")
 
 SNAPSHOT = "snapshot.json"
 JOURNAL = "journal.jsonl"
 LOCK = "lock"
-
-
 
 
 class StateStore:
@@ -39,7 +39,7 @@ class StateStore:
         self._journal = None
         self._lock_file = None
         self._since_compaction = 0
-        self.warnings: List[str] = []
+        self.warnings: list[str] = []
 
     # ------------------------------------------------------------------ lifetime
     def open(self) -> None:
@@ -50,7 +50,9 @@ class StateStore:
         except BlockingIOError:
             self._lock_file.close()
             self._lock_file = None
-            raise StateDirLocked(f"state directory {self.dir} is in use by another dsr_server") from None
+            raise StateDirLocked(
+                f"state directory {self.dir} is in use by another dsr_server"
+            ) from None
 
     def close(self) -> None:
         if self._journal is not None:
@@ -61,11 +63,8 @@ class StateStore:
             self._lock_file.close()
             self._lock_file = None
 
-    def has_state(self) -> bool:
-        return (self.dir / SNAPSHOT).exists()
-
     # ------------------------------------------------------------------ reading
-    def load_snapshot(self) -> Optional[Dict[str, Any]]:
+    def load_snapshot(self) -> dict[str, Any] | None:
         path = self.dir / SNAPSHOT
         if not path.exists():
             return None
@@ -74,7 +73,7 @@ class StateStore:
         except (OSError, json.JSONDecodeError) as e:
             raise CorruptState(f"{path}: {e}") from e
 
-    def replay_journal(self, snapshot_seq: int, replay: Callable[[Dict[str, Any]], None]) -> int:
+    def replay_journal(self, snapshot_seq: int, replay: Callable[[dict[str, Any]], None]) -> int:
         """Feed every journaled delta after ``snapshot_seq`` to ``replay``; returns how many."""
         path = self.dir / JOURNAL
         if not path.exists():
@@ -88,7 +87,10 @@ class StateStore:
                 delta = json.loads(raw)
             except json.JSONDecodeError:
                 if i == len(lines) - 1:  # torn tail: never acknowledged, never broadcast
-                    msg = f"{path}: dropping a torn last line of {len(raw)} bytes (a write cut by a crash)"
+                    msg = (
+                        f"{path}: dropping a torn last line of {len(raw)} bytes "
+                        "(a write cut by a crash)"
+                    )
                     log.warning(msg)
                     self.warnings.append(msg)
                     with open(path, "r+b") as f:
@@ -101,13 +103,15 @@ class StateStore:
             try:
                 replay(delta)
             except Exception as e:  # a journal that does not replay is a bug or a damaged disk
-                raise CorruptState(f"{path}: line {i + 1} (seq {delta.get('seq')}) does not replay: {e}") from e
+                raise CorruptState(
+                    f"{path}: line {i + 1} (seq {delta.get('seq')}) does not replay: {e}"
+                ) from e
             count += 1
         self._since_compaction = count
         return count
 
     # ------------------------------------------------------------------ writing
-    def append(self, delta: Dict[str, Any]) -> None:
+    def append(self, delta: dict[str, Any]) -> None:
         """Write a delta to the journal (durable after ``flush``)."""
         if self._journal is None:
             self._journal = open(self.dir / JOURNAL, "a", encoding="utf-8")
@@ -122,7 +126,7 @@ class StateStore:
     def needs_compaction(self) -> bool:
         return self._since_compaction >= self.compact_every
 
-    def write_snapshot(self, snapshot: Dict[str, Any]) -> None:
+    def write_snapshot(self, snapshot: dict[str, Any]) -> None:
         """Make ``snapshot`` the durable state and start an empty journal after it."""
         self.flush()
         write_json_atomically(snapshot, self.dir / SNAPSHOT, indent=None)

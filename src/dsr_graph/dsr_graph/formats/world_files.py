@@ -6,11 +6,10 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Any, List, NamedTuple, Optional, Union
+from typing import Any, NamedTuple
 
-from dsr_graph.formats import cortex
-from dsr_graph.formats import dsr_json
 from dsr_graph.exceptions import FormatError, Violation, WorldLoadError
+from dsr_graph.formats import cortex, dsr_json
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
@@ -19,7 +18,7 @@ FORMATS = ("dsr", "cortex")
 
 class LoadedWorld(NamedTuple):
     graph: Graph
-    violations: List[Violation]  # what was left out, and why; empty for a valid world
+    violations: list[Violation]  # what was left out, and why; empty for a valid world
     format: str  # "dsr" or "cortex"
 
 
@@ -28,10 +27,14 @@ def detect_format(doc: Any) -> str:
         return "dsr"
     if cortex.is_cortex_document(doc):
         return "cortex"
-    raise WorldLoadError('not a world file: expected {"format": "dsr-graph", ...} or {"DSRModel": ...}')
+    raise WorldLoadError(
+        'not a world file: expected {"format": "dsr-graph", ...} or {"DSRModel": ...}'
+    )
 
 
-def parse_world(doc: Any, vocabulary: Optional[Vocabulary] = None, source: str = "world") -> LoadedWorld:
+def parse_world(
+    doc: Any, vocabulary: Vocabulary | None = None, source: str = "world"
+) -> LoadedWorld:
     fmt = detect_format(doc)
     try:
         if fmt == "dsr":
@@ -43,8 +46,9 @@ def parse_world(doc: Any, vocabulary: Optional[Vocabulary] = None, source: str =
     return LoadedWorld(graph, violations, fmt)
 
 
-def read_world(path: Union[str, Path], vocabulary: Optional[Vocabulary] = None) -> LoadedWorld:
-    """Load a world file (ours or CORTEX). Raises ``WorldLoadError`` only when nothing can be read."""
+def read_world(path: str | Path, vocabulary: Vocabulary | None = None) -> LoadedWorld:
+    """Load a world file (ours or CORTEX). Raises ``WorldLoadError`` only when nothing can be
+    read."""
     try:
         text = Path(path).read_text("utf-8")
     except OSError as e:
@@ -66,7 +70,7 @@ def world_document(graph: Graph, fmt: str = "dsr") -> dict:
     raise ValueError(f"format must be one of {FORMATS}, got {fmt!r}")
 
 
-def write_json_atomically(doc: Any, path: Union[str, Path], indent: Optional[int] = 2) -> None:
+def write_json_atomically(doc: Any, path: str | Path, indent: int | None = 2) -> None:
     """Write JSON so that a crash leaves either the old file or the new one, never half of one."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=str(path.parent or "."), prefix=f".{path.name}.", suffix=".tmp")
@@ -86,5 +90,5 @@ def write_json_atomically(doc: Any, path: Union[str, Path], indent: Optional[int
         raise
 
 
-def write_world(graph: Graph, path: Union[str, Path], fmt: str = "dsr") -> None:
+def write_world(graph: Graph, path: str | Path, fmt: str = "dsr") -> None:
     write_json_atomically(world_document(graph, fmt), path)

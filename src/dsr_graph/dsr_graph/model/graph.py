@@ -21,20 +21,21 @@ to exactly the state it started from.
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Set, Tuple, Union
+from typing import Any
 
 import numpy as np
 
-from dsr_graph.model import rigid
 from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Violation
-from dsr_graph.model.values import UINT64_MAX, coerce
+from dsr_graph.model import rigid
 from dsr_graph.model.rt_tree import RtTree
 from dsr_graph.model.undo_log import UndoLog
+from dsr_graph.model.values import UINT64_MAX, coerce
 from dsr_graph.model.vocabulary import RT, Vocabulary
 
-NodeRef = Union[int, str]  # a node id (int) or name (str)
-EdgeKey = Tuple[int, int, str]  # (from id, to id, type)
+NodeRef = int | str  # a node id (int) or name (str)
+EdgeKey = tuple[int, int, str]  # (from id, to id, type)
 
 MAX_NAME_LENGTH = 256
 
@@ -42,7 +43,7 @@ MAX_NAME_LENGTH = 256
 class Node:
     __slots__ = ("id", "name", "type", "attrs", "version")
 
-    def __init__(self, id: int, name: str, type: str, attrs: Dict[str, Any], version: int = 1):
+    def __init__(self, id: int, name: str, type: str, attrs: dict[str, Any], version: int = 1):
         self.id = id
         self.name = name
         self.type = type
@@ -56,8 +57,15 @@ class Node:
 class Edge:
     __slots__ = ("src", "dst", "type", "attrs", "version", "rt")
 
-    def __init__(self, src: int, dst: int, type: str, attrs: Dict[str, Any],
-                 rt: Optional[np.ndarray] = None, version: int = 1):
+    def __init__(
+        self,
+        src: int,
+        dst: int,
+        type: str,
+        attrs: dict[str, Any],
+        rt: np.ndarray | None = None,
+        version: int = 1,
+    ):
         self.src = src
         self.dst = dst
         self.type = type
@@ -80,14 +88,14 @@ def _fail(rule: str, element: str, message: str) -> None:
 class Graph:
     """The graph model. Pure Python: no ROS import anywhere below this package's node modules."""
 
-    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+    def __init__(self, vocabulary: Vocabulary | None = None):
         self.vocabulary = vocabulary if vocabulary is not None else Vocabulary.default()
-        self._nodes: Dict[int, Node] = {}
-        self._ids: Dict[str, int] = {}
-        self._edges: Dict[EdgeKey, Edge] = {}
-        self._out: Dict[int, Set[EdgeKey]] = {}
-        self._in: Dict[int, Set[EdgeKey]] = {}
-        self._by_type: Dict[str, Set[EdgeKey]] = {}
+        self._nodes: dict[int, Node] = {}
+        self._ids: dict[str, int] = {}
+        self._edges: dict[EdgeKey, Edge] = {}
+        self._out: dict[int, set[EdgeKey]] = {}
+        self._in: dict[int, set[EdgeKey]] = {}
+        self._by_type: dict[str, set[EdgeKey]] = {}
         self._tree = RtTree()
         self._undo = UndoLog()
         self._next_id = 1
@@ -100,7 +108,7 @@ class Graph:
             raise LookupFailed(f"no node {ref!r}")
         return node
 
-    def find(self, ref: NodeRef) -> Optional[Node]:
+    def find(self, ref: NodeRef) -> Node | None:
         if isinstance(ref, bool):
             return None
         if isinstance(ref, int):
@@ -122,19 +130,19 @@ class Graph:
     def edges(self) -> Iterator[Edge]:
         return iter(self._edges.values())
 
-    def edge(self, src: NodeRef, dst: NodeRef, type: str) -> Optional[Edge]:
+    def edge(self, src: NodeRef, dst: NodeRef, type: str) -> Edge | None:
         a, b = self.find(src), self.find(dst)
         if a is None or b is None:
             return None
         return self._edges.get((a.id, b.id, type))
 
-    def out_edges(self, ref: NodeRef) -> List[Edge]:
+    def out_edges(self, ref: NodeRef) -> list[Edge]:
         return [self._edges[k] for k in self._out.get(self.node(ref).id, ())]
 
-    def in_edges(self, ref: NodeRef) -> List[Edge]:
+    def in_edges(self, ref: NodeRef) -> list[Edge]:
         return [self._edges[k] for k in self._in.get(self.node(ref).id, ())]
 
-    def edges_of_type(self, type: str) -> List[Edge]:
+    def edges_of_type(self, type: str) -> list[Edge]:
         return [self._edges[k] for k in self._by_type.get(type, ())]
 
     def edge_count(self) -> int:
@@ -148,14 +156,14 @@ class Graph:
         return f"edge {name(src)}->{name(dst)} ({type})"
 
     # ------------------------------------------------------------------ geometry
-    def rt_parent(self, ref: NodeRef) -> Optional[Node]:
+    def rt_parent(self, ref: NodeRef) -> Node | None:
         parent = self._tree.parent.get(self.node(ref).id)
         return None if parent is None else self._nodes[parent]
 
-    def rt_children(self, ref: NodeRef) -> List[Node]:
+    def rt_children(self, ref: NodeRef) -> list[Node]:
         return [self._nodes[c] for c in self._tree.children.get(self.node(ref).id, ())]
 
-    def rt_root(self) -> Optional[Node]:
+    def rt_root(self) -> Node | None:
         """The root of the RT tree (None when there are no RT edges)."""
         if len(self._tree.roots) != 1:
             return None
@@ -173,7 +181,7 @@ class Graph:
             self._same_tree(a, b)
         return self._tree.transform(a, b)
 
-    def chain(self, frm: NodeRef, to: NodeRef) -> List[str]:
+    def chain(self, frm: NodeRef, to: NodeRef) -> list[str]:
         """Names on the path frm -> closest common ancestor -> to."""
         a, b = self._geometric_id(frm), self._geometric_id(to)
         self._same_tree(a, b)
@@ -183,14 +191,17 @@ class Graph:
         if not self._tree.same_tree(a, b):
             raise LookupFailed(
                 f"no kinematic chain joins {self._nodes[a].name!r} and {self._nodes[b].name!r}: "
-                "they are in different RT trees")
+                "they are in different RT trees"
+            )
 
     def _geometric_id(self, ref: NodeRef) -> int:
         node = self.find(ref)
         if node is None:
             raise LookupFailed(f"no node {ref!r}")
         if not self._tree.is_geometric(node.id):
-            raise LookupFailed(f"node {node.name!r} is not geometric: no RT edge joins it to the tree")
+            raise LookupFailed(
+                f"node {node.name!r} is not geometric: no RT edge joins it to the tree"
+            )
         return node.id
 
     # ------------------------------------------------------------------ atomicity
@@ -221,17 +232,20 @@ class Graph:
 
     # ------------------------------------------------------------------ checks
     def check_attribute(self, element: str, name: Any, value: Any) -> Any:
-        """``value`` coerced to the vocabulary's type for ``name``; a ``RuleViolation`` otherwise."""
+        """``value`` coerced to the vocabulary's type for ``name``; else ``RuleViolation``."""
         type_name = self.vocabulary.attribute_type(name) if isinstance(name, str) else None
         if type_name is None:
-            _fail("unknown-attribute", element,
-                  f"attribute {name!r} is not in the vocabulary (extend it to add one)")
+            _fail(
+                "unknown-attribute",
+                element,
+                f"attribute {name!r} is not in the vocabulary (extend it to add one)",
+            )
         try:
             return coerce(type_name, value)
         except ValueTypeError as e:
             _fail("attribute-type", element, f"attribute {name!r} must be {type_name}: {e}")
 
-    def _checked_attrs(self, element: str, attrs: Any) -> Dict[str, Any]:
+    def _checked_attrs(self, element: str, attrs: Any) -> dict[str, Any]:
         if not isinstance(attrs, Mapping):
             _fail("malformed", element, f"attrs must be an object, got {type(attrs).__name__}")
         return {name: self.check_attribute(element, name, value) for name, value in attrs.items()}
@@ -251,17 +265,35 @@ class Graph:
         return edge
 
     # ------------------------------------------------------------------ node mutations
-    def insert_node(self, name: str, type: str, id: Optional[int] = None,
-                    attrs: Optional[Mapping[str, Any]] = None) -> Node:
+    def insert_node(
+        self, name: str, type: str, id: int | None = None, attrs: Mapping[str, Any] | None = None
+    ) -> Node:
         element = f"node {name!r}"
-        if not isinstance(name, str) or not name or name != name.strip() or len(name) > MAX_NAME_LENGTH \
-                or not name.isprintable():
-            _fail("node-name", element,
-                  f"a name is a printable string of 1..{MAX_NAME_LENGTH} characters with no surrounding blanks")
+        if (
+            not isinstance(name, str)
+            or not name
+            or name != name.strip()
+            or len(name) > MAX_NAME_LENGTH
+            or not name.isprintable()
+        ):
+            _fail(
+                "node-name",
+                element,
+                f"a name is a printable string of 1..{MAX_NAME_LENGTH} characters "
+                "with no surrounding blanks",
+            )
         if name in self._ids:
-            _fail("unique-name", element, f"a node named {name!r} already exists (id {self._ids[name]})")
+            _fail(
+                "unique-name",
+                element,
+                f"a node named {name!r} already exists (id {self._ids[name]})",
+            )
         if not isinstance(type, str) or type not in self.vocabulary.node_types:
-            _fail("unknown-node-type", element, f"node type {type!r} is not in the vocabulary (extend it to add one)")
+            _fail(
+                "unknown-node-type",
+                element,
+                f"node type {type!r} is not in the vocabulary (extend it to add one)",
+            )
         if id is None:
             id = self._next_id
         elif isinstance(id, bool) or not isinstance(id, int) or not 0 <= id <= UINT64_MAX:
@@ -289,8 +321,11 @@ class Graph:
         children = self._tree.children.get(node.id)
         if children:
             names = ", ".join(sorted(repr(self._nodes[c].name) for c in children))
-            _fail("rt-orphan", f"node {node.name!r}",
-                  f"has RT children ({names}); delete or re-parent them first")
+            _fail(
+                "rt-orphan",
+                f"node {node.name!r}",
+                f"has RT children ({names}); delete or re-parent them first",
+            )
         for key in list(self._out.get(node.id, ())) + list(self._in.get(node.id, ())):
             if key in self._edges:
                 self._remove_edge(self._edges[key])
@@ -314,27 +349,47 @@ class Graph:
         return node
 
     # ------------------------------------------------------------------ edge mutations
-    def insert_edge(self, src: NodeRef, dst: NodeRef, type: str,
-                    attrs: Optional[Mapping[str, Any]] = None, rt: Any = None) -> Edge:
+    def insert_edge(
+        self,
+        src: NodeRef,
+        dst: NodeRef,
+        type: str,
+        attrs: Mapping[str, Any] | None = None,
+        rt: Any = None,
+    ) -> Edge:
         element = f"edge {src!r}->{dst!r} ({type})"
         a = self._existing(src, element)
         b = self._existing(dst, element)
         element = self.describe_edge(a.id, b.id, type)
         if not isinstance(type, str) or type not in self.vocabulary.edge_types:
-            _fail("unknown-edge-type", element, f"edge type {type!r} is not in the vocabulary (extend it to add one)")
+            _fail(
+                "unknown-edge-type",
+                element,
+                f"edge type {type!r} is not in the vocabulary (extend it to add one)",
+            )
         if a.id == b.id:
             _fail("no-self-loop", element, "an edge may not join a node to itself")
         if (a.id, b.id, type) in self._edges:
-            _fail("edge-unique", element, "this edge already exists (one edge per from, to and type)")
+            _fail(
+                "edge-unique", element, "this edge already exists (one edge per from, to and type)"
+            )
         checked_attrs = self._checked_attrs(element, attrs or {})
         matrix = None
         if type == RT:
             matrix = self._checked_rt(element, rt)
             if b.id in self._tree.parent:
-                _fail("rt-single-parent", element,
-                      f"{b.name!r} already has the RT parent {self._nodes[self._tree.parent[b.id]].name!r}")
+                _fail(
+                    "rt-single-parent",
+                    element,
+                    f"{b.name!r} already has the RT parent "
+                    f"{self._nodes[self._tree.parent[b.id]].name!r}",
+                )
             if b.id in self._tree.ancestry(a.id):
-                _fail("rt-acyclic", element, f"{b.name!r} is an RT ancestor of {a.name!r}: this edge would close a cycle")
+                _fail(
+                    "rt-acyclic",
+                    element,
+                    f"{b.name!r} is an RT ancestor of {a.name!r}: this edge would close a cycle",
+                )
         elif rt is not None:
             _fail("rt-rigid", element, "only RT edges carry a transform")
         edge = Edge(a.id, b.id, type, checked_attrs, matrix)
@@ -344,12 +399,16 @@ class Graph:
     def delete_edge(self, src: NodeRef, dst: NodeRef, type: str) -> None:
         self._remove_edge(self._existing_edge(src, dst, type))
 
-    def set_edge_attrs(self, src: NodeRef, dst: NodeRef, type: str, attrs: Mapping[str, Any]) -> Edge:
+    def set_edge_attrs(
+        self, src: NodeRef, dst: NodeRef, type: str, attrs: Mapping[str, Any]
+    ) -> Edge:
         edge = self._existing_edge(src, dst, type)
         self._set_attrs(edge, self._checked_attrs(self.describe_edge(*edge.key), attrs))
         return edge
 
-    def remove_edge_attrs(self, src: NodeRef, dst: NodeRef, type: str, names: Sequence[str]) -> Edge:
+    def remove_edge_attrs(
+        self, src: NodeRef, dst: NodeRef, type: str, names: Sequence[str]
+    ) -> Edge:
         edge = self._existing_edge(src, dst, type)
         self._remove_attrs(edge, names, self.describe_edge(*edge.key))
         return edge
@@ -372,7 +431,7 @@ class Graph:
     @staticmethod
     def _checked_rt(element: str, rt: Any) -> np.ndarray:
         if rt is None:
-            _fail("rt-rigid", element, "an RT edge needs a transform (\"rt\")")
+            _fail("rt-rigid", element, 'an RT edge needs a transform ("rt")')
         if isinstance(rt, np.ndarray):
             try:
                 return rigid.check_rigid(rt)
@@ -384,7 +443,7 @@ class Graph:
             _fail("rt-rigid", element, str(e))
 
     # ------------------------------------------------------------------ primitives (with undo)
-    def _set_attrs(self, element: Union[Node, Edge], attrs: Dict[str, Any]) -> None:
+    def _set_attrs(self, element: Node | Edge, attrs: dict[str, Any]) -> None:
         before = {k: element.attrs[k] for k in attrs if k in element.attrs}
         added = [k for k in attrs if k not in element.attrs]
         old_version = element.version
@@ -399,7 +458,7 @@ class Graph:
 
         self._undo.record(undo)
 
-    def _remove_attrs(self, element: Union[Node, Edge], names: Sequence[str], label: str) -> None:
+    def _remove_attrs(self, element: Node | Edge, names: Sequence[str], label: str) -> None:
         if isinstance(names, str) or not isinstance(names, (list, tuple)):
             _fail("malformed", label, f"names must be a list of attribute names, got {names!r}")
         for name in names:
@@ -443,7 +502,9 @@ class Graph:
             self._tree.unlink(edge)
 
     # ------------------------------------------------------------------ trusted loading
-    def restore(self, nodes: Sequence[Mapping[str, Any]], edges: Sequence[Mapping[str, Any]]) -> None:
+    def restore(
+        self, nodes: Sequence[Mapping[str, Any]], edges: Sequence[Mapping[str, Any]]
+    ) -> None:
         """Load a snapshot written by a DSR server, which only ever holds a valid graph, without
         checking each element again (a late joiner of a 100k-node graph would spend seconds on
         it). The attribute dicts of the freshly parsed document are taken over, not copied; the
@@ -458,10 +519,21 @@ class Graph:
         for e in edges:
             rt = e.get("rt")
             matrix = np.array(rt["matrix"], dtype=float) if rt is not None else None
-            self._add_edge(Edge(ids[e["from"]], ids[e["to"]], e["type"], e.get("attrs") or {}, matrix, e.get("version", 1)))
+            self._add_edge(
+                Edge(
+                    ids[e["from"]],
+                    ids[e["to"]],
+                    e["type"],
+                    e.get("attrs") or {},
+                    matrix,
+                    e.get("version", 1),
+                )
+            )
 
     # ------------------------------------------------------------------ versions (snapshots)
-    def restore_versions(self, node_versions: Mapping[int, int], edge_versions: Mapping[EdgeKey, int]) -> None:
+    def restore_versions(
+        self, node_versions: Mapping[int, int], edge_versions: Mapping[EdgeKey, int]
+    ) -> None:
         """Set versions as read from a snapshot (loading is not a change)."""
         for node_id, version in node_versions.items():
             self._nodes[node_id].version = version

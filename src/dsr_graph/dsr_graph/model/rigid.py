@@ -6,17 +6,18 @@ Conventions (the CORTEX C++ code's): a matrix is Translation * Rx(a) * Ry(b) * R
 
 from __future__ import annotations
 
-from typing import Any, Mapping, Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from transforms3d import euler, quaternions
+
 from dsr_graph.exceptions import NotRigidError
 
 # Tolerance for "orthonormal with det +1": world files store float32 angles and matrices
 # round-tripped through JSON, so exact equality would reject real data.
 RIGID_TOLERANCE = 1e-6
 EULER_AXES = "rxyz"
-
 
 
 def from_translation_euler(translation: Sequence[float], euler_xyz: Sequence[float]) -> np.ndarray:
@@ -26,7 +27,9 @@ def from_translation_euler(translation: Sequence[float], euler_xyz: Sequence[flo
     return m
 
 
-def from_translation_quaternion(translation: Sequence[float], quaternion_wxyz: Sequence[float]) -> np.ndarray:
+def from_translation_quaternion(
+    translation: Sequence[float], quaternion_wxyz: Sequence[float]
+) -> np.ndarray:
     q = np.asarray(_floats(quaternion_wxyz, 4, "quaternion_wxyz"))
     norm = np.linalg.norm(q)
     if abs(norm - 1.0) > 1e-6:
@@ -62,7 +65,8 @@ def check_rigid(matrix: Any) -> np.ndarray:
 
 def from_json(spec: Any) -> np.ndarray:
     """A checked matrix from one of the JSON pose forms (see docs/FORMAT.md):
-    ``{"matrix": 4x4}``, ``{"translation", "rotation_euler_xyz"}``, ``{"translation", "quaternion_wxyz"}``."""
+    ``{"matrix": 4x4}``, ``{"translation", "rotation_euler_xyz"}``,
+    ``{"translation", "quaternion_wxyz"}``."""
     if not isinstance(spec, Mapping):
         raise NotRigidError(f"rt must be an object, got {type(spec).__name__}")
     keys = set(spec)

@@ -11,10 +11,6 @@ class UndoLog:
     def __init__(self) -> None:
         self._steps: list[Callable[[], None]] | None = None
 
-    @property
-    def active(self) -> bool:
-        return self._steps is not None
-
     def begin(self) -> None:
         if self._steps is not None:
             raise RuntimeError("atomic() blocks do not nest")

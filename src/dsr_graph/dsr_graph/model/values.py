@@ -8,12 +8,13 @@ given for a float is widened; nothing is ever narrowed or guessed).
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Dict
+from collections.abc import Callable
+from typing import Any
+
 from dsr_graph.exceptions import ValueTypeError
 
 UINT32_MAX = 2**32 - 1
 UINT64_MAX = 2**64 - 1
-
 
 
 def _is_int(value: Any) -> bool:
@@ -92,7 +93,7 @@ def _float_matrix(value: Any) -> list:
     return rows
 
 
-COERCERS: Dict[str, Callable[[Any], Any]] = {
+COERCERS: dict[str, Callable[[Any], Any]] = {
     "bool": _bool,
     "int": _int_in(-(2**63), 2**63 - 1),
     "uint": _int_in(0, UINT32_MAX),

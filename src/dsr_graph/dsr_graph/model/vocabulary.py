@@ -8,10 +8,11 @@ the default instead of replacing it.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any, Dict, Mapping, Optional, Union
+from typing import Any
 
 from dsr_graph.exceptions import VocabularyError
 from dsr_graph.model.values import VALUE_TYPES
@@ -23,22 +24,24 @@ RT = "RT"  # the fixed label of geometric edges (paper, Section II-A)
 
 @dataclass
 class Vocabulary:
-    node_types: Dict[str, str] = field(default_factory=dict)  # type -> doc
-    edge_types: Dict[str, str] = field(default_factory=dict)  # type -> doc
-    attributes: Dict[str, str] = field(default_factory=dict)  # name -> value type
-    attribute_docs: Dict[str, str] = field(default_factory=dict)
+    node_types: dict[str, str] = field(default_factory=dict)  # type -> doc
+    edge_types: dict[str, str] = field(default_factory=dict)  # type -> doc
+    attributes: dict[str, str] = field(default_factory=dict)  # name -> value type
+    attribute_docs: dict[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        self.edge_types.setdefault(RT, "geometric edge: the child's rigid pose in the parent's frame")
+        self.edge_types.setdefault(
+            RT, "geometric edge: the child's rigid pose in the parent's frame"
+        )
 
     # -- loading ---------------------------------------------------------------------------
     @classmethod
-    def default(cls) -> "Vocabulary":
+    def default(cls) -> Vocabulary:
         text = resources.files("dsr_graph").joinpath("data/vocabulary.json").read_text("utf-8")
         return cls.from_json(json.loads(text), source="default vocabulary")
 
     @classmethod
-    def load(cls, path: Union[str, Path, None]) -> "Vocabulary":
+    def load(cls, path: str | Path | None) -> Vocabulary:
         """The vocabulary in ``path``, or the default when ``path`` is empty or None."""
         if not path:
             return cls.default()
@@ -51,14 +54,24 @@ class Vocabulary:
         return cls.from_json(doc, source=str(path))
 
     @classmethod
-    def from_json(cls, doc: Any, source: str = "vocabulary") -> "Vocabulary":
+    def from_json(cls, doc: Any, source: str = "vocabulary") -> Vocabulary:
         if not isinstance(doc, dict):
             raise VocabularyError(f"{source}: top level must be an object")
         if doc.get("format") != FORMAT:
-            raise VocabularyError(f"{source}: \"format\" must be \"{FORMAT}\"")
+            raise VocabularyError(f'{source}: "format" must be "{FORMAT}"')
         if doc.get("version") != VERSION:
-            raise VocabularyError(f"{source}: unsupported version {doc.get('version')!r} (this is {VERSION})")
-        unknown = set(doc) - {"format", "version", "doc", "extends", "node_types", "edge_types", "attributes"}
+            raise VocabularyError(
+                f"{source}: unsupported version {doc.get('version')!r} (this is {VERSION})"
+            )
+        unknown = set(doc) - {
+            "format",
+            "version",
+            "doc",
+            "extends",
+            "node_types",
+            "edge_types",
+            "attributes",
+        }
         if unknown:
             raise VocabularyError(f"{source}: unknown keys {sorted(unknown)}")
         vocab = cls(
@@ -70,7 +83,8 @@ class Vocabulary:
                 spec = {"type": spec}
             if not isinstance(spec, dict) or spec.get("type") not in VALUE_TYPES:
                 raise VocabularyError(
-                    f"{source}: attribute {name!r} needs \"type\" in {list(VALUE_TYPES)}, got {spec!r}"
+                    f'{source}: attribute {name!r} needs "type" in {list(VALUE_TYPES)}, '
+                    f"got {spec!r}"
                 )
             vocab.attributes[name] = spec["type"]
             if spec.get("doc"):
@@ -79,16 +93,17 @@ class Vocabulary:
         if extends is None:
             return vocab
         if extends != "default":
-            raise VocabularyError(f"{source}: \"extends\" may only be \"default\", got {extends!r}")
+            raise VocabularyError(f'{source}: "extends" may only be "default", got {extends!r}')
         return cls.default().merged(vocab, source)
 
-    def merged(self, other: "Vocabulary", source: str = "vocabulary") -> "Vocabulary":
+    def merged(self, other: Vocabulary, source: str = "vocabulary") -> Vocabulary:
         """This vocabulary plus ``other``; an attribute may not change its value type."""
         for name, type_name in other.attributes.items():
             mine = self.attributes.get(name)
             if mine is not None and mine != type_name:
                 raise VocabularyError(
-                    f"{source}: attribute {name!r} is {mine} in the base vocabulary, cannot become {type_name}"
+                    f"{source}: attribute {name!r} is {mine} in the base vocabulary, "
+                    f"cannot become {type_name}"
                 )
         return Vocabulary(
             node_types={**self.node_types, **other.node_types},
@@ -98,7 +113,7 @@ class Vocabulary:
         )
 
     # -- queries ---------------------------------------------------------------------------
-    def attribute_type(self, name: str) -> Optional[str]:
+    def attribute_type(self, name: str) -> str | None:
         return self.attributes.get(name)
 
     def to_json(self) -> dict:
@@ -108,7 +123,11 @@ class Vocabulary:
             "node_types": dict(sorted(self.node_types.items())),
             "edge_types": dict(sorted(self.edge_types.items())),
             "attributes": {
-                name: ({"type": t, "doc": self.attribute_docs[name]} if name in self.attribute_docs else {"type": t})
+                name: (
+                    {"type": t, "doc": self.attribute_docs[name]}
+                    if name in self.attribute_docs
+                    else {"type": t}
+                )
                 for name, t in sorted(self.attributes.items())
             },
         }
@@ -116,14 +135,16 @@ class Vocabulary:
 
 def _object(value: Any, source: str, key: str) -> Mapping[str, Any]:
     if not isinstance(value, dict):
-        raise VocabularyError(f"{source}: \"{key}\" must be an object")
+        raise VocabularyError(f'{source}: "{key}" must be an object')
     return value
 
 
-def _doc_map(value: Any, source: str, key: str) -> Dict[str, str]:
+def _doc_map(value: Any, source: str, key: str) -> dict[str, str]:
     result = {}
     for name, doc in _object(value, source, key).items():
         if not name or not isinstance(doc, str):
-            raise VocabularyError(f"{source}: {key}[{name!r}] must map a name to a description string")
+            raise VocabularyError(
+                f"{source}: {key}[{name!r}] must map a name to a description string"
+            )
         result[name] = doc
     return result

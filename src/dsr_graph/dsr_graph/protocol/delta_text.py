@@ -3,16 +3,16 @@
 from __future__ import annotations
 
 import json
-from typing import Any, Dict
+from typing import Any
 
 
-def _attrs(attrs: Dict[str, Any]) -> str:
+def _attrs(attrs: dict[str, Any]) -> str:
     if not attrs:
         return ""
     return " {" + ", ".join(f"{k}={json.dumps(v)}" for k, v in attrs.items()) + "}"
 
 
-def op_text(op: Dict[str, Any]) -> str:
+def op_text(op: dict[str, Any]) -> str:
     kind = op["op"]
     if kind == "insert_node":
         return f"+node {op['name']}:{op['type']}{_attrs(op.get('attrs', {}))}"
@@ -37,7 +37,7 @@ def op_text(op: Dict[str, Any]) -> str:
     return json.dumps(op)
 
 
-def delta_text(delta: Dict[str, Any]) -> str:
+def delta_text(delta: dict[str, Any]) -> str:
     parts = [op_text(op) for op in delta.get("ops", [])]
     claims = delta.get("claims", {})
     for c in claims.get("granted", []):

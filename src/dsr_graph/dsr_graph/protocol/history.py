@@ -5,34 +5,33 @@ from __future__ import annotations
 
 import bisect
 import json
-from typing import Any, Dict, List, Optional
+from typing import Any
 
+from dsr_graph.exceptions import SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
-from dsr_graph.exceptions import SeqUnavailable
 
 CHECKPOINT_EVERY = 500  # deltas between stored snapshots: bounds the replay when scrubbing
 MAX_DELTAS = 200_000  # the oldest history is forgotten beyond this
 
 
-
 class History:
     def __init__(self, vocabulary=None):
         self.vocabulary = vocabulary
-        self.graph: Optional[Graph] = None  # the graph now
+        self.graph: Graph | None = None  # the graph now
         self.seq = 0
-        self._checkpoints: List[int] = []  # seqs, ascending
-        self._snapshots: Dict[int, str] = {}  # seq -> snapshot JSON text
-        self.deltas: List[Dict[str, Any]] = []  # consecutive runs after checkpoints
-        self._seqs: List[int] = []  # the deltas' seqs, for bisecting without rebuilding a list
+        self._checkpoints: list[int] = []  # seqs, ascending
+        self._snapshots: dict[int, str] = {}  # seq -> snapshot JSON text
+        self.deltas: list[dict[str, Any]] = []  # consecutive runs after checkpoints
+        self._seqs: list[int] = []  # the deltas' seqs, for bisecting without rebuilding a list
 
-    def reset(self, snapshot: Dict[str, Any]) -> None:
+    def reset(self, snapshot: dict[str, Any]) -> None:
         """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint."""
         self.graph, self.seq = dsr_json.snapshot_from_json(snapshot, self.vocabulary, trusted=True)
         self._checkpoint(json.dumps(snapshot))
 
-    def add(self, delta: Dict[str, Any]) -> None:
+    def add(self, delta: dict[str, Any]) -> None:
         if self.graph is None or delta["seq"] != self.seq + 1:
             raise SeqUnavailable(f"delta {delta.get('seq')} does not follow seq {self.seq}")
         apply_ops(self.graph, delta["ops"])
@@ -54,7 +53,9 @@ class History:
         if seq == self.seq:
             return self.graph
         base = self._checkpoints[bisect.bisect_right(self._checkpoints, seq) - 1]
-        graph, _ = dsr_json.snapshot_from_json(json.loads(self._snapshots[base]), self.vocabulary, trusted=True)
+        graph, _ = dsr_json.snapshot_from_json(
+            json.loads(self._snapshots[base]), self.vocabulary, trusted=True
+        )
         start = bisect.bisect_right(self._seqs, base)
         for delta in self.deltas[start:]:
             if delta["seq"] > seq:
@@ -67,9 +68,9 @@ class History:
             raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
         return graph
 
-    def since(self, seq: int, limit: int = 1000) -> List[Dict[str, Any]]:
+    def since(self, seq: int, limit: int = 1000) -> list[dict[str, Any]]:
         start = bisect.bisect_right(self._seqs, seq)
-        return self.deltas[start:start + limit]
+        return self.deltas[start : start + limit]
 
     def _checkpoint(self, text: str) -> None:
         if not self._checkpoints or self.seq > self._checkpoints[-1]:

@@ -58,8 +58,9 @@ class LocalBus:
     def submit(self, sender: LocalAgent, doc: dict[str, Any]) -> None:
         result = self.core.submit(json.dumps(doc), now=self.now)
         if isinstance(result, Rejection):
-            verdict = Result(result.id, False, reason=result.violation.to_json(),
-                             error=str(result.violation))
+            verdict = Result(
+                result.id, False, reason=result.violation.to_json(), error=str(result.violation)
+            )
             self.soon(lambda: sender.rejected(verdict))
             return
         wire = json.dumps(result)
@@ -74,7 +75,9 @@ class LocalBus:
     def after(self, seconds: float, callback: Callable[[], None]) -> LocalTimer:
         """Run ``callback`` when the virtual clock has advanced ``seconds``."""
         timer = LocalTimer()
-        heapq.heappush(self._timers, (self.now + max(seconds, 0.0), next(self._order), timer, callback))
+        heapq.heappush(
+            self._timers, (self.now + max(seconds, 0.0), next(self._order), timer, callback)
+        )
         return timer
 
     def deliver(self) -> int:

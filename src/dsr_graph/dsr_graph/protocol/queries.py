@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Dict, Optional
+from typing import Any
 
 from dsr_graph.model import rigid
 from dsr_graph.model.graph import Edge, Graph
@@ -19,14 +19,18 @@ class AttributeAnswer:
     error: str = ""
 
 
-def read_attribute(graph: Graph, node: str, attribute: str, edge_to: str = "", edge_type: str = "") -> AttributeAnswer:
+def read_attribute(
+    graph: Graph, node: str, attribute: str, edge_to: str = "", edge_type: str = ""
+) -> AttributeAnswer:
     """The attribute of node ``node``, or of its edge to ``edge_to`` of type ``edge_type``.
     On an RT edge the pseudo-attribute ``rt`` is the 4x4 transform."""
     source = graph.find(node)
     if source is None:
         return AttributeAnswer(False, error=f"no node {node!r}")
     if bool(edge_to) != bool(edge_type):
-        return AttributeAnswer(False, error="give both edge_to and edge_type to read an edge attribute, or neither")
+        return AttributeAnswer(
+            False, error="give both edge_to and edge_type to read an edge attribute, or neither"
+        )
     holder: Any = source
     label = f"node {node!r}"
     if edge_to:
@@ -39,24 +43,41 @@ def read_attribute(graph: Graph, node: str, attribute: str, edge_to: str = "", e
         if edge_type == RT and attribute == "rt":
             return AttributeAnswer(True, holder.rt.tolist(), "float_matrix", holder.version)
     if attribute not in holder.attrs:
-        return AttributeAnswer(False, version=holder.version, error=f"{label} has no attribute {attribute!r}")
-    return AttributeAnswer(True, holder.attrs[attribute], graph.vocabulary.attribute_type(attribute) or "",
-                           holder.version)
+        return AttributeAnswer(
+            False, version=holder.version, error=f"{label} has no attribute {attribute!r}"
+        )
+    return AttributeAnswer(
+        True,
+        holder.attrs[attribute],
+        graph.vocabulary.attribute_type(attribute) or "",
+        holder.version,
+    )
 
 
-def edge_json(graph: Graph, edge: Edge) -> Dict[str, Any]:
-    doc: Dict[str, Any] = {"from": graph.node(edge.src).name, "to": graph.node(edge.dst).name,
-                           "type": edge.type, "attrs": edge.attrs, "version": edge.version}
+def edge_json(graph: Graph, edge: Edge) -> dict[str, Any]:
+    doc: dict[str, Any] = {
+        "from": graph.node(edge.src).name,
+        "to": graph.node(edge.dst).name,
+        "type": edge.type,
+        "attrs": edge.attrs,
+        "version": edge.version,
+    }
     if edge.rt is not None:
         doc["rt"] = rigid.to_json(edge.rt)
     return doc
 
 
-def node_json(graph: Graph, name: str) -> Optional[Dict[str, Any]]:
+def node_json(graph: Graph, name: str) -> dict[str, Any] | None:
     node = graph.find(name)
     if node is None:
         return None
     key = lambda e: (e.src, e.dst, e.type)  # noqa: E731 - a stable order for readers and tests
-    return {"id": node.id, "name": node.name, "type": node.type, "attrs": node.attrs, "version": node.version,
-            "out": [edge_json(graph, e) for e in sorted(graph.out_edges(node.id), key=key)],
-            "in": [edge_json(graph, e) for e in sorted(graph.in_edges(node.id), key=key)]}
+    return {
+        "id": node.id,
+        "name": node.name,
+        "type": node.type,
+        "attrs": node.attrs,
+        "version": node.version,
+        "out": [edge_json(graph, e) for e in sorted(graph.out_edges(node.id), key=key)],
+        "in": [edge_json(graph, e) for e in sorted(graph.in_edges(node.id), key=key)],
+    }

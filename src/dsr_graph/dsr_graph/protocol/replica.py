@@ -8,11 +8,11 @@ snapshot are applied. Duplicates (seq already applied) are ignored. Before the f
 
 from __future__ import annotations
 
-from typing import Any, Dict, List, Optional
+from typing import Any
 
+from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.claims import ClaimTable
-from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
 from dsr_graph.model.vocabulary import Vocabulary
@@ -21,14 +21,14 @@ MAX_PENDING = 100_000  # deltas kept aside while waiting for a snapshot
 
 
 class Replica:
-    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+    def __init__(self, vocabulary: Vocabulary | None = None):
         self.vocabulary = vocabulary
         self.graph = Graph(vocabulary)
         self.claims = ClaimTable()
         self.seq = 0
         self.synced = False  # a snapshot has been loaded
         self.server_seq = 0  # highest seq the server is known to have reached
-        self._pending: Dict[int, Dict[str, Any]] = {}
+        self._pending: dict[int, dict[str, Any]] = {}
 
     @property
     def needs_resync(self) -> bool:
@@ -42,7 +42,7 @@ class Replica:
         """A later delta arrived while an earlier one did not: one is missing for sure."""
         return bool(self._pending) and self.synced
 
-    def receive(self, delta: Dict[str, Any]) -> List[Dict[str, Any]]:
+    def receive(self, delta: dict[str, Any]) -> list[dict[str, Any]]:
         """Take a delta off the wire; returns the deltas actually applied now, in order."""
         seq = delta["seq"]
         self.server_seq = max(self.server_seq, seq)
@@ -57,7 +57,7 @@ class Replica:
         """The server says it has reached ``seq`` (heartbeat): a silent gap becomes visible."""
         self.server_seq = max(self.server_seq, seq)
 
-    def load_snapshot(self, doc: Dict[str, Any]) -> List[Dict[str, Any]]:
+    def load_snapshot(self, doc: dict[str, Any]) -> list[dict[str, Any]]:
         """Replace the state with a snapshot, then apply the kept deltas newer than it."""
         graph, seq = dsr_json.snapshot_from_json(doc, self.vocabulary, trusted=True)
         self.graph = graph
@@ -69,7 +69,7 @@ class Replica:
             del self._pending[old]
         return self._drain()
 
-    def _drain(self) -> List[Dict[str, Any]]:
+    def _drain(self) -> list[dict[str, Any]]:
         applied = []
         while self.seq + 1 in self._pending:
             delta = self._pending.pop(self.seq + 1)

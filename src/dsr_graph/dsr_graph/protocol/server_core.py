@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Dict, Iterable, List, Optional
+from typing import Any
 
+from dsr_graph.exceptions import TransactionRejected, Violation
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
-from dsr_graph.exceptions import TransactionRejected, Violation
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops, parse_transaction
 
@@ -30,12 +31,12 @@ class Result:
 
     id: str
     accepted: bool
-    delta: Optional[Dict[str, Any]] = None
-    reason: Optional[Dict[str, Any]] = None
+    delta: dict[str, Any] | None = None
+    reason: dict[str, Any] | None = None
     error: str = ""
 
     @property
-    def seq(self) -> Optional[int]:
+    def seq(self) -> int | None:
         return None if self.delta is None else self.delta["seq"]
 
 
@@ -45,32 +46,49 @@ class Rejection:
     agent: str
     violation: Violation
 
-    def to_json(self) -> Dict[str, Any]:
-        return {"id": self.id, "agent": self.agent, "reason": self.violation.to_json(), "error": str(self.violation)}
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "id": self.id,
+            "agent": self.agent,
+            "reason": self.violation.to_json(),
+            "error": str(self.violation),
+        }
 
 
 class ServerCore:
-    def __init__(self, graph: Graph, seq: int = 0, claims: Optional[ClaimTable] = None,
-                 max_request_bytes: int = DEFAULT_MAX_REQUEST_BYTES):
+    def __init__(
+        self,
+        graph: Graph,
+        seq: int = 0,
+        claims: ClaimTable | None = None,
+        max_request_bytes: int = DEFAULT_MAX_REQUEST_BYTES,
+    ):
         self.graph = graph
         self.seq = seq
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
 
     # ------------------------------------------------------------------ requests
-    def submit(self, text: str, now: Optional[float] = None) -> Any:
+    def submit(self, text: str, now: float | None = None) -> Any:
         """A delta (dict) if the request was accepted, else a ``Rejection``. Never raises for
         bad input: anything a client can send ends in one of the two."""
         now = time.time() if now is None else now
         ident, agent = "", ""
         try:
             if len(text) > self.max_request_bytes:
-                raise TransactionRejected(Violation(
-                    "too-large", "transaction", f"request of {len(text)} bytes exceeds {self.max_request_bytes}"))
+                raise TransactionRejected(
+                    Violation(
+                        "too-large",
+                        "transaction",
+                        f"request of {len(text)} bytes exceeds {self.max_request_bytes}",
+                    )
+                )
             try:
                 doc = json.loads(text)
             except (json.JSONDecodeError, RecursionError) as e:
-                raise TransactionRejected(Violation("malformed", "transaction", f"not JSON: {e}")) from None
+                raise TransactionRejected(
+                    Violation("malformed", "transaction", f"not JSON: {e}")
+                ) from None
             if isinstance(doc, dict):
                 ident = doc["id"] if isinstance(doc.get("id"), str) else ""
                 agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
@@ -78,17 +96,27 @@ class ServerCore:
         except TransactionRejected as e:
             return Rejection(ident, agent, e.violation)
         except RecursionError:
-            return Rejection(ident, agent, Violation("malformed", "transaction", "nested too deeply"))
+            return Rejection(
+                ident, agent, Violation("malformed", "transaction", "nested too deeply")
+            )
 
-    def submit_doc(self, doc: Any, now: float) -> Dict[str, Any]:
+    def submit_doc(self, doc: Any, now: float) -> dict[str, Any]:
         tx = parse_transaction(doc)
         claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
         for key in claim_keys:
-            for name in ([key[1]] if key[0] == "node" else [key[1], key[2]]):
+            for name in [key[1]] if key[0] == "node" else [key[1], key[2]]:
                 if name not in self.graph:
-                    raise TransactionRejected(Violation("node-missing", f"claim on {name!r}",
-                                                        f"node {name!r} does not exist", "claim"))
-        release_keys = None if tx.release == "all" else [target_key(t, "release") for t in tx.release]
+                    raise TransactionRejected(
+                        Violation(
+                            "node-missing",
+                            f"claim on {name!r}",
+                            f"node {name!r} does not exist",
+                            "claim",
+                        )
+                    )
+        release_keys = (
+            None if tx.release == "all" else [target_key(t, "release") for t in tx.release]
+        )
 
         written = [key for op in tx.ops for key in touched(self.graph, op)]
         preempted = self.claims.check(tx.agent, tx.priority, written, "ops")
@@ -99,9 +127,16 @@ class ServerCore:
         changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
         return self._commit(tx.agent, tx.id, canonical, changes, now)
 
-    def _claim_changes(self, tx, claim_keys, release_keys, preempted: List[Claim],
-                       canonical: List[Dict[str, Any]], now: float) -> Dict[str, List[Dict[str, Any]]]:
-        ended: Dict[tuple, Dict[str, Any]] = {}
+    def _claim_changes(
+        self,
+        tx,
+        claim_keys,
+        release_keys,
+        preempted: list[Claim],
+        canonical: list[dict[str, Any]],
+        now: float,
+    ) -> dict[str, list[dict[str, Any]]]:
+        ended: dict[tuple, dict[str, Any]] = {}
         for claim in preempted:
             ended[claim.key] = released(claim, "preempted", by=tx.agent)
         mine = self.claims.held_by(tx.agent) if tx.agent else []
@@ -113,45 +148,58 @@ class ServerCore:
             ended.setdefault(claim.key, released(claim, "node-deleted", by=tx.agent))
         expires = None if tx.lease is None else now + tx.lease
         granted = [Claim(key, tx.agent, tx.priority, expires).to_json() for key in claim_keys]
-        changes: Dict[str, List[Dict[str, Any]]] = {}
+        changes: dict[str, list[dict[str, Any]]] = {}
         if ended:
             changes["released"] = list(ended.values())
         if granted:
             changes["granted"] = granted
         return changes
 
-    def _commit(self, agent: str, ident: str, ops: List[Dict[str, Any]],
-                changes: Dict[str, Any], now: float) -> Dict[str, Any]:
+    def _commit(
+        self, agent: str, ident: str, ops: list[dict[str, Any]], changes: dict[str, Any], now: float
+    ) -> dict[str, Any]:
         self.claims.apply_changes(changes)
         self.seq += 1
-        delta: Dict[str, Any] = {"seq": self.seq, "stamp": now, "agent": agent, "id": ident, "ops": ops}
+        delta: dict[str, Any] = {
+            "seq": self.seq,
+            "stamp": now,
+            "agent": agent,
+            "id": ident,
+            "ops": ops,
+        }
         if changes:
             delta["claims"] = changes
         return delta
 
     # ------------------------------------------------------------------ housekeeping
-    def end_claims(self, claims: Iterable[Claim], reason: str, now: Optional[float] = None) -> Optional[Dict[str, Any]]:
+    def end_claims(
+        self, claims: Iterable[Claim], reason: str, now: float | None = None
+    ) -> dict[str, Any] | None:
         """A server delta ending these claims (lease expired, holder gone), or None."""
         records = [released(c, reason) for c in claims]
         if not records:
             return None
-        return self._commit(SERVER_AGENT, "", [], {"released": records}, time.time() if now is None else now)
+        return self._commit(
+            SERVER_AGENT, "", [], {"released": records}, time.time() if now is None else now
+        )
 
     # ------------------------------------------------------------------ replay and snapshots
-    def replay(self, delta: Dict[str, Any]) -> None:
+    def replay(self, delta: dict[str, Any]) -> None:
         """Re-apply a journaled delta after a restart (it was valid when accepted)."""
         if delta.get("seq") != self.seq + 1:
-            raise ValueError(f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}")
+            raise ValueError(
+                f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}"
+            )
         apply_ops(self.graph, delta["ops"])
         self.claims.apply_changes(delta.get("claims", {}))
         self.seq = delta["seq"]
 
-    def snapshot(self) -> Dict[str, Any]:
+    def snapshot(self) -> dict[str, Any]:
         doc = dsr_json.to_json(self.graph, "snapshot", seq=self.seq)
         doc["claims"] = self.claims.to_json()
         return doc
 
     @classmethod
-    def from_snapshot(cls, doc: Dict[str, Any], vocabulary=None, **kwargs: Any) -> "ServerCore":
+    def from_snapshot(cls, doc: dict[str, Any], vocabulary=None, **kwargs: Any) -> ServerCore:
         graph, seq = dsr_json.snapshot_from_json(doc, vocabulary)
         return cls(graph, seq, ClaimTable.from_json(doc.get("claims", [])), **kwargs)

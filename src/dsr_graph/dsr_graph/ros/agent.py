@@ -18,40 +18,46 @@ from __future__ import annotations
 import json
 import time
 import uuid
-from typing import Any, Callable, Dict, List, Optional
+from collections.abc import Callable
+from typing import Any
 
 import orjson
-from dsr_msgs.srv import GetSnapshot
 from std_msgs.msg import String
 
-from dsr_graph.protocol import topic_names
 from dsr_graph.exceptions import TimedOutError
-from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.model.vocabulary import Vocabulary
+from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Result
-from dsr_graph.model.vocabulary import Vocabulary
+from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_msgs.srv import GetSnapshot
 
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 
 
-Listener = Callable[[List[Dict[str, Any]], bool], None]  # (applied deltas, resynced from a snapshot)
+Listener = Callable[
+    [list[dict[str, Any]], bool], None
+]  # (applied deltas, resynced from a snapshot)
 
 
 class DsrAgent:
-    def __init__(self, vocabulary: Optional[Vocabulary] = None):
+    def __init__(self, vocabulary: Vocabulary | None = None):
         self.replica = Replica(vocabulary)
         self.node = None
         self.name = ""
-        self._listeners: List[Listener] = []
-        self._pending: Dict[str, Optional[Callable[[Result], None]]] = {}
-        self._outbox: List[str] = []
+        self._listeners: list[Listener] = []
+        self._pending: dict[str, Callable[[Result], None] | None] = {}
+        self._outbox: list[str] = []
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
         self._snapshot_future = None
         self._snapshot_asked = 0.0
-        self._gap_since: Optional[float] = None
-        self._progress = (0, 0.0)  # (seq, when it was reached): a replica still advancing is behind, not broken
+        self._gap_since: float | None = None
+        self._progress = (
+            0,
+            0.0,
+        )  # (seq, when it was reached): a replica still advancing is behind, not broken
         self.resyncs = 0
 
     # ------------------------------------------------------------------ set-up
@@ -59,13 +65,17 @@ class DsrAgent:
         self.node = node
         self.name = node.get_fully_qualified_name()
         self._tx_pub = node.create_publisher(String, topic_names.TRANSACTIONS, qos_stream())
-        self._delta_sub = node.create_subscription(String, topic_names.DELTAS, self._on_delta, qos_stream())
+        self._delta_sub = node.create_subscription(
+            String, topic_names.DELTAS, self._on_delta, qos_stream()
+        )
         node.create_subscription(String, topic_names.REJECTIONS, self._on_rejection, qos_stream())
         node.create_subscription(String, topic_names.HEARTBEAT, self._on_heartbeat, qos_latched())
         self._snapshot_client = node.create_client(GetSnapshot, topic_names.GET_SNAPSHOT)
         if not self._snapshot_client.wait_for_service(timeout_sec=timeout_sec):
-            raise TimedOutError(f"no DSR server answered on {topic_names.GET_SNAPSHOT} within {timeout_sec} s "
-                                "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+            raise TimedOutError(
+                f"no DSR server answered on {topic_names.GET_SNAPSHOT} within {timeout_sec} s "
+                "(is dsr_server running with the same ROS_DOMAIN_ID?)"
+            )
         node.create_timer(0.05, self._tick)
         self._request_snapshot()
 
@@ -85,15 +95,18 @@ class DsrAgent:
     def ready(self) -> bool:
         """Synced with the server, and both directions matched: requests reach the server and
         its deltas reach us (before that, a delta would only be recovered by a resync)."""
-        return (self.replica.synced and self._tx_pub.get_subscription_count() > 0
-                and self._delta_sub.get_publisher_count() > 0)
+        return (
+            self.replica.synced
+            and self._tx_pub.get_subscription_count() > 0
+            and self._delta_sub.get_publisher_count() > 0
+        )
 
     # ------------------------------------------------------------------ sending
     def next_id(self) -> str:
         self._count += 1
         return f"{self.name}:{self._run}:{self._count}"
 
-    def send(self, doc: Dict[str, Any], on_done: Optional[Callable[[Result], None]] = None) -> str:
+    def send(self, doc: dict[str, Any], on_done: Callable[[Result], None] | None = None) -> str:
         """Queue a transaction (agent and id are filled in); ``on_done`` gets its ``Result``."""
         doc = dict(doc)
         doc.setdefault("agent", self.name)
@@ -120,7 +133,7 @@ class DsrAgent:
             return
         self._deliver(applied, resynced=False)
 
-    def _deliver(self, applied: List[Dict[str, Any]], resynced: bool) -> None:
+    def _deliver(self, applied: list[dict[str, Any]], resynced: bool) -> None:
         if applied or resynced:
             for listener in list(self._listeners):
                 listener(applied, resynced)
@@ -167,7 +180,9 @@ class DsrAgent:
             # lost (e.g. sent to a server that was being restarted): withdraw it and ask again
             self._snapshot_client.remove_pending_request(self._snapshot_future)
             self._snapshot_future = None
-        if (not self.replica.synced or now - self._gap_since >= GAP_PATIENCE) and self._snapshot_future is None:
+        if (
+            not self.replica.synced or now - self._gap_since >= GAP_PATIENCE
+        ) and self._snapshot_future is None:
             self._request_snapshot()
 
     def _request_snapshot(self) -> None:

@@ -59,5 +59,7 @@ def main_for(node_class: Callable[[], DsrNode]) -> Callable[[list[str] | None], 
     def main(args: list[str] | None = None) -> int:
         return run_node(node_class, args)
 
-    main.__doc__ = f"Run {getattr(node_class, '__name__', 'the node')} until shut down; the exit code."
+    main.__doc__ = (
+        f"Run {getattr(node_class, '__name__', 'the node')} until shut down; the exit code."
+    )
     return main

@@ -14,8 +14,9 @@ from std_msgs.msg import String
 MAX_QUOTED = 200  # characters of a bad message quoted in the warning
 
 
-def subscribe_json(node: Node, topic: str, callback: Callable[[dict[str, Any]], None],
-                   qos: QoSProfile):
+def subscribe_json(
+    node: Node, topic: str, callback: Callable[[dict[str, Any]], None], qos: QoSProfile
+):
     """Subscribe ``callback(doc)`` to a topic of JSON objects. A message that is not a JSON
     object, or that the callback cannot read (a missing field, a wrong type: ``KeyError``,
     ``TypeError``, ``ValueError``), is refused with a warning."""
@@ -29,7 +30,8 @@ def subscribe_json(node: Node, topic: str, callback: Callable[[dict[str, Any]], 
         except (ValueError, KeyError, TypeError) as e:
             reason = f"missing field {e}" if isinstance(e, KeyError) else str(e)
             node.get_logger().warning(
-                f"ignored a message on {topic}: {reason}: {msg.data[:MAX_QUOTED]!r}")
+                f"ignored a message on {topic}: {reason}: {msg.data[:MAX_QUOTED]!r}"
+            )
 
     return node.create_subscription(String, topic, on_message, qos)
 

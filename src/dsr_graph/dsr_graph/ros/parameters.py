@@ -9,8 +9,16 @@ from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescri
 from rclpy.node import Node
 
 
-def declare(node: Node, name: str, default: Any, description: str, *, read_only: bool = False,
-            minimum: float | None = None, maximum: float | None = None) -> None:
+def declare(
+    node: Node,
+    name: str,
+    default: Any,
+    description: str,
+    *,
+    read_only: bool = False,
+    minimum: float | None = None,
+    maximum: float | None = None,
+) -> None:
     """Declare ``name``. A float parameter also takes an integer on the command line
     (``-p time_scale:=1``); ``minimum``/``maximum`` bound numbers (rclpy refuses values outside)."""
     descriptor = ParameterDescriptor(description=description, read_only=read_only)
@@ -18,13 +26,21 @@ def declare(node: Node, name: str, default: Any, description: str, *, read_only:
     if isinstance(default, float):
         descriptor.dynamic_typing = True
         if bounded:
-            descriptor.floating_point_range = [FloatingPointRange(
-                from_value=float("-inf") if minimum is None else float(minimum),
-                to_value=float("inf") if maximum is None else float(maximum), step=0.0)]
+            descriptor.floating_point_range = [
+                FloatingPointRange(
+                    from_value=float("-inf") if minimum is None else float(minimum),
+                    to_value=float("inf") if maximum is None else float(maximum),
+                    step=0.0,
+                )
+            ]
     elif isinstance(default, int) and not isinstance(default, bool) and bounded:
-        descriptor.integer_range = [IntegerRange(
-            from_value=-(2**63) if minimum is None else int(minimum),
-            to_value=2**63 - 1 if maximum is None else int(maximum), step=1)]
+        descriptor.integer_range = [
+            IntegerRange(
+                from_value=-(2**63) if minimum is None else int(minimum),
+                to_value=2**63 - 1 if maximum is None else int(maximum),
+                step=1,
+            )
+        ]
     node.declare_parameter(name, default, descriptor)
 
 

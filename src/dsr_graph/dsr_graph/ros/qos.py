@@ -9,11 +9,19 @@ STREAM_DEPTH = 10000
 
 def qos_stream() -> QoSProfile:
     """Ordered change streams (requests, deltas, rejections): reliable, deep, volatile."""
-    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=STREAM_DEPTH,
-                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.VOLATILE)
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=STREAM_DEPTH,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.VOLATILE,
+    )
 
 
 def qos_latched() -> QoSProfile:
     """State (poses, heartbeat): the last value reaches late joiners."""
-    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1,
-                      reliability=ReliabilityPolicy.RELIABLE, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=1,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL,
+    )

@@ -23,8 +23,14 @@ class RuleAgentNode(DsrNode):
         super().__init__("dsr_rule_agent")
         declare(self, "grammar_file", "", "YAML/JSON list of rules", read_only=True)
         declare(self, "process_time", 0.2, "seconds the wait process takes", minimum=0.0)
-        declare(self, "setup_timeout", 10.0, "seconds to wait for the server", read_only=True,
-                minimum=0.0)
+        declare(
+            self,
+            "setup_timeout",
+            10.0,
+            "seconds to wait for the server",
+            read_only=True,
+            minimum=0.0,
+        )
         self.agent = DsrAgent()
         self.runner: RuleRunner | None = None
 
@@ -38,8 +44,11 @@ class RuleAgentNode(DsrNode):
 
     def wait(self, ctx: ActionContext) -> None:
         """Finish after process_time seconds (a stand-in for any action that takes time)."""
-        OneShot(self, float_param(self, "process_time"),
-                lambda: ctx.finish("preempted" if ctx.preempted else "done"))
+        OneShot(
+            self,
+            float_param(self, "process_time"),
+            lambda: ctx.finish("preempted" if ctx.preempted else "done"),
+        )
 
 
 main = main_for(RuleAgentNode)

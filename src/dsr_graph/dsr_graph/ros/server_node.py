@@ -28,10 +28,9 @@ from __future__ import annotations
 
 import json
 import time
-from typing import Any, Dict, List, Optional
+from typing import Any
 
 import orjson
-from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
@@ -46,6 +45,7 @@ from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection,
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
 MAX_BATCH = 256  # requests made durable by one fdatasync
 
@@ -53,42 +53,94 @@ MAX_BATCH = 256  # requests made durable by one fdatasync
 class DsrServer(DsrNode):
     def __init__(self, node_name: str = "dsr_server", **kwargs: Any):
         super().__init__(node_name, **kwargs)
-        declare(self, "world_file", "", "world file (ours or CORTEX) loaded when state_dir holds no state",
-                read_only=True)
-        declare(self, "vocabulary_file", "", "vocabulary file; empty for the built-in default", read_only=True)
-        declare(self, "state_dir", state_path("dsr", node_name), "directory where the graph persists",
-                read_only=True)
-        declare(self, "compact_every", 1000, "journaled deltas between snapshots", read_only=True, minimum=1)
-        declare(self, "max_request_bytes", DEFAULT_MAX_REQUEST_BYTES, "larger requests are rejected",
-                read_only=True, minimum=1024)
-        declare(self, "publish_poses", True, "publish geometry_msgs/PoseStamped per geometric node",
-                read_only=True)
-        declare(self, "heartbeat_period", 1.0, "seconds between heartbeats and claim housekeeping",
-                read_only=True, minimum=0.01)
-        declare(self, "agent_grace", 3.0, "seconds a claim holder may be absent before its claims are freed",
-                minimum=0.0)
-        self.core: Optional[ServerCore] = None
-        self.store: Optional[StateStore] = None
-        self._pose_pubs: Dict[str, Any] = {}
+        declare(
+            self,
+            "world_file",
+            "",
+            "world file (ours or CORTEX) loaded when state_dir holds no state",
+            read_only=True,
+        )
+        declare(
+            self,
+            "vocabulary_file",
+            "",
+            "vocabulary file; empty for the built-in default",
+            read_only=True,
+        )
+        declare(
+            self,
+            "state_dir",
+            state_path("dsr", node_name),
+            "directory where the graph persists",
+            read_only=True,
+        )
+        declare(
+            self,
+            "compact_every",
+            1000,
+            "journaled deltas between snapshots",
+            read_only=True,
+            minimum=1,
+        )
+        declare(
+            self,
+            "max_request_bytes",
+            DEFAULT_MAX_REQUEST_BYTES,
+            "larger requests are rejected",
+            read_only=True,
+            minimum=1024,
+        )
+        declare(
+            self,
+            "publish_poses",
+            True,
+            "publish geometry_msgs/PoseStamped per geometric node",
+            read_only=True,
+        )
+        declare(
+            self,
+            "heartbeat_period",
+            1.0,
+            "seconds between heartbeats and claim housekeeping",
+            read_only=True,
+            minimum=0.01,
+        )
+        declare(
+            self,
+            "agent_grace",
+            3.0,
+            "seconds a claim holder may be absent before its claims are freed",
+            minimum=0.0,
+        )
+        self.core: ServerCore | None = None
+        self.store: StateStore | None = None
+        self._pose_pubs: dict[str, Any] = {}
         self._snapshot_cache = (-1, "")
-        self._missing_since: Dict[str, float] = {}
+        self._missing_since: dict[str, float] = {}
 
     # ------------------------------------------------------------------ start
     def setup(self) -> None:
         """Load the state (or the world), then open the topics and services."""
         vocabulary = Vocabulary.load(param(self, "vocabulary_file"))
-        self.store = StateStore(param(self, "state_dir"), compact_every=param(self, "compact_every"))
+        self.store = StateStore(
+            param(self, "state_dir"), compact_every=param(self, "compact_every")
+        )
         self.store.open()
         snapshot = self.store.load_snapshot()
         world_file = param(self, "world_file")
         if snapshot is not None:
-            self.core = ServerCore.from_snapshot(snapshot, vocabulary, max_request_bytes=param(self, "max_request_bytes"))
+            self.core = ServerCore.from_snapshot(
+                snapshot, vocabulary, max_request_bytes=param(self, "max_request_bytes")
+            )
             replayed = self.store.replay_journal(self.core.seq, self.core.replay)
             for warning in self.store.warnings:
                 self.get_logger().warning(warning)
             self.get_logger().info(
-                f"restored {self.store.dir}: seq {self.core.seq} ({replayed} journaled after the snapshot), "
-                f"{len(self.core.graph)} nodes" + (f"; world_file {world_file} not loaded (state exists)" if world_file else ""))
+                f"restored {self.store.dir}: seq {self.core.seq} "
+                f"({replayed} journaled after the snapshot), "
+                f"{len(self.core.graph)} nodes"
+                + (f"; world_file {world_file} not loaded (state exists)" if world_file else "")
+            )
         else:
             graph = Graph(vocabulary)
             if world_file:
@@ -98,13 +150,17 @@ class DsrServer(DsrNode):
                 graph = world.graph
             self.core = ServerCore(graph, 0, max_request_bytes=param(self, "max_request_bytes"))
             self.store.write_snapshot(self.core.snapshot())
-            self.get_logger().info(f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
-                                   f"{len(graph)} nodes, {graph.edge_count()} edges")
+            self.get_logger().info(
+                f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
+                f"{len(graph)} nodes, {graph.edge_count()} edges"
+            )
 
         self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
-        self._requests = self.create_subscription(String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream())
+        self._requests = self.create_subscription(
+            String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream()
+        )
         self._publish_poses = bool(param(self, "publish_poses"))
         self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
         self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
@@ -140,13 +196,15 @@ class DsrServer(DsrNode):
                 continue
             if isinstance(result, Rejection):
                 self._rejections.publish(String(data=json.dumps(result.to_json())))
-                self.get_logger().debug(f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}")
+                self.get_logger().debug(
+                    f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}"
+                )
             else:
                 accepted.append(result)
         if accepted:
             self._accept(accepted)
 
-    def _accept(self, deltas: List[Dict[str, Any]]) -> None:
+    def _accept(self, deltas: list[dict[str, Any]]) -> None:
         """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
         is on disk is consistent, an accepted change that is not on disk would not be."""
         try:
@@ -154,7 +212,9 @@ class DsrServer(DsrNode):
                 self.store.append(delta)
             self.store.flush()
         except OSError as e:
-            self.get_logger().fatal(f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)")
+            self.get_logger().fatal(
+                f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)"
+            )
             raise SystemExit(3) from e
         for delta in deltas:
             self._deltas.publish(String(data=json.dumps(delta, separators=(",", ":"))))
@@ -179,7 +239,9 @@ class DsrServer(DsrNode):
         msg = PoseStamped()
         msg.header.stamp = self.get_clock().now().to_msg()
         msg.header.frame_id = parent.name
-        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (float(v) for v in matrix[:3, 3])
+        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (
+            float(v) for v in matrix[:3, 3]
+        )
         w, x, y, z = rigid.quaternion_wxyz(matrix)
         msg.pose.orientation.w, msg.pose.orientation.x = w, x
         msg.pose.orientation.y, msg.pose.orientation.z = y, z
@@ -194,12 +256,16 @@ class DsrServer(DsrNode):
             ended.append(self.core.end_claims(expired, "expired", now))
         gone = self._gone_holders(now)
         if gone:
-            ended.append(self.core.end_claims([c for c in self.core.claims.all() if c.agent in gone], "agent-gone", now))
+            ended.append(
+                self.core.end_claims(
+                    [c for c in self.core.claims.all() if c.agent in gone], "agent-gone", now
+                )
+            )
         if ended:
             self._accept([d for d in ended if d is not None])
         self._heartbeat.publish(String(data=json.dumps({"seq": self.core.seq, "stamp": now})))
 
-    def _gone_holders(self, now: float) -> List[str]:
+    def _gone_holders(self, now: float) -> list[str]:
         holders = {c.agent for c in self.core.claims.all()}
         if not holders:
             self._missing_since.clear()
@@ -210,15 +276,18 @@ class DsrServer(DsrNode):
         for agent in holders:
             if agent in live:
                 self._missing_since.pop(agent, None)
-            elif now - self._missing_since.setdefault(agent, now) >= float_param(self, "agent_grace"):
+            elif now - self._missing_since.setdefault(agent, now) >= float_param(
+                self, "agent_grace"
+            ):
                 gone.append(agent)
                 del self._missing_since[agent]
         return gone
 
     # ------------------------------------------------------------------ services
     def on_get_attribute(self, request: GetAttribute.Request, response: GetAttribute.Response):
-        answer = queries.read_attribute(self.core.graph, request.node, request.attribute,
-                                        request.edge_to, request.edge_type)
+        answer = queries.read_attribute(
+            self.core.graph, request.node, request.attribute, request.edge_to, request.edge_type
+        )
         response.found = answer.found
         response.value_json = json.dumps(answer.value) if answer.found else ""
         response.value_type = answer.value_type
@@ -243,10 +312,13 @@ class DsrServer(DsrNode):
         return response
 
 
-def _moved_nodes(delta: Dict[str, Any]) -> List[str]:
+def _moved_nodes(delta: dict[str, Any]) -> list[str]:
     """Nodes whose pose in their parent's frame this delta changed."""
-    return [op["to"] for op in delta["ops"]
-            if (op["op"] == "insert_edge" and op["type"] == RT) or op["op"] == "set_rt"]
+    return [
+        op["to"]
+        for op in delta["ops"]
+        if (op["op"] == "insert_edge" and op["type"] == RT) or op["op"] == "set_rt"
+    ]
 
 
 main = main_for(DsrServer)

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import os
 import time
-from typing import Any, Callable, Optional
+from collections.abc import Callable
+from typing import Any
 
 import rclpy
 from rclpy.context import Context
@@ -15,14 +16,14 @@ from dsr_graph.exceptions import TimedOutError
 
 
 class RosSession:
-    def __init__(self, name: Optional[str] = None, domain_id: Optional[int] = None):
+    def __init__(self, name: str | None = None, domain_id: int | None = None):
         self.context = Context()
         rclpy.init(context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
 
-    def __enter__(self) -> "RosSession":
+    def __enter__(self) -> RosSession:
         return self
 
     def __exit__(self, *exc: Any) -> None:
@@ -54,11 +55,15 @@ class RosSession:
         while True:
             remaining = deadline - time.monotonic()
             if remaining <= 0 or not client.wait_for_service(timeout_sec=remaining):
-                raise TimedOutError(f"no answer from {client.srv_name} within {timeout_sec} s waiting for {what} "
-                                    "(is dsr_server running with the same ROS_DOMAIN_ID?)")
+                raise TimedOutError(
+                    f"no answer from {client.srv_name} within {timeout_sec} s waiting for {what} "
+                    "(is dsr_server running with the same ROS_DOMAIN_ID?)"
+                )
             future = client.call_async(request)
             try:
-                self.spin_until(future.done, min(attempt_sec, max(0.0, deadline - time.monotonic())), what)
+                self.spin_until(
+                    future.done, min(attempt_sec, max(0.0, deadline - time.monotonic())), what
+                )
                 return future.result()
             except TimedOutError:
                 client.remove_pending_request(future)

@@ -28,8 +28,14 @@ class Viewer(DsrNode):
         super().__init__("dsr_viewer")
         declare(self, "host", "127.0.0.1", "address to serve on", read_only=True)
         declare(self, "port", 8080, "port to serve on", read_only=True, minimum=1, maximum=65535)
-        declare(self, "setup_timeout", 20.0, "seconds to wait for the DSR server", read_only=True,
-                minimum=0.0)
+        declare(
+            self,
+            "setup_timeout",
+            20.0,
+            "seconds to wait for the DSR server",
+            read_only=True,
+            minimum=0.0,
+        )
         self.agent = DsrAgent()
         self.history = History()
         self.events = Broadcaster()
@@ -60,9 +66,12 @@ class Viewer(DsrNode):
             self.events.publish("delta", dict(delta, text=delta_text(delta)))
 
     def run(self) -> int:
-        served = self.bridge.serve(make_app(self.history, self.events), param(self, "host"),
-                                   param(self, "port"),
-                                   on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}"))
+        served = self.bridge.serve(
+            make_app(self.history, self.events),
+            param(self, "host"),
+            param(self, "port"),
+            on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}"),
+        )
         return 0 if served else 1
 
 

@@ -7,19 +7,20 @@ from __future__ import annotations
 
 import asyncio
 import threading
-from typing import Any, Callable, Optional
+from collections.abc import Callable
+from typing import Any
 
 from aiohttp import web
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
 
 class Bridge:
-    def __init__(self, node, executor: Optional[SingleThreadedExecutor] = None):
+    def __init__(self, node, executor: SingleThreadedExecutor | None = None):
         self.node = node
         self.executor = executor or SingleThreadedExecutor(context=node.context)
         self.executor.add_node(node)
-        self.loop: Optional[asyncio.AbstractEventLoop] = None
-        self._stop: Optional[asyncio.Event] = None
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self._stop: asyncio.Event | None = None
         self.failed = False
         self._thread = threading.Thread(target=self._spin, name="rclpy", daemon=True)
 
@@ -40,7 +41,13 @@ class Bridge:
         if self.loop is not None and not self.loop.is_closed():
             self.loop.call_soon_threadsafe(fn, *args)
 
-    def serve(self, app: web.Application, host: str, port: int, on_ready: Optional[Callable[[str], None]] = None) -> bool:
+    def serve(
+        self,
+        app: web.Application,
+        host: str,
+        port: int,
+        on_ready: Callable[[str], None] | None = None,
+    ) -> bool:
         """Spin ROS in the background and serve ``app`` until interrupted (True) or until the ROS
         thread fails (False)."""
 

@@ -5,7 +5,7 @@ Pure; ``runner`` drives it from an agent's changes."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any
 
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match, preconditions
@@ -17,26 +17,34 @@ class Firing:
     rule: Rule
     bindings: Bindings
 
-    def during_tx(self) -> Dict[str, Any]:
-        tx: Dict[str, Any] = {"preconditions": preconditions(self.rule.when, self.bindings),
-                              "ops": substitute(self.rule.during, self.bindings)}
+    def during_tx(self) -> dict[str, Any]:
+        tx: dict[str, Any] = {
+            "preconditions": preconditions(self.rule.when, self.bindings),
+            "ops": substitute(self.rule.during, self.bindings),
+        }
         if self.rule.claim:
             tx["claim"] = substitute(self.rule.claim, self.bindings)
         if self.rule.priority:
             tx["priority"] = self.rule.priority
         return tx
 
-    def after_tx(self, outcome: str, extra: Optional[Bindings] = None) -> Optional[Dict[str, Any]]:
+    def after_tx(self, outcome: str, extra: Bindings | None = None) -> dict[str, Any] | None:
         """The after write for an outcome (None when the rule has none for it). It requires the
         during state to still hold: if something else undid it meanwhile, the after is refused."""
-        bindings = {**self.bindings, **{(k if k.startswith("$") else "$" + k): v for k, v in (extra or {}).items()}}
+        bindings = {
+            **self.bindings,
+            **{(k if k.startswith("$") else "$" + k): v for k, v in (extra or {}).items()},
+        }
         ops = self.rule.after.get(outcome)
         release = substitute(self.rule.claim, self.bindings) if self.rule.claim else []
         if ops is None:
             return {"ops": [], "release": release} if release else None
-        held = [{"check": "edge_exists", "from": o["from"], "to": o["to"], "type": o["type"]}
-                for o in substitute(self.rule.during, self.bindings) if o["op"] == "insert_edge"]
-        tx: Dict[str, Any] = {"preconditions": held, "ops": substitute(ops, bindings)}
+        held = [
+            {"check": "edge_exists", "from": o["from"], "to": o["to"], "type": o["type"]}
+            for o in substitute(self.rule.during, self.bindings)
+            if o["op"] == "insert_edge"
+        ]
+        tx: dict[str, Any] = {"preconditions": held, "ops": substitute(ops, bindings)}
         if release:
             tx["release"] = release
         if self.rule.priority:
@@ -48,12 +56,12 @@ class GrammarEngine:
     """Which rules to fire now: search_for_changes of Algorithm 2, with the bookkeeping that
     keeps a rule from firing twice for the same situation."""
 
-    def __init__(self, rules: List[Rule]):
+    def __init__(self, rules: list[Rule]):
         self.rules = rules
         self._busy: set = set()  # (rule name, key) sent or running
-        self._last: Dict[str, Tuple] = {}  # rule name -> key of the last accepted firing (once_per)
+        self._last: dict[str, tuple] = {}  # rule name -> key of the last accepted firing (once_per)
 
-    def search(self, graph: Graph) -> List[Firing]:
+    def search(self, graph: Graph) -> list[Firing]:
         firings = []
         for rule in self.rules:
             if rule.trigger is not None:
@@ -69,7 +77,7 @@ class GrammarEngine:
                     break  # one firing per once_per rule and change
         return firings
 
-    def signal(self, graph: Graph, event: str, values: Dict[str, Any]) -> List[Firing]:
+    def signal(self, graph: Graph, event: str, values: dict[str, Any]) -> list[Firing]:
         """Percept rules triggered by ``event`` whose pattern holds, with the event's values bound
         (``values`` keys may omit the ``$``). Events are discrete: no once_per bookkeeping."""
         given = {(k if k.startswith("$") else "$" + k): v for k, v in values.items()}

@@ -3,13 +3,14 @@
 
 from __future__ import annotations
 
-from typing import Any, Dict, Iterator, List, Optional
+from collections.abc import Iterator
+from typing import Any
 
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.syntax import WILDCARD, Bindings, Pattern, is_var, substitute
 
 
-def _bind(term: Any, actual: Any, bindings: Bindings) -> Optional[Bindings]:
+def _bind(term: Any, actual: Any, bindings: Bindings) -> Bindings | None:
     """Unify a pattern term with an actual value; the extended bindings or None."""
     if term == WILDCARD:
         return bindings
@@ -20,7 +21,9 @@ def _bind(term: Any, actual: Any, bindings: Bindings) -> Optional[Bindings]:
     return bindings if term == actual else None
 
 
-def _attrs_match(pattern: Dict[str, Any], attrs: Dict[str, Any], bindings: Bindings) -> Optional[Bindings]:
+def _attrs_match(
+    pattern: dict[str, Any], attrs: dict[str, Any], bindings: Bindings
+) -> Bindings | None:
     for name, term in pattern.items():
         if name not in attrs:
             return None
@@ -30,7 +33,7 @@ def _attrs_match(pattern: Dict[str, Any], attrs: Dict[str, Any], bindings: Bindi
     return bindings
 
 
-def _resolve(term: Any, bindings: Bindings) -> Optional[str]:
+def _resolve(term: Any, bindings: Bindings) -> str | None:
     """A node name if the term is a constant or a bound variable, else None."""
     if term == WILDCARD:
         return None
@@ -69,13 +72,17 @@ def _match_one(graph: Graph, p: Pattern, bindings: Bindings) -> Iterator[Binding
             yield b
 
 
-def match(graph: Graph, patterns: List[Pattern], bindings: Optional[Bindings] = None) -> Iterator[Bindings]:
+def match(
+    graph: Graph, patterns: list[Pattern], bindings: Bindings | None = None
+) -> Iterator[Bindings]:
     """Every binding under which all patterns hold (positive patterns first, then negations)."""
     positive = [p for p in patterns if p.kind in ("edge", "node")]
     negative = [p for p in patterns if p.kind in ("no_edge", "no_node")]
 
     def holds(n: Pattern, b: Bindings) -> bool:
-        as_positive = Pattern("edge" if n.kind == "no_edge" else "node", n.src, n.dst, n.type, n.attrs)
+        as_positive = Pattern(
+            "edge" if n.kind == "no_edge" else "node", n.src, n.dst, n.type, n.attrs
+        )
         return any(True for _ in _match_one(graph, as_positive, b))
 
     def walk(i: int, b: Bindings) -> Iterator[Bindings]:
@@ -89,10 +96,10 @@ def match(graph: Graph, patterns: List[Pattern], bindings: Optional[Bindings] = 
     yield from walk(0, dict(bindings or {}))
 
 
-def preconditions(patterns: List[Pattern], bindings: Bindings) -> List[Dict[str, Any]]:
+def preconditions(patterns: list[Pattern], bindings: Bindings) -> list[dict[str, Any]]:
     """The pattern as server-side checks, so the during write is a compare-and-set. Negations
     with a wildcard cannot be stated to the server and are checked locally only."""
-    checks: List[Dict[str, Any]] = []
+    checks: list[dict[str, Any]] = []
     for p in patterns:
         if p.kind == "no_node":
             if p.src != WILDCARD:
@@ -101,14 +108,24 @@ def preconditions(patterns: List[Pattern], bindings: Bindings) -> List[Dict[str,
         if p.kind == "node":
             name = substitute(p.src, bindings)
             checks.append({"check": "node_exists", "node": name})
-            checks += [{"check": "attr_equals", "node": name, "attr": a, "value": substitute(v, bindings)}
-                       for a, v in p.attrs.items() if v != WILDCARD]
+            checks += [
+                {"check": "attr_equals", "node": name, "attr": a, "value": substitute(v, bindings)}
+                for a, v in p.attrs.items()
+                if v != WILDCARD
+            ]
             continue
         if WILDCARD in (p.src, p.dst):
             continue
-        edge = {"from": substitute(p.src, bindings), "to": substitute(p.dst, bindings), "type": p.type}
+        edge = {
+            "from": substitute(p.src, bindings),
+            "to": substitute(p.dst, bindings),
+            "type": p.type,
+        }
         checks.append({"check": "edge_exists" if p.kind == "edge" else "edge_absent", **edge})
         if p.kind == "edge":
-            checks += [{"check": "attr_equals", **edge, "attr": a, "value": substitute(v, bindings)}
-                       for a, v in p.attrs.items() if v != WILDCARD]
+            checks += [
+                {"check": "attr_equals", **edge, "attr": a, "value": substitute(v, bindings)}
+                for a, v in p.attrs.items()
+                if v != WILDCARD
+            ]
     return checks

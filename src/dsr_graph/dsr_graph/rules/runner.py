@@ -18,14 +18,17 @@ ROS, ``dsr_graph.protocol.local_bus`` in one process).
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, List, Optional, Protocol
+from collections.abc import Callable
+from typing import Any, Protocol
 
 from dsr_graph.model.claims import target_key
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.engine import Firing, GrammarEngine
 from dsr_graph.rules.syntax import Rule
 
-Listener = Callable[[List[Dict[str, Any]], bool], None]  # (applied deltas, resynced from a snapshot)
+Listener = Callable[
+    [list[dict[str, Any]], bool], None
+]  # (applied deltas, resynced from a snapshot)
 
 
 class AgentLink(Protocol):
@@ -39,7 +42,7 @@ class AgentLink(Protocol):
     @property
     def synced(self) -> bool: ...
 
-    def send(self, doc: Dict[str, Any], on_done: Optional[Callable[[Any], None]] = None) -> str: ...
+    def send(self, doc: dict[str, Any], on_done: Callable[[Any], None] | None = None) -> str: ...
 
     def add_listener(self, listener: Listener) -> None: ...
 
@@ -48,12 +51,12 @@ Process = Callable[["ActionContext"], Any]
 
 
 class ActionContext:
-    def __init__(self, runner: "RuleRunner", firing: Firing):
+    def __init__(self, runner: RuleRunner, firing: Firing):
         self._runner = runner
         self.firing = firing
         self.done = False
         self.preempted = False
-        self.on_preempted: Optional[Callable[[], None]] = None
+        self.on_preempted: Callable[[], None] | None = None
 
     @property
     def rule(self) -> Rule:
@@ -70,7 +73,7 @@ class ActionContext:
 
 
 class RuleRunner:
-    def __init__(self, agent: AgentLink, rules: List[Rule], processes: Dict[str, Process], logger):
+    def __init__(self, agent: AgentLink, rules: list[Rule], processes: dict[str, Process], logger):
         missing = {r.process for r in rules if r.process and r.process not in processes}
         if missing:
             raise ValueError(f"rules name processes this agent does not have: {sorted(missing)}")
@@ -78,14 +81,14 @@ class RuleRunner:
         self.engine = GrammarEngine(rules)
         self.processes = processes
         self.log = logger
-        self.running: List[ActionContext] = []
+        self.running: list[ActionContext] = []
         self.fired = 0
         self.lost = 0  # during writes refused because another agent was first
 
     def setup(self) -> None:
         self.agent.add_listener(self._on_change)
 
-    def _on_change(self, deltas: List[Dict[str, Any]], resynced: bool) -> None:
+    def _on_change(self, deltas: list[dict[str, Any]], resynced: bool) -> None:
         for delta in deltas:
             self._note_preemptions(delta)
         self.step()
@@ -135,7 +138,7 @@ class RuleRunner:
         elif isinstance(returned, dict):
             ctx.finish("done", **returned)
 
-    def _finish(self, ctx: ActionContext, outcome: str, extra: Dict[str, Any]) -> None:
+    def _finish(self, ctx: ActionContext, outcome: str, extra: dict[str, Any]) -> None:
         firing = ctx.firing
         if ctx in self.running:
             self.running.remove(ctx)
@@ -152,7 +155,7 @@ class RuleRunner:
         else:
             self.agent.send(tx, done)
 
-    def _note_preemptions(self, delta: Dict[str, Any]) -> None:
+    def _note_preemptions(self, delta: dict[str, Any]) -> None:
         for item in delta.get("claims", {}).get("released", []):
             if item.get("agent") != self.agent.name or item.get("reason") != "preempted":
                 continue

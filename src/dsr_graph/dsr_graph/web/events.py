@@ -6,7 +6,7 @@ from __future__ import annotations
 import asyncio
 import json
 from collections.abc import Callable
-from typing import Any, Optional, Set
+from typing import Any
 
 from aiohttp import web
 
@@ -15,7 +15,7 @@ class Broadcaster:
     """Events for every connected page (Server-Sent Events); lives in the asyncio loop."""
 
     def __init__(self) -> None:
-        self._queues: Set[asyncio.Queue] = set()
+        self._queues: set[asyncio.Queue] = set()
 
     def publish(self, kind: str, data: Any) -> None:
         text = f"event: {kind}\ndata: {json.dumps(data, separators=(',', ':'))}\n\n"
@@ -25,18 +25,22 @@ class Broadcaster:
             else:
                 queue.put_nowait(text)
 
-    async def stream(self, request: web.Request, first: Optional[Callable[[], list]] = None) -> web.StreamResponse:
-        response = web.StreamResponse(headers={"Content-Type": "text/event-stream", "Cache-Control": "no-cache"})
+    async def stream(
+        self, request: web.Request, first: Callable[[], list] | None = None
+    ) -> web.StreamResponse:
+        response = web.StreamResponse(
+            headers={"Content-Type": "text/event-stream", "Cache-Control": "no-cache"}
+        )
         await response.prepare(request)
         queue: asyncio.Queue = asyncio.Queue()
         self._queues.add(queue)
         try:
-            for kind, data in (first() if first else []):
+            for kind, data in first() if first else []:
                 await response.write(f"event: {kind}\ndata: {json.dumps(data)}\n\n".encode())
             while True:
                 try:
                     text = await asyncio.wait_for(queue.get(), timeout=15)
-                except asyncio.TimeoutError:
+                except TimeoutError:
                     text = ": keep-alive\n\n"
                 await response.write(text.encode())
         except (ConnectionResetError, asyncio.CancelledError):

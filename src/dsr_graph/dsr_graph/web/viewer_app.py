@@ -17,11 +17,10 @@ from pathlib import Path
 
 from aiohttp import web
 
+from dsr_graph.exceptions import LookupFailed, SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model import rigid
 from dsr_graph.protocol.delta_text import delta_text
-from dsr_graph.exceptions import LookupFailed
-from dsr_graph.exceptions import SeqUnavailable
 from dsr_graph.protocol.history import History
 from dsr_graph.web.events import Broadcaster
 
@@ -56,7 +55,9 @@ def make_app(history: History, events: Broadcaster) -> web.Application:
     async def vendor(request: web.Request) -> web.FileResponse:
         path = VENDOR.get(request.match_info["name"])
         if path is None or not path.exists():
-            raise web.HTTPNotFound(text="unknown library (run scripts/setup.sh to install the viewer's libraries)")
+            raise web.HTTPNotFound(
+                text="unknown library (run scripts/setup.sh to install the viewer's libraries)"
+            )
         return web.FileResponse(path)
 
     async def graph(request: web.Request) -> web.Response:
@@ -69,8 +70,13 @@ def make_app(history: History, events: Broadcaster) -> web.Application:
             limit = min(int(request.query.get("limit", 1000)), 10000)
         except ValueError:
             raise web.HTTPBadRequest(text="since and limit are integers") from None
-        return web.json_response({"first_seq": history.first_seq, "seq": history.seq,
-                                  "deltas": [dict(d, text=delta_text(d)) for d in history.since(since, limit)]})
+        return web.json_response(
+            {
+                "first_seq": history.first_seq,
+                "seq": history.seq,
+                "deltas": [dict(d, text=delta_text(d)) for d in history.since(since, limit)],
+            }
+        )
 
     async def transform(request: web.Request) -> web.Response:
         g, seq = _graph(request, history)
@@ -86,7 +92,9 @@ def make_app(history: History, events: Broadcaster) -> web.Application:
         return web.json_response(answer)
 
     async def stream(request: web.Request) -> web.StreamResponse:
-        return await events.stream(request, first=lambda: [("hello", {"seq": history.seq, "first_seq": history.first_seq})])
+        return await events.stream(
+            request, first=lambda: [("hello", {"seq": history.seq, "first_seq": history.first_seq})]
+        )
 
     app = web.Application()
     app.router.add_get("/", index)

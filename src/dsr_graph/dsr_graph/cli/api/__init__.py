@@ -8,14 +8,22 @@ import json
 import sys
 
 from dsr_graph.exceptions import DsrError
-from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.formats.world_files import LoadedWorld, read_world
+from dsr_graph.model.vocabulary import Vocabulary
 
 
 def add_world_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("world", metavar="WORLD", help="world file: ours (format dsr-graph) or CORTEX, detected from the content")
-    parser.add_argument("--vocabulary", metavar="FILE", default=None,
-                        help="vocabulary file (default: the built-in one; a file may say \"extends\": \"default\")")
+    parser.add_argument(
+        "world",
+        metavar="WORLD",
+        help="world file: ours (format dsr-graph) or CORTEX, detected from the content",
+    )
+    parser.add_argument(
+        "--vocabulary",
+        metavar="FILE",
+        default=None,
+        help='vocabulary file (default: the built-in one; a file may say "extends": "default")',
+    )
 
 
 def load_world(args: argparse.Namespace) -> LoadedWorld:
@@ -27,8 +35,11 @@ def warn_violations(world: LoadedWorld, path: str) -> None:
     for v in world.violations:
         print(f"warning: left out: {v}", file=sys.stderr)
     if world.violations:
-        print(f"warning: {path}: {len(world.violations)} element(s) left out; "
-              f"`dsr validate {path}` lists them", file=sys.stderr)
+        print(
+            f"warning: {path}: {len(world.violations)} element(s) left out; "
+            f"`dsr validate {path}` lists them",
+            file=sys.stderr,
+        )
 
 
 def error(message: str) -> int:
@@ -37,14 +48,22 @@ def error(message: str) -> int:
 
 
 def fetch_snapshot(timeout: float) -> dict:
-    from dsr_msgs.srv import GetSnapshot
-
-    from dsr_graph.ros.session import RosSession
     from dsr_graph.protocol.topic_names import GET_SNAPSHOT
+    from dsr_graph.ros.session import RosSession
+    from dsr_msgs.srv import GetSnapshot
 
     with RosSession() as ros:
         client = ros.node.create_client(GetSnapshot, GET_SNAPSHOT)
-        return json.loads(ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json)
+        return json.loads(
+            ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json
+        )
 
 
-__all__ = ["DsrError", "add_world_arguments", "load_world", "warn_violations", "error", "fetch_snapshot"]
+__all__ = [
+    "DsrError",
+    "add_world_arguments",
+    "load_world",
+    "warn_violations",
+    "error",
+    "fetch_snapshot",
+]

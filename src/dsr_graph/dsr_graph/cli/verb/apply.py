@@ -14,7 +14,9 @@ HELP = "send a transaction; print the accepted seq or the rejection reason"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE", help="transaction JSON, or - to read stdin")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the verdict")
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds to wait for the verdict"
+    )
 
 
 def run(args: argparse.Namespace) -> int:

@@ -12,16 +12,21 @@ HELP = "read a node (all of it) or one attribute from the live graph"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("node", metavar="NODE", help="node name")
-    parser.add_argument("attr", metavar="ATTR", nargs="?", help="attribute name (omit for the whole node)")
-    parser.add_argument("--edge", nargs=2, metavar=("TO", "TYPE"), help="read ATTR of the edge NODE -TYPE-> TO")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the server")
+    parser.add_argument(
+        "attr", metavar="ATTR", nargs="?", help="attribute name (omit for the whole node)"
+    )
+    parser.add_argument(
+        "--edge", nargs=2, metavar=("TO", "TYPE"), help="read ATTR of the edge NODE -TYPE-> TO"
+    )
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds to wait for the server"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
-    from dsr_msgs.srv import GetAttribute, GetNode
-
-    from dsr_graph.ros.session import RosSession
     from dsr_graph.protocol.topic_names import GET_ATTRIBUTE, GET_NODE
+    from dsr_graph.ros.session import RosSession
+    from dsr_msgs.srv import GetAttribute, GetNode
 
     if args.edge and not args.attr:
         return error("--edge needs ATTR")
@@ -35,14 +40,25 @@ def run(args: argparse.Namespace) -> int:
                 print(json.dumps(json.loads(answer.node_json), indent=2))
                 return 0
             client = ros.node.create_client(GetAttribute, GET_ATTRIBUTE)
-            request = GetAttribute.Request(node=args.node, attribute=args.attr,
-                                           edge_to=args.edge[0] if args.edge else "",
-                                           edge_type=args.edge[1] if args.edge else "")
+            request = GetAttribute.Request(
+                node=args.node,
+                attribute=args.attr,
+                edge_to=args.edge[0] if args.edge else "",
+                edge_type=args.edge[1] if args.edge else "",
+            )
             answer = ros.call(client, request, args.timeout, "the attribute")
     except DsrError as e:
         return error(str(e))
     if not answer.found:
         return error(answer.error)
-    print(json.dumps({"value": json.loads(answer.value_json), "type": answer.value_type,
-                      "version": answer.version, "seq": answer.seq}))
+    print(
+        json.dumps(
+            {
+                "value": json.loads(answer.value_json),
+                "type": answer.value_type,
+                "version": answer.version,
+                "seq": answer.seq,
+            }
+        )
+    )
     return 0

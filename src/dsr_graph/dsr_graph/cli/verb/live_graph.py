@@ -14,7 +14,9 @@ HELP = "print the live graph (nodes, edges, RT tree); --json for the snapshot"
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print the snapshot JSON")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the server")
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds to wait for the server"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -31,11 +33,17 @@ def run(args: argparse.Namespace) -> int:
         parent = graph.rt_parent(node.id)
         where = f"  RT parent {parent.name}" if parent else ""
         attrs = ", ".join(f"{k}={json.dumps(v)}" for k, v in node.attrs.items())
-        print(f"  [{node.id}] {node.name} : {node.type}  v{node.version}{where}" + (f"  {{{attrs}}}" if attrs else ""))
+        print(
+            f"  [{node.id}] {node.name} : {node.type}  v{node.version}{where}"
+            + (f"  {{{attrs}}}" if attrs else "")
+        )
     for edge in sorted(graph.edges(), key=lambda e: (e.src, e.dst, e.type)):
         if edge.type != "RT":
             attrs = ", ".join(f"{k}={json.dumps(v)}" for k, v in edge.attrs.items())
-            print(f"  {graph.node(edge.src).name} -{edge.type}-> {graph.node(edge.dst).name}" + (f"  {{{attrs}}}" if attrs else ""))
+            print(
+                f"  {graph.node(edge.src).name} -{edge.type}-> {graph.node(edge.dst).name}"
+                + (f"  {{{attrs}}}" if attrs else "")
+            )
     for c in doc.get("claims", []):
         print(f"  claim {json.dumps(c['target'])} by {c['agent']} (priority {c['priority']})")
     return 0

@@ -12,23 +12,33 @@ HELP = "list ROS nodes, topics (with types) and services (like ros2 node/topic/s
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true")
-    parser.add_argument("--wait", type=float, default=5.0,
-                        help="at most this many seconds of discovery; it stops earlier once the graph has been "
-                             "stable for a second (default 5)")
+    parser.add_argument(
+        "--wait",
+        type=float,
+        default=5.0,
+        help="at most this many seconds of discovery; it stops earlier once the graph has been "
+        "stable for a second (default 5)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
-    from dsr_graph.ros.session import RosSession
     from dsr_graph.protocol.topic_names import POSE_PREFIX
+    from dsr_graph.ros.session import RosSession
 
     with RosSession() as ros:
         me = ros.node.get_fully_qualified_name()
 
         def look():
-            nodes = sorted({(ns.rstrip("/") + "/" + n) for n, ns in ros.node.get_node_names_and_namespaces()} - {me})
+            nodes = sorted(
+                {(ns.rstrip("/") + "/" + n) for n, ns in ros.node.get_node_names_and_namespaces()}
+                - {me}
+            )
             topics = sorted(ros.node.get_topic_names_and_types())
-            services = sorted((name, types) for name, types in ros.node.get_service_names_and_types()
-                              if not name.startswith(me + "/"))
+            services = sorted(
+                (name, types)
+                for name, types in ros.node.get_service_names_and_types()
+                if not name.startswith(me + "/")
+            )
             return nodes, topics, services
 
         # Discovery has no "done" signal: look until nothing new appeared for a second.
@@ -39,13 +49,24 @@ def run(args: argparse.Namespace) -> int:
             now = look()
             if now != seen:
                 seen, stable_since = now, time.monotonic()
-            elif time.monotonic() - stable_since >= 1.0 and time.monotonic() - start >= 1.0 and seen[0]:
+            elif (
+                time.monotonic() - stable_since >= 1.0
+                and time.monotonic() - start >= 1.0
+                and seen[0]
+            ):
                 break
         nodes, topics, services = seen
     if args.json:
-        print(json.dumps({"nodes": nodes,
-                          "topics": [{"name": n, "types": t} for n, t in topics],
-                          "services": [{"name": n, "types": t} for n, t in services]}, indent=2))
+        print(
+            json.dumps(
+                {
+                    "nodes": nodes,
+                    "topics": [{"name": n, "types": t} for n, t in topics],
+                    "services": [{"name": n, "types": t} for n, t in services],
+                },
+                indent=2,
+            )
+        )
         return 0
     print(f"nodes ({len(nodes)}):")
     for n in nodes:

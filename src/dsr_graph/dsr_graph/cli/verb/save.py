@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from dsr_graph.cli.api import DsrError, error
-from dsr_graph.cli.api import fetch_snapshot
+from dsr_graph.cli.api import DsrError, error, fetch_snapshot
 
 HELP = "save the live graph to FILE (a snapshot world file, or --format cortex)"
 
@@ -14,7 +13,9 @@ HELP = "save the live graph to FILE (a snapshot world file, or --format cortex)"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("file", metavar="FILE")
     parser.add_argument("--format", choices=("dsr", "cortex"), default="dsr")
-    parser.add_argument("--timeout", type=float, default=10.0, help="seconds to wait for the server")
+    parser.add_argument(
+        "--timeout", type=float, default=10.0, help="seconds to wait for the server"
+    )
 
 
 def run(args: argparse.Namespace) -> int:

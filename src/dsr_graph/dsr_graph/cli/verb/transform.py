@@ -8,16 +8,20 @@ from __future__ import annotations
 import argparse
 import json
 
-from dsr_graph.model import rigid
 from dsr_graph.cli.api import DsrError, add_world_arguments, error, load_world, warn_violations
+from dsr_graph.model import rigid
 
 HELP = "transform between two geometric nodes (TO's pose in FROM's frame) as JSON"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_world_arguments(parser)
-    parser.add_argument("frm", metavar="FROM", help="name (or numeric id) of the frame to express the pose in")
-    parser.add_argument("to", metavar="TO", help="name (or numeric id) of the node whose pose is wanted")
+    parser.add_argument(
+        "frm", metavar="FROM", help="name (or numeric id) of the frame to express the pose in"
+    )
+    parser.add_argument(
+        "to", metavar="TO", help="name (or numeric id) of the node whose pose is wanted"
+    )
 
 
 def _ref(graph, text: str):

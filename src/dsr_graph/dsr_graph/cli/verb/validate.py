@@ -25,6 +25,8 @@ def run(args: argparse.Namespace) -> int:
         return 1
     graph = world.graph
     root = graph.rt_root()
-    print(f"{args.world}: valid {world.format} world: {len(graph)} nodes, {graph.edge_count()} edges"
-          + (f", RT tree rooted at {root.name!r}" if root else ", no RT edges"))
+    print(
+        f"{args.world}: valid {world.format} world: {len(graph)} nodes, {graph.edge_count()} edges"
+        + (f", RT tree rooted at {root.name!r}" if root else ", no RT edges")
+    )
     return 0

@@ -15,4 +15,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from dsr_graph.ros.viewer_node import main
 
-    return main(["dsr_viewer", "--ros-args", "-p", f"host:={args.host}", "-p", f"port:={args.port}"])
+    return main(
+        ["dsr_viewer", "--ros-args", "-p", f"host:={args.host}", "-p", f"port:={args.port}"]
+    )

@@ -15,17 +15,21 @@ HELP = "follow accepted deltas live (seq, agent, ops); --json for raw deltas"
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--json", action="store_true", help="print each delta as one JSON line")
     parser.add_argument("--rejections", action="store_true", help="also print rejected requests")
-    parser.add_argument("--count", type=int, default=0, help="exit after this many deltas (default: never)")
-    parser.add_argument("--duration", type=float, default=0.0, help="exit after this many seconds (default: never)")
+    parser.add_argument(
+        "--count", type=int, default=0, help="exit after this many deltas (default: never)"
+    )
+    parser.add_argument(
+        "--duration", type=float, default=0.0, help="exit after this many seconds (default: never)"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
     from std_msgs.msg import String
 
     from dsr_graph.protocol.delta_text import delta_text
+    from dsr_graph.protocol.topic_names import DELTAS, REJECTIONS
     from dsr_graph.ros.qos import qos_stream
     from dsr_graph.ros.session import RosSession
-    from dsr_graph.protocol.topic_names import DELTAS, REJECTIONS
 
     seen = [0]
 
@@ -39,8 +43,13 @@ def run(args: argparse.Namespace) -> int:
 
     def on_rejection(msg: String) -> None:
         doc = json.loads(msg.data)
-        print(msg.data if args.json else f"rejected {doc.get('id') or '?'} from {doc.get('agent') or '?'}: {doc.get('error')}",
-              flush=True)
+        print(
+            msg.data
+            if args.json
+            else f"rejected {doc.get('id') or '?'} from {doc.get('agent') or '?'}: "
+            f"{doc.get('error')}",
+            flush=True,
+        )
 
     with RosSession() as ros:
         ros.node.create_subscription(String, DELTAS, on_delta, qos_stream())
@@ -54,4 +63,8 @@ def run(args: argparse.Namespace) -> int:
                 ros.executor.spin_once(timeout_sec=0.1)
         except KeyboardInterrupt:
             pass
-    return 0 if not args.count or seen[0] >= args.count else error(f"saw {seen[0]} of {args.count} deltas")
+    return (
+        0
+        if not args.count or seen[0] >= args.count
+        else error(f"saw {seen[0]} of {args.count} deltas")
+    )

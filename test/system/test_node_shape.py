@@ -1,0 +1,139 @@
+"""Every node of the suite has the one shape: its constructor only declares parameters (each with
+a description) and attaches nothing; a start-up failure is one fatal line and exit code 1."""
+
+import importlib
+from pathlib import Path
+
+import pytest
+import rclpy
+from rclpy.context import Context
+
+from ros_processes import fresh_domain_id, wait_for
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+NODES = [
+    ("dsr_graph.ros.server_node", "DsrServer"),
+    ("dsr_graph.ros.viewer_node", "Viewer"),
+    ("dsr_graph.ros.rule_agent_node", "RuleAgentNode"),
+    ("clarc_agents.nodes.speech_node", "SpeechAgent"),
+    ("clarc_agents.nodes.panel_node", "PanelAgent"),
+    ("clarc_agents.nodes.person_node", "PersonAgent"),
+    ("clarc_agents.nodes.pelea_node", "PeleaNode"),
+    ("clarc_sim.devices.tts_node", "TtsStandIn"),
+    ("clarc_sim.devices.microphone_node", "MicrophoneStandIn"),
+    ("clarc_sim.devices.touchscreen_node", "TouchscreenStandIn"),
+    ("clarc_sim.devices.kinect_node", "KinectStandIn"),
+    ("clarc_sim.patient.patient_node", "SimulatedPatient"),
+    ("clarc_sim.hospital.cgamed_node", "CgamedStandIn"),
+    ("clarc_sim.console.monitor_node", "Monitor"),
+]
+
+
+def test_every_console_script_node_is_listed_here():
+    scripts = []
+    for setup in SRC.glob("*/setup.py"):
+        scripts += [
+            line.split("=", 1)[1].strip().strip('",').split(":")[0]
+            for line in setup.read_text().splitlines()
+            if "_node:main" in line
+        ]
+    assert sorted(scripts) == sorted(module for module, _ in NODES)
+
+
+@pytest.fixture
+def context():
+    ctx = Context()
+    rclpy.init(context=ctx, domain_id=fresh_domain_id())
+    try:
+        yield ctx
+    finally:
+        rclpy.try_shutdown(context=ctx)
+
+
+@pytest.mark.parametrize(("module", "name"), NODES)
+def test_the_constructor_declares_and_attaches_nothing(module, name, context, monkeypatch):
+    node_class = getattr(importlib.import_module(module), name)
+    real_init = rclpy.node.Node.__init__
+
+    def in_our_context(self, node_name, *args, **kwargs):  # the node classes take no context
+        real_init(self, node_name, *args, context=context, **kwargs)
+
+    monkeypatch.setattr(rclpy.node.Node, "__init__", in_our_context)
+    node = node_class()
+    try:
+        assert not list(node.subscriptions) and not list(node.timers) and not list(node.clients)
+        assert [p.topic_name for p in node.publishers] == ["/parameter_events"]
+        ours = [
+            n for n in node._parameters if n != "use_sim_time" and not n.startswith("qos_overrides")
+        ]
+        assert ours or name in ("TouchscreenStandIn",), f"{name} declares no parameter"
+        for parameter in ours:
+            assert node.describe_parameter(parameter).description, (
+                f"{name}.{parameter} has no description"
+            )
+    finally:
+        node.destroy_node()
+
+
+def fatal_exit(procs, name, argv):
+    proc = procs.start(name, argv)
+    proc.wait(timeout=60)
+    return proc.returncode, procs.log(name)
+
+
+def test_a_second_server_on_a_locked_state_dir_ends_with_one_fatal_line(ros):
+    state = ros.tmp / "state"
+    ros.procs.start_server(state)
+    wait_for(lambda: (state / "snapshot.json").exists(), 30, "the first server's state")
+    code, log = fatal_exit(
+        ros.procs,
+        "second",
+        ["dsr_server", "--ros-args", "-p", f"state_dir:={state}", "-r", "__node:=dsr_server_2"],
+    )
+    assert code == 1
+    assert "Traceback" not in log
+    fatal = [line for line in log.splitlines() if "FATAL" in line]
+    assert len(fatal) == 1 and str(state) in fatal[0] and "in use" in fatal[0]
+
+
+def test_a_corrupt_state_dir_ends_with_one_fatal_line(ros):
+    state = ros.tmp / "state"
+    state.mkdir()
+    (state / "snapshot.json").write_text("{not json")
+    code, log = fatal_exit(
+        ros.procs, "corrupt", ["dsr_server", "--ros-args", "-p", f"state_dir:={state}"]
+    )
+    assert code == 1
+    assert "Traceback" not in log
+    fatal = [line for line in log.splitlines() if "FATAL" in line]
+    assert len(fatal) == 1 and str(state) in fatal[0]
+
+
+def test_a_bad_scenario_ends_the_patient_with_its_line(ros, tmp_path):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("patient: Carlos\nitems:\n  feeding: {answer: 7}\n")
+    code, log = fatal_exit(
+        ros.procs, "patient", ["patient", "--ros-args", "-p", f"scenario:={bad}"]
+    )
+    assert code == 1 and "Traceback" not in log
+    assert f"{bad}:3" in log
+
+
+def test_setup_attaches_what_the_constructor_did_not(context):
+    """The other half of the shape: setup() attaches the topics."""
+    from clarc_sim.devices.microphone_node import MicrophoneStandIn
+
+    real_init = rclpy.node.Node.__init__
+    try:
+        rclpy.node.Node.__init__ = lambda self, n, *a, **k: real_init(
+            self, n, *a, context=context, **k
+        )
+        node = MicrophoneStandIn()
+    finally:
+        rclpy.node.Node.__init__ = real_init
+    try:
+        node.setup()
+        assert [s.topic_name for s in node.subscriptions] == ["/clarc/sim/patient/voice"]
+        assert "/clarc/asr" in [p.topic_name for p in node.publishers]
+    finally:
+        node.destroy_node()
