@@ -109,6 +109,13 @@ def test_a_corrupt_state_dir_ends_with_one_fatal_line(ros):
     assert len(fatal) == 1 and str(state) in fatal[0]
 
 
+def test_a_parameter_out_of_its_range_ends_the_node_naming_it(ros):
+    code, log = fatal_exit(ros.procs, "kinect", ["kinect", "--ros-args", "-p", "rate_hz:=0.0"])
+    assert code == 1 and "Traceback" not in log
+    fatal = [line for line in log.splitlines() if "FATAL" in line]
+    assert len(fatal) == 1 and "rate_hz" in fatal[0]
+
+
 def test_a_bad_scenario_ends_the_patient_with_its_line(ros, tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("patient: Carlos\nitems:\n  feeding: {answer: 7}\n")

@@ -3,8 +3,8 @@
 ;
 ; The actions assume the expected outcome (an answer comes, the person stays). Monitoring
 ; records what really happened as facts: (no-answer ?i), (not-understood ?i), (failed-again ?i),
-; (person-absent), (clinician-needed); the next plan starts from that state, so every deviation
-; is handled by replanning, never by a hard-coded branch.
+; (person-absent), (clinician-needed); the next plan starts from that state, so what follows a
+; deviation is chosen by the planner. The executive maps each action here to a handler.
 (define (domain barthel)
   (:requirements :strips :typing)
   (:types item)

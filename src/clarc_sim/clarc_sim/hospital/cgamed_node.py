@@ -41,7 +41,15 @@ class CgamedStandIn(DsrNode):
         )
         declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
         declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
-        declare(self, "port", 8081, "dashboard port", read_only=True, minimum=1, maximum=65535)
+        declare(
+            self,
+            "port",
+            8081,
+            "dashboard port (0: any free port)",
+            read_only=True,
+            minimum=0,
+            maximum=65535,
+        )
         self.status = TestStatus()
         self.events = Broadcaster()
         self.store: ResultsStore | None = None

@@ -5,8 +5,8 @@ that also serves a web page overrides it); ``close()`` releases what ``setup()``
 
 ``main_for(NodeClass)`` is every node's ``main``: init, build, set up, run, and always shut down
 cleanly; any error of the suite (``DsrError``: a locked or corrupt state directory, a scenario
-that cannot be used, a server that does not answer), a bad file or a taken port becomes one fatal
-log line and exit code 1 instead of a traceback.
+that cannot be used, a server that does not answer), a parameter out of its range, a bad file or
+a taken port becomes one fatal log line and exit code 1 instead of a traceback.
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import rclpy
+from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
@@ -42,7 +43,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
         return node.run() or 0
     except (KeyboardInterrupt, ExternalShutdownException):
         return 0
-    except (DsrError, OSError, ValueError) as e:
+    except (DsrError, ParameterException, OSError, ValueError) as e:
         logger = node.get_logger() if node is not None else rclpy.logging.get_logger("dsr")
         logger.fatal(str(e))
         return 1

@@ -27,7 +27,15 @@ class Viewer(DsrNode):
     def __init__(self) -> None:
         super().__init__("dsr_viewer")
         declare(self, "host", "127.0.0.1", "address to serve on", read_only=True)
-        declare(self, "port", 8080, "port to serve on", read_only=True, minimum=1, maximum=65535)
+        declare(
+            self,
+            "port",
+            8080,
+            "port to serve on (0: any free port)",
+            read_only=True,
+            minimum=0,
+            maximum=65535,
+        )
         declare(
             self,
             "setup_timeout",
