@@ -659,7 +659,7 @@ def main() -> int:
     parser.add_argument(
         "--quick",
         action="store_true",
-        help="about 90 s: fewer samples, sizes up to 10k, 1 and 8 agents, "
+        help="under a minute: fewer samples, sizes up to 10k, 1 and 8 agents, "
         "a Barthel run at pace x0.05",
     )
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))

@@ -4,11 +4,14 @@
 # Sets the workspace up if needed, then starts, each as its own process: the DSR server (on
 # worlds/clarc_room.json, fresh state per run), the four agents (PELEA, Speech, Panel, Person),
 # the stand-ins (TTS, microphone, touch screen, Kinect, the patient following a scenario, the
-# CGAmed hospital server) and a monitor that prints one line per step and the result. Stops
-# every process it started when the test ends, on Ctrl-C, or on any error; exits 0 when the test
-# completed and its result was stored.
+# CGAmed hospital server) and a monitor that prints one line per step and the result. Every node
+# is supervised, as launch_ros does with respawn=True: a node that dies is restarted after a
+# short delay ("[launch] <node> died (<signal or exit code>), restarted (<n>)"); more than 5
+# deaths of one node within a minute stop the run (exit 1). Stops every process it started when
+# the test ends, on Ctrl-C, or on any error; exits 0 when the test completed and its result was
+# stored.
 #
-#   scripts/launch.sh [--scenario FILE] [--db PATH] [--realtime] [--scale X]
+#   scripts/launch.sh [--scenario FILE] [--db PATH] [--realtime] [--scale X] [--no-respawn]
 #
 #   --scenario FILE  what the patient does (default scenarios/default.yaml)
 #   --db PATH        CGAmed's results store (default ~/.local/share/clarc/cgamed.sqlite)
@@ -18,6 +21,7 @@
 #   --run-dir DIR    where this run's logs, audio and DSR state go (default var/runs/<time>)
 #   --wait-start     do not press Start: the clinician presses it on the dashboard
 #   --viewer-port N  the DSR viewer's port (default 8080); --dashboard-port N (default 8081)
+#   --no-respawn     a node that dies ends the launch at once (exit 1) instead of restarting
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -33,6 +37,9 @@ run=""
 wait_start=0
 viewer_port=8080
 dashboard_port=8081
+respawn=1
+respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
+max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario=$(realpath "$2"); shift 2 ;;
@@ -44,7 +51,8 @@ while [ $# -gt 0 ]; do
     --wait-start) wait_start=1; shift ;;
     --viewer-port) viewer_port="$2"; shift 2 ;;
     --dashboard-port) dashboard_port="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --no-respawn) respawn=0; shift ;;
+    -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -65,34 +73,93 @@ mkdir -p "$run/log"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
 
-pids=()
-names=()
+# Each node runs under a supervisor (a background subshell of this script) that restarts it
+# when it dies. $sup holds each node's current pid (<node>.pid: scripts/chaos.sh kills by it) and
+# the markers the supervisors and this script share.
+sup="$run/launch"
+mkdir -p "$sup"
+supervisors=()
+nodes=()
+
+exit_reason() {  # exit_reason CODE: "SIGKILL", or "exit code 3"
+  local sig
+  if [ "$1" -gt 128 ] && sig=$(kill -l $(($1 - 128)) 2>/dev/null); then
+    echo "SIG$sig"
+  else
+    echo "exit code $1"
+  fi
+}
+
+supervise() {  # supervise NAME COMMAND...: run COMMAND, logged; restart it whenever it dies
+  local name=$1 code reason now deaths=() recent t count=0
+  shift
+  while :; do
+    "$@" >> "$run/log/$name.log" 2>&1 &
+    echo "$!" > "$sup/$name.pid"
+    wait "$!" 2>/dev/null && code=0 || code=$?  # (bash's own "Killed" notice is not for users)
+    [ -e "$sup/stopping" ] && return 0
+    reason=$(exit_reason "$code")
+    if [ "$respawn" = 0 ]; then
+      echo "[launch] $name died ($reason); respawn is off (--no-respawn): stopping the run" >&2
+      echo "$name" > "$sup/failed"
+      kill -USR1 $$ 2>/dev/null
+      return 0
+    fi
+    now=$(date +%s)
+    recent=()
+    for t in "${deaths[@]}"; do [ $((now - t)) -lt 60 ] && recent+=("$t"); done
+    deaths=("${recent[@]}" "$now")
+    if [ "${#deaths[@]}" -gt "$max_deaths" ]; then
+      echo "[launch] $name died ($reason) more than $max_deaths times within a minute: stopping the run" >&2
+      echo "$name" > "$sup/failed"
+      kill -USR1 $$ 2>/dev/null
+      return 0
+    fi
+    sleep "$respawn_delay"
+    [ -e "$sup/stopping" ] && return 0
+    count=$((count + 1))
+    echo "[launch] $name died ($reason), restarted ($count)"
+  done
+}
+
 cleanup() {
   local code=$?
-  trap - EXIT INT TERM
+  trap - EXIT INT TERM USR1
+  touch "$sup/stopping"
   # For the benchmarks: CPU seconds of every process of the run (CLARC_CPU_REPORT=FILE).
   if [ -n "${CLARC_CPU_REPORT:-}" ]; then
-    local tck
+    local tck name
     tck=$(getconf CLK_TCK)
-    for i in "${!pids[@]}"; do  # user + system time, in clock ticks, of each process
-      awk -v n="${names[$i]}" -v t="$tck" '{printf "%s %.2f\n", n, ($14 + $15) / t}' "/proc/${pids[$i]}/stat" 2>/dev/null || true
+    for name in "${nodes[@]}"; do  # user + system time, in clock ticks, of each node
+      awk -v n="$name" -v t="$tck" '{printf "%s %.2f\n", n, ($14 + $15) / t}' \
+        "/proc/$(cat "$sup/$name.pid" 2>/dev/null)/stat" 2>/dev/null || true
     done > "$CLARC_CPU_REPORT"
   fi
+  local pids=() name pid
+  for name in "${nodes[@]}"; do
+    pid=$(cat "$sup/$name.pid" 2>/dev/null) && pids+=("$pid")
+  done
   for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
   for pid in "${pids[@]}"; do
     for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     kill -KILL "$pid" 2>/dev/null || true
   done
+  for pid in "${supervisors[@]}"; do wait "$pid" 2>/dev/null || true; done
   exit "$code"
+}
+node_failed() {
+  echo "[launch] the run stopped because $(cat "$sup/failed" 2>/dev/null || echo a node) died; see $run/log" >&2
+  exit 1
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
+trap node_failed USR1
 
-start() {  # start NAME COMMAND...: a process of the run, logged to var/runs/<time>/log/NAME.log
-  local name=$1; shift
-  "$@" > "$run/log/$name.log" 2>&1 &
-  pids+=($!)
-  names+=("$name")
+start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run/log/NAME.log
+  local name=$1
+  supervise "$@" &
+  supervisors+=($!)
+  nodes+=("$name")
 }
 
 echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
@@ -119,15 +186,26 @@ else
 fi
 echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 
-# The monitor prints the test as it goes and exits when the result is stored.
-set +e
-clarc_monitor --ros-args -p timeout:="$timeout" &
-monitor=$!
-pids+=("$monitor")
-names+=(clarc_monitor)
-wait "$monitor"
-code=$?
-set -e
+# The monitor prints the test as it goes and exits 0 when the result is stored, 1 on PELEA's
+# error or when the time is up; killed, it is started again like every node.
+deadline=$(( $(date +%s) + ${timeout%.*} ))
+nodes+=(clarc_monitor)
+restarts=0
+while :; do
+  remaining=$(( deadline - $(date +%s) ))
+  if [ "$remaining" -le 0 ]; then code=1; echo "[launch] the test did not finish within $timeout s" >&2; break; fi
+  clarc_monitor --ros-args -p timeout:="$remaining.0" &
+  echo "$!" > "$sup/clarc_monitor.pid"
+  wait "$!" 2>/dev/null && code=0 || code=$?
+  [ "$code" -le 128 ] && break
+  if [ "$respawn" = 0 ]; then
+    echo "[launch] clarc_monitor died ($(exit_reason "$code")); respawn is off (--no-respawn): stopping the run" >&2
+    code=1
+    break
+  fi
+  restarts=$((restarts + 1))
+  echo "[launch] clarc_monitor died ($(exit_reason "$code")), restarted ($restarts)"
+done
 if [ "$code" -eq 0 ]; then
   echo "[launch] test complete; stored in $db (clarc results --db $db)"
 else

@@ -86,7 +86,7 @@ class Robot:
         self.person_link = self.bus.agent("/person")
         self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(self, log)
+        self.speech = SpeechBehaviour(self, self.bus.after, log)
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.panel_link = self.bus.agent("/panel")
@@ -120,6 +120,7 @@ class Robot:
     def say(self, sid: int, text: str) -> None:
         self.said.append(text)
         seconds = max(0.5, len(text.split()) / WORDS_PER_SECOND)
+        self.bus.soon(lambda: self.speech.on_speaker(sid, "start"))
         self._sentences[sid] = self.bus.after(seconds, lambda: self._spoken(sid, "end"))
         self._maybe_leave(text)
 

@@ -1,19 +1,24 @@
-"""Transactions that are mostly valid, drawn against the graph as it is: existing names,
-vocabulary types, attributes of their declared type, rigid transforms, legal RT moves (a new
-child under a geometric node, preferring recent ones so the tree grows deep), with a share of
-deliberate mistakes (self-loops, cycles, second parents, unknown types, non-rigid matrices,
-missing nodes, orphaned subtrees). Every choice goes through a ``Pick``, so the same generator
-runs under hypothesis (shrinkable) or a seeded ``random.Random`` (reproducible sizes)."""
+"""Transactions drawn against the graph as it is: existing names, vocabulary types, attributes of
+their declared type, rigid transforms, legal RT moves (a new child under a geometric node,
+preferring recent ones so the tree grows deep). Each op is drawn against a scratch copy that the
+previous ops of the transaction already changed, so a transaction is valid by construction,
+unless it is asked to carry one deliberate mistake (a self-loop, a cycle, a second parent, an
+unknown type, a non-rigid matrix, a missing node, an orphaned subtree...). Every choice goes
+through a ``Pick``, so the same generator runs under hypothesis (shrinkable) or a seeded
+``random.Random`` (reproducible sizes)."""
 
 from __future__ import annotations
 
+import json
 import math
 import random
 from typing import Any, Protocol
 
 from hypothesis import strategies as st
 
+from dsr_graph.formats import dsr_json
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.transaction import apply_ops
 
 
 class Pick(Protocol):
@@ -120,8 +125,32 @@ class TransactionGenerator:
         }
 
     # ------------------------------------------------------------------ drawing
-    def transaction(self, graph: Graph) -> dict[str, Any]:
-        return {"ops": [self.op(graph) for _ in range(self.pick.integer(1, 3))]}
+    def transaction(self, graph: Graph, mistake: bool = False) -> dict[str, Any]:
+        """1 to 3 valid ops; with ``mistake``, one of them (at a drawn place) breaks a rule."""
+        text = json.dumps(dsr_json.to_json(graph, "snapshot"))  # a copy that shares no dict
+        scratch, _ = dsr_json.snapshot_from_json(json.loads(text), trusted=True)
+        count = self.pick.integer(1, 3)
+        wrong_at = self.pick.integer(0, count - 1) if mistake else -1
+        ops = []
+        for i in range(count):
+            names = [n.name for n in scratch.nodes()]
+            if i == wrong_at and len(names) >= 2:
+                ops.append(
+                    self.mistake(
+                        scratch,
+                        names,
+                        [n for n in names if scratch.is_geometric(n)],
+                        self.pick.choice(names),
+                    )
+                )
+                continue
+            if i == wrong_at:
+                ops.append({"op": "delete_node", "node": "missing-node"})
+                continue
+            op = self.op(scratch)
+            apply_ops(scratch, [op])  # valid by construction: a failure here is a bug of ours
+            ops.append(op)
+        return {"ops": ops}
 
     def op(self, graph: Graph) -> dict[str, Any]:
         total = sum(w for _, w in KINDS)
@@ -144,15 +173,15 @@ class TransactionGenerator:
         plain = [n for n in names if not graph.is_geometric(n)]
         a, b = self.pick.choice(names), self.pick.choice(names)
         if kind == "insert_edge":
-            if a == b:
-                b = next(n for n in names if n != a)
-            return {
-                "op": "insert_edge",
-                "from": a,
-                "to": b,
-                "type": self.pick.choice(self.edge_types),
-                "attrs": self.attrs(),
-            }
+            free = self._free_edge(graph, names, a, b, self.pick.choice(self.edge_types))
+            if free is not None:
+                return {
+                    "op": "insert_edge",
+                    "from": free[0],
+                    "to": free[1],
+                    "type": free[2],
+                    "attrs": self.attrs(),
+                }
         if kind == "insert_rt" and plain:
             # the newest geometric nodes are the deepest: hang the child under one of them
             parent = self.pick.choice(geometric[-4:]) if geometric else self.pick.choice(names)
@@ -195,9 +224,21 @@ class TransactionGenerator:
                     "node": node.name,
                     "names": [self.pick.choice(sorted(node.attrs))],
                 }
-        if kind == "mistake":
-            return self.mistake(graph, names, geometric, a)
         return {"op": "set_node_attrs", "node": a, "attrs": self.attrs()}
+
+    def _free_edge(self, graph: Graph, names: list[str], a: str, b: str, kind: str):
+        """The first (from, to, type) from the drawn one on that is not an edge yet, if any."""
+        types = (
+            self.edge_types[self.edge_types.index(kind) :]
+            + self.edge_types[: self.edge_types.index(kind)]
+        )
+        start = names.index(b)
+        for t in types:
+            for k in range(len(names)):
+                other = names[(start + k) % len(names)]
+                if other != a and graph.edge(a, other, t) is None:
+                    return a, other, t
+        return None
 
     def mistake(
         self, graph: Graph, names: list[str], geometric: list[str], a: str

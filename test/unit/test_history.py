@@ -64,3 +64,29 @@ def test_a_gap_after_a_resync_is_refused_not_guessed():
     )
     with pytest.raises(SeqUnavailable, match="gap"):
         h.graph_at(2)
+
+
+def test_a_history_reset_from_a_live_graph_shares_nothing_with_it():
+    core = ServerCore(Graph())
+    replica = Graph()
+    add = core.submit(
+        json.dumps(
+            {
+                "ops": [
+                    {"op": "insert_node", "name": "n", "type": "transform", "attrs": {"level": 1}}
+                ]
+            }
+        )
+    )
+    from dsr_graph.model.transaction import apply_ops
+
+    apply_ops(replica, add["ops"])
+    h = History()
+    h.reset(dsr_json.to_json(replica, "snapshot", seq=1))  # as the viewer does on a resync
+    remove = core.submit(
+        json.dumps({"ops": [{"op": "remove_node_attrs", "node": "n", "names": ["level"]}]})
+    )
+    apply_ops(replica, remove["ops"])  # the replica applies the delta first...
+    h.add(remove)  # ...and the history must still find the attribute to remove
+    assert h.graph.node("n").attrs == {} and replica.node("n").attrs == {}
+    assert h.graph_at(1).node("n").attrs == {"level": 1}

@@ -1,10 +1,16 @@
 """The Speech agent's processes (paper, Algorithm 3), apart from ROS: ``say`` hands the sentence
 to the speaker and finishes when the speaker reports its end (``interrupted`` when stopped);
 ``stop`` stops every sentence being said; ``listen`` waits for recognised words and maps them to
-an option of the item (or skip, or not understood). Rules: ``grammars/speech.yaml``."""
+an option of the item (or skip, or not understood). Rules: ``grammars/speech.yaml``.
+
+The speaker is a device that can miss a request (it was not listening yet) or die in the middle
+of a sentence (it forgets it). So a sentence it has not started within ``start_patience`` seconds,
+or not ended within twice its expected length, is sent again, from the start; after
+``MAX_SENDS`` sends the process finishes (``done``) so the test goes on."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Protocol
 
 from clarc_agents.barthel.answers import understand
@@ -12,18 +18,36 @@ from clarc_agents.barthel.items import BY_KEY
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
+MAX_SENDS = 3
+WORDS_PER_SECOND = 2.5  # a slow speaker, to bound how long a sentence may take
+SLACK = 2.0  # seconds of a real session on top of that
+
 
 class Speaker(Protocol):
     def say(self, sid: int, text: str) -> None: ...
     def stop(self, sid: int) -> None: ...
 
 
+class Timer(Protocol):
+    def cancel(self) -> None: ...
+
+
+Clock = Callable[[float, Callable[[], None]], Timer]  # after(seconds, callback)
+
+
 class SpeechBehaviour:
-    def __init__(self, speaker: Speaker, log):
+    def __init__(
+        self, speaker: Speaker, after: Clock, log, scale: float = 1.0, start_patience: float = 1.0
+    ):
         self.speaker = speaker
+        self.after = after
         self.log = log
+        self.scale = scale
+        self.start_patience = start_patience  # seconds of wall time: a matter of processes
         self.speaking: dict[int, ActionContext] = {}  # sentence id -> the say process
         self.listening: ActionContext | None = None
+        self._sends: dict[int, int] = {}
+        self._watchdogs: dict[int, Timer] = {}
 
     def processes(self) -> dict[str, Process]:
         return {"say": self.say, "stop": self.stop, "listen": self.listen}
@@ -32,7 +56,40 @@ class SpeechBehaviour:
     def say(self, ctx: ActionContext) -> None:
         sid = int(ctx["sid"])
         self.speaking[sid] = ctx
-        self.speaker.say(sid, ctx["text"])
+        self._sends[sid] = 0
+        self._send(sid)
+
+    def _send(self, sid: int) -> None:
+        self._sends[sid] += 1
+        self.speaker.say(sid, self.speaking[sid]["text"])
+        self._watch(sid, self.start_patience)
+
+    def _watch(self, sid: int, seconds: float) -> None:
+        old = self._watchdogs.pop(sid, None)
+        if old is not None:
+            old.cancel()
+        self._watchdogs[sid] = self.after(seconds, lambda: self._overdue(sid))
+
+    def _overdue(self, sid: int) -> None:
+        ctx = self.speaking.get(sid)
+        if ctx is None:
+            return
+        if self._sends[sid] >= MAX_SENDS:
+            self.log.warning(f"the speaker never finished sentence {sid}; going on")
+            self._end(sid, "done")
+            return
+        self.log.warning(
+            f"the speaker did not start or finish sentence {sid} in time: saying it again"
+        )
+        self._send(sid)
+
+    def _end(self, sid: int, outcome: str) -> None:
+        ctx = self.speaking.pop(sid)
+        self._sends.pop(sid, None)
+        watchdog = self._watchdogs.pop(sid, None)
+        if watchdog is not None:
+            watchdog.cancel()
+        ctx.finish(outcome)
 
     def stop(self, ctx: ActionContext) -> str:
         for sid in list(self.speaking):
@@ -42,10 +99,15 @@ class SpeechBehaviour:
     def on_speaker(self, sid: int, event: str) -> None:
         """The speaker reports ``start``, ``end`` or ``stopped`` for sentence ``sid``."""
         ctx = self.speaking.get(sid)
-        if ctx is None or event not in ("end", "stopped"):
+        if ctx is None:
             return
-        del self.speaking[sid]
-        ctx.finish("done" if event == "end" else "interrupted")
+        if event == "start":
+            words = len(str(ctx["text"]).split())
+            self._watch(
+                sid, 2 * (words / WORDS_PER_SECOND + SLACK) * self.scale + self.start_patience
+            )
+        elif event in ("end", "stopped"):
+            self._end(sid, "done" if event == "end" else "interrupted")
 
     # -- listen -----------------------------------------------------------------------------
     def listen(self, ctx: ActionContext) -> None:

@@ -18,6 +18,7 @@ from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.timers import OneShot
 from dsr_graph.rules.runner import Process
 
 
@@ -26,7 +27,12 @@ class SpeechAgent(GrammarAgentNode):
 
     def __init__(self):
         super().__init__("speech")
-        self.behaviour = SpeechBehaviour(self, self.get_logger())
+        self.behaviour = SpeechBehaviour(
+            self,
+            lambda seconds, callback: OneShot(self, seconds, callback),
+            self.get_logger(),
+            scale=self.scale,
+        )
 
     def processes(self) -> dict[str, Process]:
         return self.behaviour.processes()

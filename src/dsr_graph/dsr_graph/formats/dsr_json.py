@@ -28,7 +28,9 @@ def is_dsr_document(doc: Any) -> bool:
 
 
 def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[str, Any]:
-    """The whole graph as a document; snapshots also carry versions and the sequence number."""
+    """The whole graph as a document; snapshots also carry versions and the sequence number.
+    For speed the document holds the graph's own attribute dicts: encode it (or copy it) before
+    the graph changes again, and never restore it with ``trusted=True`` while the graph lives."""
     if kind not in KINDS:
         raise ValueError(f"kind must be one of {KINDS}")
     with_versions = kind == "snapshot"

@@ -27,9 +27,14 @@ class History:
         self._seqs: list[int] = []  # the deltas' seqs, for bisecting without rebuilding a list
 
     def reset(self, snapshot: dict[str, Any]) -> None:
-        """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint."""
-        self.graph, self.seq = dsr_json.snapshot_from_json(snapshot, self.vocabulary, trusted=True)
-        self._checkpoint(json.dumps(snapshot))
+        """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint. The
+        document may share its attribute dicts with a live graph (``to_json`` of a replica):
+        the history's graph is built from its text, so the two never share anything."""
+        text = json.dumps(snapshot)
+        self.graph, self.seq = dsr_json.snapshot_from_json(
+            json.loads(text), self.vocabulary, trusted=True
+        )
+        self._checkpoint(text)
 
     def add(self, delta: dict[str, Any]) -> None:
         if self.graph is None or delta["seq"] != self.seq + 1:
