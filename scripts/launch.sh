@@ -91,18 +91,22 @@ exit_reason() {  # exit_reason CODE: "SIGKILL", or "exit code 3"
 }
 
 supervise() {  # supervise NAME COMMAND...: run COMMAND, logged; restart it whenever it dies
-  local name=$1 code reason now deaths=() recent t count=0
+  local name=$1 code reason now deaths=() recent t count=0 child=""
   shift
+  # The launch gone (even killed with SIGKILL), this supervisor gets SIGTERM (its parent-death
+  # signal) and takes its node down; the node has SIGKILL as its own, should this one vanish.
+  trap '[ -n "$child" ] && kill -INT "$child" 2>/dev/null; exit 0' TERM
   while :; do
-    "$@" >> "$run/log/$name.log" 2>&1 &
-    echo "$!" > "$sup/$name.pid"
-    wait "$!" 2>/dev/null && code=0 || code=$?  # (bash's own "Killed" notice is not for users)
+    setpriv --pdeathsig KILL -- "$@" >> "$run/log/$name.log" 2>&1 &
+    child=$!
+    echo "$child" > "$sup/$name.pid"
+    wait "$child" 2>/dev/null && code=0 || code=$?  # (bash's own "Killed" notice is not for users)
     [ -e "$sup/stopping" ] && return 0
     reason=$(exit_reason "$code")
     if [ "$respawn" = 0 ]; then
       echo "[launch] $name died ($reason); respawn is off (--no-respawn): stopping the run" >&2
       echo "$name" > "$sup/failed"
-      kill -USR1 $$ 2>/dev/null
+      kill -USR1 "$launch_pid" 2>/dev/null
       return 0
     fi
     now=$(date +%s)
@@ -112,7 +116,7 @@ supervise() {  # supervise NAME COMMAND...: run COMMAND, logged; restart it when
     if [ "${#deaths[@]}" -gt "$max_deaths" ]; then
       echo "[launch] $name died ($reason) more than $max_deaths times within a minute: stopping the run" >&2
       echo "$name" > "$sup/failed"
-      kill -USR1 $$ 2>/dev/null
+      kill -USR1 "$launch_pid" 2>/dev/null
       return 0
     fi
     sleep "$respawn_delay"
@@ -121,6 +125,9 @@ supervise() {  # supervise NAME COMMAND...: run COMMAND, logged; restart it when
     echo "[launch] $name died ($reason), restarted ($count)"
   done
 }
+export -f supervise exit_reason
+export run sup respawn respawn_delay max_deaths
+export launch_pid=$$
 
 cleanup() {
   local code=$?
@@ -157,7 +164,7 @@ trap node_failed USR1
 
 start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run/log/NAME.log
   local name=$1
-  supervise "$@" &
+  setpriv --pdeathsig TERM -- bash -c 'supervise "$@"' supervisor "$@" &
   supervisors+=($!)
   nodes+=("$name")
 }
@@ -194,7 +201,7 @@ restarts=0
 while :; do
   remaining=$(( deadline - $(date +%s) ))
   if [ "$remaining" -le 0 ]; then code=1; echo "[launch] the test did not finish within $timeout s" >&2; break; fi
-  clarc_monitor --ros-args -p timeout:="$remaining.0" &
+  setpriv --pdeathsig KILL -- clarc_monitor --ros-args -p timeout:="$remaining.0" &
   echo "$!" > "$sup/clarc_monitor.pid"
   wait "$!" 2>/dev/null && code=0 || code=$?
   [ "$code" -le 128 ] && break

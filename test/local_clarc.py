@@ -42,18 +42,20 @@ class Patient:
 class Port:
     """PELEA's Port on the bus; CGAmed's store can be made to fail ``store_failures`` times."""
 
-    def __init__(self, robot: Robot):
+    def __init__(self, robot: Robot, link, events=None, stored=None):
         self.robot = robot
-        self.events: list[dict[str, Any]] = []
+        self.link = link
+        self.events: list[dict[str, Any]] = [] if events is None else events
         self.notifications: list[str] = []
-        self.stored: list[dict[str, Any]] = []
+        self.stored: list[dict[str, Any]] = [] if stored is None else stored  # CGAmed's store
         self.store_failures = 0
 
     def send(self, tx, on_done=None):
-        self.robot.pelea_link.send(tx, on_done)
+        self.link.send(tx, on_done)
 
     def after(self, seconds, callback):
-        return self.robot.bus.after(seconds, callback)
+        # a timer of a PELEA that died does not fire
+        return self.robot.bus.after(seconds, lambda: None if self.link.closed else callback())
 
     def event(self, **fields):
         self.events.append(dict(fields, t=self.robot.bus.now))
@@ -66,8 +68,10 @@ class Port:
             self.store_failures -= 1
             self.robot.bus.soon(lambda: on_done(False, "CGAmed did not answer"))
             return
-        self.stored.append(result)
-        self.robot.bus.soon(lambda: on_done(True, ""))
+        key = (result["patient"], result["started"])
+        if key not in {(r["patient"], r["started"]) for r in self.stored}:  # stored once
+            self.stored.append(result)
+        self.robot.bus.soon(lambda: None if self.link.closed else on_done(True, ""))
 
     def now(self):
         return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
@@ -95,8 +99,9 @@ class Robot:
             self.panel_link, load_grammar("panel"), self.panel.processes(), log
         )
         self.pelea_link = self.bus.agent("/pelea")
-        self.port = Port(self)
+        self.port = Port(self, self.pelea_link)
         self.hle = HighLevelExecutive(self.port, Times(), log)
+        self.pelea_restarts = 0
         for runner in (self.person, self.speech_runner, self.panel_runner):
             runner.setup()
         self.speech_link.add_listener(lambda d, r: self.speech.on_graph(self.speech_link.graph))
@@ -109,12 +114,26 @@ class Robot:
     def run_test(self, patient_name: str = "Carlos", limit: float = 3600.0) -> dict[str, Any]:
         """Press Start and run until the result is stored; the stored result."""
         self.hle.start(self.pelea_link.graph, patient_name)
-        self.bus.run(until=lambda: bool(self.port.stored) and not self.hle.running, limit=limit)
+        self.bus.run(until=lambda: self.finished(), limit=limit)
         assert self.port.stored, f"no result stored; events: {self.port.events[-5:]}"
         return self.port.stored[-1]
 
     def kinds(self) -> list[str]:
         return [e["event"] for e in self.port.events]
+
+    def finished(self) -> bool:
+        test = self.bus.core.graph.node("test").attrs
+        return bool(self.port.stored) and test.get("status") == "finished"
+
+    def restart_pelea(self) -> None:
+        """PELEA's process dies (kill -9) and a new one starts with nothing but the DSR."""
+        self.pelea_link.close()
+        self.pelea_restarts += 1
+        self.pelea_link = self.bus.agent("/pelea")
+        self.port = Port(self, self.pelea_link, events=self.port.events, stored=self.port.stored)
+        self.hle = HighLevelExecutive(self.port, Times(), log)
+        self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
+        self.hle.on_graph(self.pelea_link.graph)  # its first snapshot
 
     # ------------------------------------------------------------------ the speaker (Speaker)
     def say(self, sid: int, text: str) -> None:

@@ -2,9 +2,11 @@
 Panel and Person's real grammars and processes on a LocalBus (test/local_clarc.py), every
 deviation and the replan it causes, and its action table against the PDDL domain."""
 
+import pytest
 from pyperplan.pddl.parser import Parser
 
 from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.hle import HighLevelExecutive
 
@@ -152,5 +154,71 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
         "attempts": 1,
         "answer": 5,
         "via": "touch",
+        "status": "answered",
     }
     assert graph.node("item_feeding").attrs["answer"] == 10
+
+
+# ------------------------------------------------------------------ crash-only PELEA
+EVERY_PATH = Patient(
+    answers={
+        "bathing": [("touch", 0)],
+        "grooming": ["silence", "silence"],
+        "dressing": ["garbled", ("voice", 5)],
+        "bowels": ["silence", ("voice", 10)],
+        "bladder": ["skip"],
+        "stairs": [("touch", 5)],
+    },
+    leaves={"toilet_use": 5.0},
+)
+
+
+def comparable(result):
+    """What a restart must not change (attempts may: the item in progress is asked again)."""
+    return (
+        {i["item"]: (i["points"], i["via"]) for i in result["items"]},
+        result["total"],
+        result["unanswered"],
+        result["clinician_called"],
+        result["patient"],
+        result["started"],
+    )
+
+
+def undisturbed():
+    return Robot(EVERY_PATH).run_test()
+
+
+@pytest.mark.parametrize("moment", [0.5, 3, 9, 20, 41, 63, 80, 111, 150, 182, 200, 226, 262, 280])
+def test_pelea_killed_at_any_moment_resumes_from_the_dsr(moment):
+    expected = undisturbed()
+    robot = Robot(EVERY_PATH)
+    robot.bus.after(moment, robot.restart_pelea)
+    result = robot.run_test()
+    assert robot.pelea_restarts == 1
+    assert len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected)
+    assert result["person_lost_count"] == expected["person_lost_count"]
+    if moment < 250:
+        assert "resumed" in robot.kinds()
+
+
+def test_pelea_killed_three_times_still_stores_one_equal_result():
+    expected = undisturbed()
+    robot = Robot(EVERY_PATH)
+    for moment in (25, 90, 170):
+        robot.bus.after(moment, robot.restart_pelea)
+    result = robot.run_test()
+    assert robot.pelea_restarts == 3 and len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected)
+
+
+def test_a_start_request_in_the_dsr_starts_the_test_and_a_second_is_refused():
+    robot = Robot()
+    link = robot.bus.agent("/clarc_cli")
+    link.send(high_to_low.request_start("Carlos", "2026-11-24T10:00:00+00:00"))
+    robot.bus.run(until=lambda: robot.hle.running, limit=10)
+    link.send(high_to_low.request_start("Someone else", "2026-11-24T10:00:05+00:00"))
+    robot.bus.run(until=robot.finished)
+    assert [r["patient"] for r in robot.port.stored] == ["Carlos"]
+    assert "requested_patient" not in robot.bus.core.graph.node("test").attrs

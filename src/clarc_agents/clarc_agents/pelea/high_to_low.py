@@ -108,9 +108,30 @@ def item_node(item: str) -> str:
     return f"item_{item}"
 
 
+def request_start(patient: str, requested: str) -> dict[str, Any]:
+    """The clinician pressed Start: the request waits on the test node until PELEA takes it."""
+    attrs = {"requested_patient": patient, "requested": requested}
+    return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
+
+
 def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
-    """The test is running: patient and time on the test node, one node per item for its answer."""
-    ops: list[dict[str, Any]] = [
+    """The test is running: on the test node the patient, the time and everything PELEA needs to
+    resume after a restart (flags of the steps done, the clinician called, how often the person
+    left); one node per item for its answer. A Start request for this patient is taken (CAS)."""
+    test = graph.node("test")
+    checks: list[dict[str, Any]] = []
+    ops: list[dict[str, Any]] = []
+    if "requested_patient" in test.attrs:
+        checks.append(
+            {"check": "attr_equals", "node": "test", "attr": "requested_patient", "value": patient}
+        )
+        ops.append(
+            {"op": "remove_node_attrs", "node": "test", "names": ["requested_patient", "requested"]}
+        )
+    stale = [k for k in ("finished",) if k in test.attrs]
+    if stale:
+        ops.append({"op": "remove_node_attrs", "node": "test", "names": stale})
+    ops.append(
         {
             "op": "set_node_attrs",
             "node": "test",
@@ -119,9 +140,14 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
                 "status": "running",
                 "started": started,
                 "item": ORDER[0],
+                "greeted": False,
+                "explained": False,
+                "said_goodbye": False,
+                "clinician_called": False,
+                "person_lost_count": 0,
             },
         }
-    ]
+    )
     for position, item in enumerate(ORDER, 1):
         name = item_node(item)
         if name in graph:
@@ -131,40 +157,75 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
                 "op": "insert_node",
                 "name": name,
                 "type": "test_item",
-                "attrs": {"item": item, "position": position, "attempts": 0},
+                "attrs": {"item": item, "position": position, "attempts": 0, "status": "asking"},
             }
         )
         ops.append({"op": "insert_edge", "from": "test", "to": name, "type": "has"})
-    return {"ops": ops}
+    return {"preconditions": checks, "ops": ops}
+
+
+def refuse_start(patient: str) -> dict[str, Any]:
+    """A Start while a test runs: the request is dropped (CAS on the same request)."""
+    return {
+        "preconditions": [
+            {"check": "attr_equals", "node": "test", "attr": "requested_patient", "value": patient}
+        ],
+        "ops": [
+            {"op": "remove_node_attrs", "node": "test", "names": ["requested_patient", "requested"]}
+        ],
+    }
 
 
 def record_item(
-    item: str, attempts: int, points: int | None = None, via: str | None = None
+    item: str,
+    attempts: int,
+    points: int | None = None,
+    via: str | None = None,
+    status: str = "asking",
 ) -> dict[str, Any]:
-    attrs: dict[str, Any] = {"attempts": attempts}
+    """An item's attempts so far, and its answer or that it was left unanswered."""
+    attrs: dict[str, Any] = {"attempts": attempts, "status": status}
     if points is not None:
-        attrs.update(answer=points, via=via)
+        attrs.update(answer=points, via=via, status="answered")
     return {"ops": [{"op": "set_node_attrs", "node": item_node(item), "attrs": attrs}]}
+
+
+def record_test(**attrs: Any) -> dict[str, Any]:
+    """Progress of the test on its node (greeted, explained, said_goodbye, person_lost_count,
+    finished): what a restarted PELEA reads to go on from where the test was."""
+    return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
 
 
 def current_item(item: str) -> dict[str, Any]:
     return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": item}}]}
 
 
-def call_clinician(graph: Graph) -> dict[str, Any] | None:
-    if graph.edge("test", "clinician", "requests") is not None:
-        return None
-    return {"ops": [{"op": "insert_edge", "from": "test", "to": "clinician", "type": "requests"}]}
-
-
-def finish_test(graph: Graph, finished: str) -> dict[str, Any]:
+def call_clinician(graph: Graph) -> dict[str, Any]:
     ops: list[dict[str, Any]] = [
-        {
-            "op": "set_node_attrs",
-            "node": "test",
-            "attrs": {"status": "finished", "finished": finished},
-        }
+        {"op": "set_node_attrs", "node": "test", "attrs": {"clinician_called": True}}
+    ]
+    if graph.edge("test", "clinician", "requests") is None:
+        ops.append({"op": "insert_edge", "from": "test", "to": "clinician", "type": "requests"})
+    return {"ops": ops}
+
+
+def finish_test(graph: Graph) -> dict[str, Any]:
+    """The result is stored: the test is over."""
+    ops: list[dict[str, Any]] = [
+        {"op": "set_node_attrs", "node": "test", "attrs": {"status": "finished"}}
     ]
     if graph.edge("test", "clinician", "requests") is not None:
         ops.append({"op": "delete_edge", "from": "test", "to": "clinician", "type": "requests"})
     return {"ops": ops}
+
+
+def reset_answer(graph: Graph) -> dict[str, Any] | None:
+    """Close whatever answer window a previous run of PELEA left (can, waiting or got)."""
+    kinds = [k for k in ("can", "waiting", "got") if graph.edge("person", "answer", k) is not None]
+    if not kinds:
+        return None
+    edge = {"from": "person", "to": "answer"}
+    return {
+        "preconditions": [{"check": "edge_exists", **edge, "type": k} for k in kinds],
+        "ops": [{"op": "delete_edge", **edge, "type": k} for k in kinds],
+    }

@@ -1,4 +1,10 @@
-"""The High Level Executive: runs a Barthel test (paper, Section III-B). Pure logic behind a small
+"""The High Level Executive: runs a Barthel test (paper, Section III-B).
+
+Crash-only: Start arrives as a request in the DSR, and everything needed to go on (the steps
+done, each item's attempts and answer, the clinician called, how often the person left) is
+written to the DSR as the test runs; an executive that finds a running test there (it was
+restarted) rebuilds its state from it and replans, asking the item in progress again. The
+stored result is read from the DSR, never from memory alone. Pure logic behind a small
 ``Port`` (send a transaction, start a timer, report, store the result), so the whole course of
 a test can be driven by unit tests with a local graph; ``node.py`` connects it to ROS.
 
@@ -23,6 +29,8 @@ from dsr_graph.model.graph import Graph
 
 # Actions that must not be broken off when the person leaves: the test is over by then.
 CLOSING = ("say-goodbye", "store-result")
+# Steps whose completion is written on the test node (the other steps leave their own trace).
+PROGRESS_FLAGS = {"greet": "greeted", "explain": "explained", "say-goodbye": "said_goodbye"}
 
 
 @dataclass
@@ -101,6 +109,7 @@ class HighLevelExecutive:
         self._timer: Timer | None = None
         self._pending_say: sentences.Sentence | None = None
         self._say_in_flight = False
+        self._stuck = False  # the planner found no plan: do not resume that test again
 
     # ------------------------------------------------------------------ inputs
     def start(self, graph: Graph, patient: str) -> bool:
@@ -112,6 +121,7 @@ class HighLevelExecutive:
             return False
         self.graph = graph
         self.running = True
+        self._stuck = False
         self.record = BarthelRecord(patient, self.port.now())
         self.state = decision_support.initial_state(low_to_high.person_present(graph))
         self.port.event(event="started", patient=patient)
@@ -119,11 +129,34 @@ class HighLevelExecutive:
         self._replan("start")
         return True
 
+    def resume(self, graph: Graph) -> None:
+        """A test is running in the DSR and this executive was not running it (it restarted):
+        go on from what the DSR says, asking the item in progress again."""
+        self.graph = graph
+        self.running = True
+        self.record = low_to_high.record(graph)
+        self.state = low_to_high.facts(graph)
+        reset = high_to_low.reset_answer(graph)
+        if reset is not None:  # a window left open by the previous run
+            self.port.send(reset)
+        self.port.event(
+            event="resumed", patient=self.record.patient, item=graph.node("test").attrs.get("item")
+        )
+        self._replan("resumed after a restart")
+
     def on_graph(self, graph: Graph) -> None:
         """The replica changed (or was reloaded)."""
         self.graph = graph
+        requested = low_to_high.start_request(graph)
         if not self.running:
+            if low_to_high.test_running(graph) and not self._stuck:
+                self.resume(graph)
+            elif requested is not None:
+                self.start(graph, requested)
             return
+        if requested is not None:
+            self.log.warning(f"Start for {requested} while a test runs: refused")
+            self.port.send(high_to_low.refuse_start(requested))
         self._watch_person(graph)
         if (
             self._pending_say is not None
@@ -142,6 +175,7 @@ class HighLevelExecutive:
             self.log.error(str(e))
             self.port.event(event="error", message=str(e))
             self.running = False
+            self._stuck = True
             return
         self.port.event(
             event="plan",
@@ -175,6 +209,8 @@ class HighLevelExecutive:
         self._clear_wait()
         if state is None:
             self.state = step.apply(self.state)
+            if step.name in PROGRESS_FLAGS:  # so that a restarted executive does not redo it
+                self.port.send(high_to_low.record_test(**{PROGRESS_FLAGS[step.name]: True}))
             if self._monitor():
                 self._replan("two items unanswered: call the clinician")
             else:
@@ -221,6 +257,7 @@ class HighLevelExecutive:
         present = low_to_high.person_present(graph)
         if "(person-present)" in self.state and not present:
             self.record.person_lost_count += 1
+            self.port.send(high_to_low.record_test(person_lost_count=self.record.person_lost_count))
             self.port.event(event="person_lost")
             item = self._current_item()
             if self.current is not None and self.current.name in CLOSING:
@@ -381,7 +418,8 @@ class HighLevelExecutive:
 
     def _skip_item(self, step: Step, item: str) -> None:
         self.record.give_up(item)
-        self.port.send(high_to_low.record_item(item, self.record.items[item].attempts))
+        attempts = self.record.items[item].attempts
+        self.port.send(high_to_low.record_item(item, attempts, status="unanswered"))
         self.port.event(event="unanswered", item=item)
         self._complete(self._token)
 
@@ -397,33 +435,46 @@ class HighLevelExecutive:
             f"({unanswered}) in the Barthel test: please come and attend."
         )
         self.port.event(event="clinician_called", unanswered=self.record.unanswered)
-        tx = high_to_low.call_clinician(self.graph)
-        if tx is not None:
-            self.port.send(tx)
+        self.port.send(high_to_low.call_clinician(self.graph))
         self._say(sentences.call_clinician())
 
     def _say_goodbye(self, step: Step, item: str) -> None:
         self._say(sentences.goodbye(self.record.patient))
 
     def _store_result(self, step: Step) -> None:
+        """The result, as the DSR holds it, to CGAmed (which stores a test once, however often
+        it is sent); the test is finished in the DSR once CGAmed acknowledged it."""
         token = self._token
-        self.record.finished = self.port.now()
-        result = self.record.to_json()
+        finished = self.graph.node("test").attrs.get("finished") or self.port.now()
 
-        def stored(ok: bool, error: str) -> None:
+        def written(r) -> None:
+            if token != self._token:
+                return
+            if not r.accepted:
+                self.log.warning(f"could not record the end of the test: {r.error}; retrying")
+                self._timer = self.port.after(
+                    self.times.store_retry, lambda: self._store_result(step)
+                )
+                return
+            result = low_to_high.record(self.graph).to_json()
+            self.record.finished = finished
+            self.port.store_result(result, lambda ok, error: stored(result, ok, error))
+
+        def stored(result: dict[str, Any], ok: bool, error: str) -> None:
             if token != self._token:
                 return
             if not ok:  # the hospital server is down or refused: keep the result and try again
                 self.log.warning(f"result not stored yet ({error}); retrying")
                 self._timer = self.port.after(
-                    self.times.store_retry, lambda: self.port.store_result(result, stored)
+                    self.times.store_retry,
+                    lambda: self.port.store_result(result, lambda ok, e: stored(result, ok, e)),
                 )
                 return
-            self.port.send(high_to_low.finish_test(self.graph, self.record.finished))
+            self.port.send(high_to_low.finish_test(self.graph))
             self.port.event(event="finished", result=result)
             self._complete(token)
 
-        self.port.store_result(result, stored)
+        self.port.send(high_to_low.record_test(finished=finished), written)
 
     # The plan's actions, each with its handler; a test checks it against the PDDL domain.
     ACTIONS: dict[str, Callable[..., None]] = {

@@ -8,6 +8,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.record import BarthelRecord
+from clarc_agents.pelea.high_to_low import item_node
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match
 from dsr_graph.rules.syntax import Pattern
@@ -70,3 +73,52 @@ def channels_idle(graph: Graph) -> bool:
 def last_sentence_id(graph: Graph) -> int:
     edge = graph.edge("test", "test_part", "is_in")
     return int(edge.attrs.get("sentence_id", 0)) if edge is not None else 0
+
+
+# ------------------------------------------------------------------ the test as the DSR holds it
+def start_request(graph: Graph) -> str | None:
+    """The patient for whom Start was pressed and not yet taken, if any."""
+    test = graph.find("test")
+    return None if test is None else test.attrs.get("requested_patient")
+
+
+def test_running(graph: Graph) -> bool:
+    test = graph.find("test")
+    return test is not None and test.attrs.get("status") == "running"
+
+
+def record(graph: Graph) -> BarthelRecord:
+    """The running (or last) test as its record, read from the test node and the item nodes."""
+    test = graph.node("test").attrs
+    rec = BarthelRecord(str(test.get("patient", "")), str(test.get("started", "")))
+    rec.finished = test.get("finished")
+    rec.clinician_called = bool(test.get("clinician_called", False))
+    rec.person_lost_count = int(test.get("person_lost_count", 0))
+    for key in ORDER:
+        node = graph.find(item_node(key))
+        if node is None:
+            continue
+        result = rec.items[key]
+        result.attempts = int(node.attrs.get("attempts", 0))
+        status = node.attrs.get("status")
+        if status == "answered":
+            result.points, result.via = int(node.attrs["answer"]), node.attrs.get("via")
+        result.closed = status in ("answered", "unanswered")
+    return rec
+
+
+def facts(graph: Graph) -> frozenset[str]:
+    """The high-level state of a running test, read from the DSR: what a restarted PELEA plans
+    from. An item not closed yet (the one in progress) is pending: it is asked again."""
+    test = graph.node("test").attrs
+    rec = record(graph)
+    state = {"(started)", f"(current {test.get('item', ORDER[0])})"}
+    state.add("(person-present)" if person_present(graph) else "(person-absent)")
+    for flag in ("greeted", "explained", "said-goodbye"):
+        if test.get(flag.replace("-", "_")):
+            state.add(f"({flag})")
+    for key in ORDER:
+        state.add(f"(closed {key})" if rec.items[key].closed else f"(pending {key})")
+    needed = not rec.clinician_called and len(rec.unanswered) >= 2
+    state.add("(clinician-needed)" if needed else "(clinician-ok)")
+    return frozenset(state)

@@ -121,6 +121,7 @@ class LocalAgent:
         self._listeners: list[Listener] = []
         self._pending: dict[str, Callable[[Result], None] | None] = {}
         self._count = 0
+        self.closed = False
 
     @property
     def graph(self) -> Graph:
@@ -133,7 +134,15 @@ class LocalAgent:
     def add_listener(self, listener: Listener) -> None:
         self._listeners.append(listener)
 
+    def close(self) -> None:
+        """The agent's process died: nothing reaches it any more and nothing it sends arrives."""
+        self.closed = True
+        self._listeners.clear()
+        self._pending.clear()
+
     def send(self, doc: dict[str, Any], on_done: Callable[[Result], None] | None = None) -> str:
+        if self.closed:
+            return ""
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         self._count += 1
@@ -143,6 +152,8 @@ class LocalAgent:
         return doc["id"]
 
     def receive(self, delta: dict[str, Any]) -> None:
+        if self.closed:
+            return
         applied = self.replica.receive(delta)
         if applied:
             for listener in list(self._listeners):
