@@ -185,11 +185,12 @@ start panel panel "${scaled[@]}"
 start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
 start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port"
+start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
 if [ "$wait_start" = 1 ]; then
-  start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
-else
-  start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port" -p start_patient:="$patient"
+else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
+  clarc start "$patient" --timeout 60 >> "$run/log/start.log" 2>&1 ||
+    { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 fi
 echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 

@@ -12,7 +12,6 @@ KINECT_PERSON = (
     "clarc/kinect/person"  # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}
 )
 PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
-CGAMED_START = "clarc/cgamed/start"  # CGAmed -> PELEA: {"patient"}
 CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
 CGAMED_NOTIFICATIONS = (
     "clarc/cgamed/notifications"  # CGAmed -> the clinician's phone: {"kind", "message", ...}

@@ -7,7 +7,8 @@ ROS Parameters:
     outbox_dir (str): results not yet acknowledged by CGAmed wait here, so a crash loses none
         (default $XDG_STATE_HOME/clarc/pelea_outbox).
     setup_timeout (float): seconds to wait for the DSR server (default 20).
-Subscriptions: clarc/cgamed/start. Publishers: clarc/pelea/events, clarc/cgamed/notify.
+Start: a request on the DSR's test node (clarc start, or the dashboard).
+Publishers: clarc/pelea/events, clarc/cgamed/notify.
 Clients: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics.
 """
 
@@ -27,7 +28,7 @@ from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
-from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.json_topics import publish_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
@@ -77,33 +78,19 @@ class PeleaNode(DsrNode):
         )
         self.hle = HighLevelExecutive(self, times, self.get_logger())
         self.outbox = Path(param(self, "outbox_dir"))
-        self._waiting_start: str | None = None
 
     def setup(self) -> None:
         self.outbox.mkdir(parents=True, exist_ok=True)
         self._events = self.create_publisher(String, topics.PELEA_EVENTS, qos_stream())
         self._notify = self.create_publisher(String, topics.CGAMED_NOTIFY, qos_stream())
         self._store = self.create_client(StoreResult, topics.CGAMED_STORE)
-        # Listen for Start before waiting for the server: a Start sent meanwhile is queued.
-        subscribe_json(self, topics.CGAMED_START, self.on_start, qos_stream())
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.dsr.add_listener(self._on_graph)
         self.create_timer(2.0, self._flush_outbox)
         self.get_logger().info("PELEA up: waiting for the clinician's Start")
 
-    def on_start(self, command: dict[str, Any]) -> None:
-        patient = str(command["patient"]).strip()
-        if not patient:
-            raise ValueError("the patient's name is empty")
-        if not self.dsr.replica.synced:
-            self._waiting_start = patient  # start as soon as the replica is there
-            return
-        self.hle.start(self.dsr.graph, patient)
-
     def _on_graph(self, deltas, resynced) -> None:
-        if self._waiting_start is not None and self.dsr.replica.synced:
-            patient, self._waiting_start = self._waiting_start, None
-            self.hle.start(self.dsr.graph, patient)
+        # A Start request, a test to resume after a restart, and the test's course: all in the DSR.
         self.hle.on_graph(self.dsr.graph)
 
     # ------------------------------------------------------------------ the HLE's port

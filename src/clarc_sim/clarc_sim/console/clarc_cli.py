@@ -10,11 +10,16 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from datetime import UTC, datetime
 
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.exceptions import ScenarioError
 from clarc_sim.hospital.results_store import ResultsStore, default_db
 from clarc_sim.patient.scenario import load
+
+
+def now() -> str:
+    return datetime.now(UTC).astimezone().isoformat(timespec="seconds")
 
 
 def results(args: argparse.Namespace) -> int:
@@ -68,23 +73,27 @@ def scenario(args: argparse.Namespace) -> int:
 
 
 def start(args: argparse.Namespace) -> int:
-    from std_msgs.msg import String
-
-    from clarc_agents import topics
-    from dsr_graph.ros.qos import qos_stream
+    """Press Start: a request for the patient on the DSR's test node, which PELEA takes as soon
+    as it runs (a request made while PELEA is down or restarting waits there)."""
+    from clarc_agents.pelea.high_to_low import request_start
+    from dsr_graph.exceptions import DsrError
+    from dsr_graph.ros.agent import DsrAgent
     from dsr_graph.ros.session import RosSession
 
-    with RosSession() as ros:
-        pub = ros.node.create_publisher(String, topics.CGAMED_START, qos_stream())
-        try:
-            ros.spin_until(
-                lambda: pub.get_subscription_count() > 0, args.timeout, "PELEA to listen"
-            )
-        except Exception as e:  # noqa: BLE001
-            print(f"clarc: error: {e}", file=sys.stderr)
-            return 1
-        pub.publish(String(data=json.dumps({"patient": args.patient})))
-        ros.spin_for(0.5)
+    verdicts = []
+    try:
+        with RosSession() as ros:
+            agent = DsrAgent()
+            agent.setup(ros.node, timeout_sec=args.timeout)
+            ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
+            agent.send(request_start(args.patient, now()), verdicts.append)
+            ros.spin_until(lambda: bool(verdicts), args.timeout, "the DSR server's verdict")
+    except DsrError as e:
+        print(f"clarc: error: {e}", file=sys.stderr)
+        return 1
+    if not verdicts[0].accepted:
+        print(f"clarc: error: Start refused: {verdicts[0].error}", file=sys.stderr)
+        return 1
     print(f"Start pressed for {args.patient}")
     return 0
 

@@ -1,27 +1,32 @@
 """The CGAmed hospital-server stand-in: the clinician's Start, the results store, the
 clinician's notifications, and the clinician's dashboard in the browser (dashboard_app.py).
 
-ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), start_patient
-(if set, press Start for this patient as soon as PELEA listens), dashboard (true), host
-(127.0.0.1), port (8081). Subscriptions: clarc/cgamed/notify, clarc/pelea/events,
-clarc/speaker/events. Publishers: clarc/cgamed/start, clarc/cgamed/notifications. Services:
-clarc/cgamed/store_result (dsr_msgs/srv/StoreResult).
+The dashboard's Start is a request written on the DSR's test node (as ``clarc start`` does),
+which PELEA takes: a Start is never lost to a module that is restarting.
+
+ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), dashboard (true),
+host (127.0.0.1), port (8081), setup_timeout (20 s). Subscriptions: clarc/cgamed/notify,
+clarc/pelea/events, clarc/speaker/events. Publishers: clarc/cgamed/notifications. Services:
+clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics (it writes Start).
 """
 
 from __future__ import annotations
 
 import json
+from datetime import UTC, datetime
 from typing import Any
 
 from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.exceptions import InvalidResult
+from clarc_agents.pelea.high_to_low import request_start
 from clarc_sim.hospital.dashboard_app import TestStatus, make_app
 from clarc_sim.hospital.results_store import ResultsStore, default_db
+from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, param
+from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
@@ -34,10 +39,11 @@ class CgamedStandIn(DsrNode):
         declare(self, "db", default_db(), "SQLite results store", read_only=True)
         declare(
             self,
-            "start_patient",
-            "",
-            "press Start for this patient as soon as PELEA listens",
+            "setup_timeout",
+            20.0,
+            "seconds to wait for the DSR server",
             read_only=True,
+            minimum=0.0,
         )
         declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
         declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
@@ -54,12 +60,12 @@ class CgamedStandIn(DsrNode):
         self.events = Broadcaster()
         self.store: ResultsStore | None = None
         self.bridge: Bridge | None = None
-        self._start_for: str | None = None  # a Start pressed before PELEA listens waits here
+        self._start_for: str | None = None  # pressed on the dashboard, to be written to the DSR
+        self.dsr = DsrAgent()
 
     def setup(self) -> None:
         self.store = ResultsStore(param(self, "db"), shared=True)  # used by the ROS thread
         self.bridge = Bridge(self)
-        self._start = self.create_publisher(String, topics.CGAMED_START, qos_stream())
         self._notifications = self.create_publisher(
             String, topics.CGAMED_NOTIFICATIONS, qos_stream()
         )
@@ -67,21 +73,27 @@ class CgamedStandIn(DsrNode):
         subscribe_json(self, topics.CGAMED_NOTIFY, self.on_notify, qos_stream())
         subscribe_json(self, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
-        self.create_timer(0.1, self._send_start_when_heard)
-        if param(self, "start_patient"):
-            self.press_start(param(self, "start_patient"))
+        self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self.create_timer(0.1, self._send_start)
         self.get_logger().info(f"results store: {self.store.path}")
 
     def press_start(self, patient: str) -> None:
         """The clinician pressed Start (from the dashboard's thread, or at start-up)."""
         self._start_for = patient
 
-    def _send_start_when_heard(self) -> None:
+    def _send_start(self) -> None:  # ROS thread
         patient = self._start_for
-        if patient is not None and self._start.get_subscription_count() > 0:  # PELEA listens
-            self._start_for = None
-            publish_json(self._start, {"patient": patient})
+        if patient is None or not self.dsr.ready:
+            return
+        self._start_for = None
+        requested = datetime.now(UTC).astimezone().isoformat(timespec="seconds")
+        self.dsr.send(request_start(patient, requested), lambda r: self._start_sent(patient, r))
+
+    def _start_sent(self, patient: str, result) -> None:
+        if result.accepted:
             self.get_logger().info(f"Start pressed for {patient}")
+        else:
+            self.get_logger().error(f"Start for {patient} refused by the DSR: {result.error}")
 
     def _tell(self, kind: str, message: str, **extra) -> None:
         self.store.notify(kind, message)
