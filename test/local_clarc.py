@@ -73,6 +73,9 @@ class Port:
             self.stored.append(result)
         self.robot.bus.soon(lambda: None if self.link.closed else on_done(True, ""))
 
+    def dsr_reachable(self):
+        return self.robot.dsr_up
+
     def now(self):
         return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
 
@@ -102,6 +105,7 @@ class Robot:
         self.port = Port(self, self.pelea_link)
         self.hle = HighLevelExecutive(self.port, Times(), log)
         self.pelea_restarts = 0
+        self.dsr_up = True
         for runner in (self.person, self.speech_runner, self.panel_runner):
             runner.setup()
         self.speech_link.add_listener(lambda d, r: self.speech.on_graph(self.speech_link.graph))

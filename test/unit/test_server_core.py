@@ -193,3 +193,39 @@ def test_replay_rebuilds_the_same_state_from_snapshot_and_deltas():
     assert json.dumps(again.snapshot(), sort_keys=True) == json.dumps(c.snapshot(), sort_keys=True)
     with pytest.raises(ValueError, match="out of order"):
         again.replay(deltas[0])
+
+
+def test_a_request_sent_again_is_answered_not_applied_twice():
+    core = ServerCore(Graph())
+    tx = json.dumps(
+        {
+            "id": "a:1",
+            "agent": "/a",
+            "ops": [{"op": "insert_node", "name": "x", "type": "transform"}],
+        }
+    )
+    first = core.submit(tx)
+    again = core.submit(tx)
+    assert first["seq"] == 1 and core.seq == 1
+    assert again.duplicate_of == 1 and again.violation.rule == "duplicate"
+    assert again.to_json()["duplicate_of"] == 1
+
+
+def test_a_restarted_server_still_knows_the_requests_it_accepted():
+    core = ServerCore(Graph())
+    texts = [
+        json.dumps(
+            {"id": f"a:{i}", "ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}
+        )
+        for i in range(3)
+    ]
+    deltas = [core.submit(t) for t in texts]
+    snapshot = json.loads(json.dumps(core.durable_snapshot()))  # as written to disk after seq 3
+    later = core.submit(
+        json.dumps({"id": "a:9", "ops": [{"op": "insert_node", "name": "m", "type": "transform"}]})
+    )
+    restarted = ServerCore.from_snapshot(snapshot)
+    restarted.replay(json.loads(json.dumps(later)))  # the journal after the snapshot
+    assert [restarted.submit(t).duplicate_of for t in texts] == [d["seq"] for d in deltas]
+    assert restarted.submit(json.dumps({"id": "a:9", "ops": []})).duplicate_of == 4
+    assert restarted.seq == 4

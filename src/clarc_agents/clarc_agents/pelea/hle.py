@@ -91,6 +91,7 @@ class Port(Protocol):
         self, result: dict[str, Any], on_done: Callable[[bool, str], None]
     ) -> None: ...
     def now(self) -> str: ...
+    def dsr_reachable(self) -> bool: ...
 
 
 class HighLevelExecutive:
@@ -401,6 +402,12 @@ class HighLevelExecutive:
 
     def _answer_timed_out(self, item: str, window: int, token: int) -> None:
         if token != self._token or self.graph is None:
+            return
+        if not self.port.dsr_reachable():
+            # An answer given meanwhile is on its way to a DSR server that is restarting: the
+            # window stays open until the DSR can decide between the answer and the time-out.
+            retry = lambda: self._answer_timed_out(item, window, token)  # noqa: E731
+            self._timer = self.port.after(0.5, retry)
             return
         close = high_to_low.close_answer(self.graph)
         if close is None:

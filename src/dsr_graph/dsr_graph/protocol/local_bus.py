@@ -49,7 +49,7 @@ class LocalBus:
 
     def agent(self, name: str) -> LocalAgent:
         """A new agent, synced with the graph as it is now."""
-        agent = LocalAgent(self, name)
+        agent = LocalAgent(self, name, run=len(self.agents))
         agent.replica.load_snapshot(json.loads(json.dumps(self.core.snapshot())))
         self.agents.append(agent)
         return agent
@@ -57,6 +57,10 @@ class LocalBus:
     # ------------------------------------------------------------------ the server's side
     def submit(self, sender: LocalAgent, doc: dict[str, Any]) -> None:
         result = self.core.submit(json.dumps(doc), now=self.now)
+        if isinstance(result, Rejection) and result.duplicate_of is not None:
+            verdict = Result(result.id, True, delta={"seq": result.duplicate_of, "id": result.id})
+            self.soon(lambda: sender.rejected(verdict))
+            return
         if isinstance(result, Rejection):
             verdict = Result(
                 result.id, False, reason=result.violation.to_json(), error=str(result.violation)
@@ -114,9 +118,10 @@ class LocalBus:
 class LocalAgent:
     """An agent's link to a ``LocalBus``: what ``dsr_graph.ros.agent.DsrAgent`` is over ROS."""
 
-    def __init__(self, bus: LocalBus, name: str):
+    def __init__(self, bus: LocalBus, name: str, run: int = 0):
         self.bus = bus
         self.name = name
+        self.run = run  # tells this agent's requests from those of an earlier one of that name
         self.replica = Replica(bus.core.graph.vocabulary)
         self._listeners: list[Listener] = []
         self._pending: dict[str, Callable[[Result], None] | None] = {}
@@ -146,7 +151,7 @@ class LocalAgent:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         self._count += 1
-        doc.setdefault("id", f"{self.name}:{self._count}")
+        doc.setdefault("id", f"{self.name}:{self.run}:{self._count}")
         self._pending[doc["id"]] = on_done
         self.bus.submit(self, doc)
         return doc["id"]
@@ -164,6 +169,7 @@ class LocalAgent:
                 callback(Result(done["id"], True, delta=done))
 
     def rejected(self, verdict: Result) -> None:
+        """The verdict of a request that made no new delta: refused, or accepted earlier."""
         callback = self._pending.pop(verdict.id, None)
         if callback is not None:
             callback(verdict)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import time
+from collections import OrderedDict
 from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
@@ -22,6 +23,8 @@ from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops, parse_transaction
 
 SERVER_AGENT = "dsr_server"
+REMEMBERED_IDS = 100_000  # request ids kept in memory to recognise a request sent again
+SNAPSHOT_IDS = 2_000  # of them, kept in the persisted snapshot (the journal holds the rest)
 DEFAULT_MAX_REQUEST_BYTES = 4 * 1024 * 1024
 
 
@@ -45,14 +48,30 @@ class Rejection:
     id: str
     agent: str
     violation: Violation
+    duplicate_of: int | None = None  # the seq that accepted this request when it came first
 
     def to_json(self) -> dict[str, Any]:
-        return {
+        doc = {
             "id": self.id,
             "agent": self.agent,
             "reason": self.violation.to_json(),
             "error": str(self.violation),
         }
+        if self.duplicate_of is not None:
+            doc["duplicate_of"] = self.duplicate_of
+        return doc
+
+
+class Duplicate(TransactionRejected):
+    """A request the server already accepted (an agent sent it again after a restart)."""
+
+    def __init__(self, ident: str, seq: int):
+        super().__init__(
+            Violation(
+                "duplicate", "transaction", f"request {ident!r} was already accepted as seq {seq}"
+            )
+        )
+        self.seq = seq
 
 
 class ServerCore:
@@ -67,6 +86,9 @@ class ServerCore:
         self.seq = seq
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
+        # request id -> seq, for the most recent requests: a request sent again (the agent
+        # did not hear the verdict, e.g. the server restarted) is answered, not applied twice
+        self.accepted_ids: OrderedDict[str, int] = OrderedDict()
 
     # ------------------------------------------------------------------ requests
     def submit(self, text: str, now: float | None = None) -> Any:
@@ -93,6 +115,8 @@ class ServerCore:
                 ident = doc["id"] if isinstance(doc.get("id"), str) else ""
                 agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
             return self.submit_doc(doc, now)
+        except Duplicate as e:
+            return Rejection(ident, agent, e.violation, duplicate_of=e.seq)
         except TransactionRejected as e:
             return Rejection(ident, agent, e.violation)
         except RecursionError:
@@ -102,6 +126,8 @@ class ServerCore:
 
     def submit_doc(self, doc: Any, now: float) -> dict[str, Any]:
         tx = parse_transaction(doc)
+        if tx.id and tx.id in self.accepted_ids:
+            raise Duplicate(tx.id, self.accepted_ids[tx.id])
         claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
         for key in claim_keys:
             for name in [key[1]] if key[0] == "node" else [key[1], key[2]]:
@@ -169,7 +195,14 @@ class ServerCore:
         }
         if changes:
             delta["claims"] = changes
+        self._remember(ident, self.seq)
         return delta
+
+    def _remember(self, ident: str, seq: int) -> None:
+        if ident:
+            self.accepted_ids[ident] = seq
+            if len(self.accepted_ids) > REMEMBERED_IDS:
+                self.accepted_ids.popitem(last=False)
 
     # ------------------------------------------------------------------ housekeeping
     def end_claims(
@@ -193,13 +226,24 @@ class ServerCore:
         apply_ops(self.graph, delta["ops"])
         self.claims.apply_changes(delta.get("claims", {}))
         self.seq = delta["seq"]
+        self._remember(delta.get("id") or "", self.seq)
 
     def snapshot(self) -> dict[str, Any]:
         doc = dsr_json.to_json(self.graph, "snapshot", seq=self.seq)
         doc["claims"] = self.claims.to_json()
         return doc
 
+    def durable_snapshot(self) -> dict[str, Any]:
+        """The snapshot the server persists: also the ids of the latest accepted requests, so
+        that after a restart a request sent again is still recognised."""
+        doc = self.snapshot()
+        doc["accepted_ids"] = [[i, s] for i, s in list(self.accepted_ids.items())[-SNAPSHOT_IDS:]]
+        return doc
+
     @classmethod
     def from_snapshot(cls, doc: dict[str, Any], vocabulary=None, **kwargs: Any) -> ServerCore:
         graph, seq = dsr_json.snapshot_from_json(doc, vocabulary)
-        return cls(graph, seq, ClaimTable.from_json(doc.get("claims", [])), **kwargs)
+        core = cls(graph, seq, ClaimTable.from_json(doc.get("claims", [])), **kwargs)
+        for ident, accepted_at in doc.get("accepted_ids", []):
+            core._remember(ident, accepted_at)
+        return core

@@ -34,6 +34,8 @@ from dsr_msgs.srv import GetSnapshot
 
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
+RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
+HEARTBEAT_LOST = 3.0  # seconds without a heartbeat: the server is taken as unreachable
 
 
 Listener = Callable[
@@ -48,6 +50,10 @@ class DsrAgent:
         self.name = ""
         self._listeners: list[Listener] = []
         self._pending: dict[str, Callable[[Result], None] | None] = {}
+        self._unanswered: dict[str, tuple[str, float]] = {}  # id -> (request text, last sent)
+        self._accepted_before: dict[str, int] = {}  # id -> seq, for requests sent again
+        self._boot = ""  # the server's start, from its heartbeat
+        self._last_heartbeat = 0.0
         self._outbox: list[str] = []
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
@@ -87,6 +93,11 @@ class DsrAgent:
         return self.replica.graph
 
     @property
+    def connected(self) -> bool:
+        """The server's heartbeat came recently: requests can be decided now."""
+        return time.monotonic() - self._last_heartbeat < HEARTBEAT_LOST
+
+    @property
     def synced(self) -> bool:
         """A snapshot has been loaded (the graph is the server's, as of some seq)."""
         return self.replica.synced
@@ -111,10 +122,21 @@ class DsrAgent:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         doc.setdefault("id", self.next_id())
+        text = json.dumps(doc)
         self._pending[doc["id"]] = on_done
-        self._outbox.append(json.dumps(doc))
+        self._unanswered[doc["id"]] = (text, time.monotonic())
+        self._outbox.append(text)
         self._flush_outbox()
         return doc["id"]
+
+    def _send_again(self, older_than: float) -> None:
+        """Requests whose verdict has not come (lost to a server that died, or not heard): send
+        them again with the same id; the server applies each once and answers the rest."""
+        now = time.monotonic()
+        for ident, (text, sent) in list(self._unanswered.items()):
+            if now - sent >= older_than:
+                self._unanswered[ident] = (text, now)
+                self._outbox.append(text)
 
     def _flush_outbox(self) -> None:
         # A request published before the server's subscription is matched would be lost.
@@ -138,9 +160,16 @@ class DsrAgent:
             for listener in list(self._listeners):
                 listener(applied, resynced)
         for delta in applied:
+            self._unanswered.pop(delta.get("id"), None)
             callback = self._pending.pop(delta.get("id"), None)
             if callback is not None:
                 callback(Result(delta["id"], True, delta=delta))
+        for ident, seq in list(self._accepted_before.items()):
+            if seq <= self.replica.seq:  # accepted by an earlier send; the replica has it now
+                del self._accepted_before[ident]
+                callback = self._pending.pop(ident, None)
+                if callback is not None:
+                    callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
 
     def _on_rejection(self, msg: String) -> None:
         try:
@@ -148,6 +177,13 @@ class DsrAgent:
         except ValueError:
             return
         ident = doc.get("id", "")
+        if ident not in self._pending:
+            return
+        self._unanswered.pop(ident, None)
+        if isinstance(doc.get("duplicate_of"), int):  # an earlier send of it was accepted
+            self._accepted_before[ident] = doc["duplicate_of"]
+            self._deliver([], resynced=False)
+            return
         if ident in self._pending:
             callback = self._pending.pop(ident)
             if callback is not None:
@@ -155,12 +191,22 @@ class DsrAgent:
 
     def _on_heartbeat(self, msg: String) -> None:
         try:
-            self.replica.observe_server_seq(int(json.loads(msg.data)["seq"]))
+            beat = json.loads(msg.data)
+            self.replica.observe_server_seq(int(beat["seq"]))
         except (ValueError, KeyError, TypeError):
-            pass
+            return
+        self._last_heartbeat = time.monotonic()
+        boot = str(beat.get("boot", ""))
+        if self._boot and boot != self._boot:  # the server restarted: what it did not answer
+            self.node.get_logger().warning(
+                "the DSR server restarted: sending unanswered requests again"
+            )
+            self._send_again(older_than=0.0)
+        self._boot = boot
 
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
+        self._send_again(older_than=RESEND_AFTER)
         self._flush_outbox()
         now = time.monotonic()
         if self.replica.seq != self._progress[0]:

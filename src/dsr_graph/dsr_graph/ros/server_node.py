@@ -16,7 +16,7 @@ Subscriptions:
 Publishers:
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
-    dsr/heartbeat (std_msgs/String, latched): {seq, stamp}.
+    dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot} (boot: new at each start).
     dsr/pose/<node> (geometry_msgs/PoseStamped, latched): each geometric node's pose in its
         RT parent's frame (header.frame_id = the parent's name), again on every change.
 Services:
@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import json
 import time
+import uuid
 from typing import Any
 
 import orjson
@@ -117,6 +118,7 @@ class DsrServer(DsrNode):
         self._pose_pubs: dict[str, Any] = {}
         self._snapshot_cache = (-1, "")
         self._missing_since: dict[str, float] = {}
+        self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
 
     # ------------------------------------------------------------------ start
     def setup(self) -> None:
@@ -149,7 +151,7 @@ class DsrServer(DsrNode):
                     self.get_logger().warning(f"world file: left out: {violation}")
                 graph = world.graph
             self.core = ServerCore(graph, 0, max_request_bytes=param(self, "max_request_bytes"))
-            self.store.write_snapshot(self.core.snapshot())
+            self.store.write_snapshot(self.core.durable_snapshot())
             self.get_logger().info(
                 f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
                 f"{len(graph)} nodes, {graph.edge_count()} edges"
@@ -222,7 +224,7 @@ class DsrServer(DsrNode):
                 for name in _moved_nodes(delta):
                     self._publish_pose(name)
         if self.store.needs_compaction():
-            self.store.write_snapshot(self.core.snapshot())
+            self.store.write_snapshot(self.core.durable_snapshot())
 
     # ------------------------------------------------------------------ poses
     def _publish_pose(self, name: str) -> None:
@@ -263,7 +265,8 @@ class DsrServer(DsrNode):
             )
         if ended:
             self._accept([d for d in ended if d is not None])
-        self._heartbeat.publish(String(data=json.dumps({"seq": self.core.seq, "stamp": now})))
+        beat = {"seq": self.core.seq, "stamp": now, "boot": self._boot}
+        self._heartbeat.publish(String(data=json.dumps(beat)))
 
     def _gone_holders(self, now: float) -> list[str]:
         holders = {c.agent for c in self.core.claims.all()}
