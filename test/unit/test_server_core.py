@@ -227,5 +227,5 @@ def test_a_restarted_server_still_knows_the_requests_it_accepted():
     restarted = ServerCore.from_snapshot(snapshot)
     restarted.replay(json.loads(json.dumps(later)))  # the journal after the snapshot
     assert [restarted.submit(t).duplicate_of for t in texts] == [d["seq"] for d in deltas]
-    assert restarted.submit(json.dumps({"id": "a:9", "ops": []})).duplicate_of == 4
+    assert restarted.submit(insert("a:9", "m")).duplicate_of == 4
     assert restarted.seq == 4
