@@ -211,19 +211,17 @@ def test_a_request_sent_again_is_answered_not_applied_twice():
     assert again.to_json()["duplicate_of"] == 1
 
 
+def insert(ident, name):
+    op = {"op": "insert_node", "name": name, "type": "transform"}
+    return json.dumps({"id": ident, "ops": [op]})
+
+
 def test_a_restarted_server_still_knows_the_requests_it_accepted():
     core = ServerCore(Graph())
-    texts = [
-        json.dumps(
-            {"id": f"a:{i}", "ops": [{"op": "insert_node", "name": f"n{i}", "type": "transform"}]}
-        )
-        for i in range(3)
-    ]
+    texts = [insert(f"a:{i}", f"n{i}") for i in range(3)]
     deltas = [core.submit(t) for t in texts]
     snapshot = json.loads(json.dumps(core.durable_snapshot()))  # as written to disk after seq 3
-    later = core.submit(
-        json.dumps({"id": "a:9", "ops": [{"op": "insert_node", "name": "m", "type": "transform"}]})
-    )
+    later = core.submit(insert("a:9", "m"))
     restarted = ServerCore.from_snapshot(snapshot)
     restarted.replay(json.loads(json.dumps(later)))  # the journal after the snapshot
     assert [restarted.submit(t).duplicate_of for t in texts] == [d["seq"] for d in deltas]
