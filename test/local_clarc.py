@@ -93,7 +93,7 @@ class Robot:
         self.person_link = self.bus.agent("/person")
         self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(self, self.bus.after, log)
+        self.speech = SpeechBehaviour(self, self._clock_of(self.speech_link), log)
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.panel_link = self.bus.agent("/panel")
@@ -124,6 +124,35 @@ class Robot:
 
     def kinds(self) -> list[str]:
         return [e["event"] for e in self.port.events]
+
+    def _clock_of(self, link):
+        """Timers that die with the agent's process."""
+        return lambda seconds, callback: self.bus.after(
+            seconds, lambda: None if link.closed else callback()
+        )
+
+    def restart_speech(self) -> None:
+        """Speech's process dies and a new one starts: a new replica, its grammar's recovery."""
+        self.speech_link.close()
+        self.speech_link = self.bus.agent("/speech")
+        self.speech = SpeechBehaviour(self, self._clock_of(self.speech_link), log)
+        processes = dict(self.speech.processes(), listen=self._listen)
+        self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
+        self.speech_runner.setup()
+        self.speech_link.add_listener(lambda d, r: self.speech.on_graph(self.speech_link.graph))
+        self.speech_runner.signal("recover")
+        self.speech_runner.step()
+
+    def restart_panel(self) -> None:
+        self.panel_link.close()
+        self.panel_link = self.bus.agent("/panel")
+        self.panel = PanelBehaviour(self, log)
+        self.panel_runner = RuleRunner(
+            self.panel_link, load_grammar("panel"), self.panel.processes(), log
+        )
+        self.panel_runner.setup()
+        self.panel_runner.signal("recover")
+        self.panel_runner.step()
 
     def finished(self) -> bool:
         test = self.bus.core.graph.node("test").attrs

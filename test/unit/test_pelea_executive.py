@@ -222,3 +222,39 @@ def test_a_start_request_in_the_dsr_starts_the_test_and_a_second_is_refused():
     robot.bus.run(until=robot.finished)
     assert [r["patient"] for r in robot.port.stored] == ["Carlos"]
     assert "requested_patient" not in robot.bus.core.graph.node("test").attrs
+
+
+@pytest.mark.parametrize("agent", ["speech", "panel"])
+@pytest.mark.parametrize("moment", [2, 11, 47, 60, 95, 131, 166, 205, 247])
+def test_speech_or_panel_killed_at_any_moment_recover_from_their_grammar(agent, moment):
+    expected = undisturbed()
+    robot = Robot(EVERY_PATH)
+    robot.bus.after(moment, getattr(robot, f"restart_{agent}"))
+    result = robot.run_test()
+    assert len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected)
+
+
+def listening_moments(item):
+    """When the answer windows of ``item`` open in an undisturbed run (virtual seconds)."""
+    robot = Robot(EVERY_PATH)
+    robot.run_test()
+    return [e["t"] for e in robot.port.events if e["event"] == "listening" and e["item"] == item]
+
+
+@pytest.mark.parametrize("agent", ["speech", "panel"])
+@pytest.mark.parametrize("item", ["feeding", "bathing", "bowels", "stairs"])
+def test_an_answer_window_cut_by_a_restart_loses_no_answer(agent, item):
+    expected = undisturbed()
+    for opened in listening_moments(item):
+        robot = Robot(EVERY_PATH)
+        inside = []
+
+        def kill(robot=robot, inside=inside):
+            inside.append(robot.bus.core.graph.edge("person", "answer", "waiting") is not None)
+            getattr(robot, f"restart_{agent}")()
+
+        robot.bus.after(opened + 0.5, kill)
+        result = robot.run_test()
+        assert inside == [True], "the kill must fall inside the answer window"
+        assert comparable(result) == comparable(expected), (agent, item, opened)

@@ -1,6 +1,7 @@
 """The shape every grammar-driven CLARC agent shares: a ROS node with a DSR replica and a
 RuleRunner on its grammar file (``grammars/<name>.yaml``); subclasses give the processes and
-attach their devices in ``setup()``."""
+attach their devices in ``setup()``. With its first graph, an agent signals ``recover``: its
+grammar's recovery rules take over an action a killed run of it left half done."""
 
 from __future__ import annotations
 
@@ -54,4 +55,15 @@ class GrammarAgentNode(DsrNode, abc.ABC):
             self.dsr, load_grammar(self.GRAMMAR), self.processes(), self.get_logger()
         )
         self.runner.setup()
+        self._recovered = False
+        self.dsr.add_listener(self._recover_once)
         self.get_logger().info(f"{self.GRAMMAR} agent up: {len(self.runner.engine.rules)} rules")
+
+    def _recover_once(self, deltas, resynced) -> None:
+        """Crash-only: with the first graph this process sees, fire the grammar's ``recover``
+        rules, which take over what a previous run of this agent left in the middle."""
+        if not self._recovered and self.dsr.synced:
+            self._recovered = True
+            taken = self.runner.signal("recover")
+            if taken:
+                self.get_logger().warning(f"recovering {taken} action(s) a previous run left")

@@ -412,14 +412,17 @@ class HighLevelExecutive:
         close = high_to_low.close_answer(self.graph)
         if close is None:
             return  # the answer is already there; _check_wait takes it
+        interrupted = low_to_high.window_interrupted(self.graph)
 
         def closed(r) -> None:
-            if r.accepted:
-                self.port.event(event="no_answer", item=item, window=window)
-                self._complete(
-                    token, monitoring.window_failed(self.state, item, window, "no_answer")
-                )
-            # else an answer won the race: it is in the graph and _check_wait takes it
+            if not r.accepted:
+                return  # an answer won the race: it is in the graph and _check_wait takes it
+            if interrupted:
+                self.port.event(event="window_interrupted", item=item, window=window)
+                self._complete(token, monitoring.window_interrupted(self.state, item, window))
+                return
+            self.port.event(event="no_answer", item=item, window=window)
+            self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
 
         self.port.send(close, closed)
 

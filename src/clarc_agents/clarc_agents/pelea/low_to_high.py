@@ -58,6 +58,12 @@ def answer(graph: Graph) -> Answer | None:
     )
 
 
+def window_interrupted(graph: Graph) -> bool:
+    """The agent listening to the patient was restarted during the open answer window."""
+    edge = graph.edge("person", "answer", "waiting")
+    return edge is not None and bool(edge.attrs.get("interrupted"))
+
+
 def sentence_done(graph: Graph, sid: int) -> bool:
     """Both the voice and the screen finished sentence ``sid``."""
     spoken = _first(graph, "speech_finished")

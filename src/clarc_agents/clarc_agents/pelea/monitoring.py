@@ -50,3 +50,11 @@ def window_failed(state: frozenset[Fact], item: str, window: int, outcome: str) 
 
 def clinician_needed(state: frozenset[Fact]) -> frozenset[Fact]:
     return _without(state, {"(clinician-ok)"}) | {"(clinician-needed)"}
+
+
+def window_interrupted(state: frozenset[Fact], item: str, window: int) -> frozenset[Fact]:
+    """An answer window ended while the agent listening to the patient had been restarted: what
+    the patient said or touched meanwhile was lost. Ask again, without counting a failed try:
+    the question of the first window, or the options of the second."""
+    state = _without(state, {f"(asked {item})", f"(retry-asked {item})"})
+    return state | {f"(described {item})" if window == 1 else f"(no-answer {item})"}

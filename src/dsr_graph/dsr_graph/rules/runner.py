@@ -23,6 +23,7 @@ from typing import Any, Protocol
 
 from dsr_graph.model.claims import target_key
 from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.server_core import Result
 from dsr_graph.rules.engine import Firing, GrammarEngine
 from dsr_graph.rules.syntax import Rule
 
@@ -96,7 +97,15 @@ class RuleRunner:
     def step(self) -> None:
         for firing in self.engine.search(self.agent.graph):
             self.engine.started(firing)
-            self.agent.send(firing.during_tx(), lambda result, f=firing: self._on_during(f, result))
+            self._take(firing)
+
+    def _take(self, firing: Firing) -> None:
+        """Write the firing's "during" (a compare-and-set); a rule that writes nothing and claims
+        nothing runs its process at once, on the pattern its agent's graph matched."""
+        if not firing.rule.during and not firing.rule.claim:
+            self._on_during(firing, Result("", True))
+            return
+        self.agent.send(firing.during_tx(), lambda result, f=firing: self._on_during(f, result))
 
     def signal(self, event: str, **values: Any) -> int:
         """A percept happened (a tap, a face): fire the rules it triggers. Returns how
@@ -105,7 +114,7 @@ class RuleRunner:
             return 0
         firings = self.engine.signal(self.agent.graph, event, values)
         for firing in firings:
-            self.agent.send(firing.during_tx(), lambda result, f=firing: self._on_during(f, result))
+            self._take(firing)
         return len(firings)
 
     def _on_during(self, firing: Firing, result) -> None:
@@ -120,7 +129,9 @@ class RuleRunner:
             self.step()
             return
         self.fired += 1
-        self.log.info(f"rule {firing.rule.name}: during accepted at seq {result.seq}")
+        self.log.info(
+            f"rule {firing.rule.name}: taken" + (f" at seq {result.seq}" if result.seq else "")
+        )
         if not firing.rule.process:
             self.engine.finished(firing)
             self.step()
