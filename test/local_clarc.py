@@ -218,7 +218,7 @@ class Robot:
         elif response == "skip":
             self.speech.on_heard("skip this one please")
         elif response[0] == "touch":
-            self.panel.on_tap(self.panel_runner, response[1])
+            self.panel.on_tap(self.panel_runner, self.panel_link.graph, response[1])
         else:
             options = BY_KEY[item].options
             option = options[-1] if response[1] is None else BY_KEY[item].option(response[1])

@@ -258,3 +258,25 @@ def test_an_answer_window_cut_by_a_restart_loses_no_answer(agent, item):
         result = robot.run_test()
         assert inside == [True], "the kill must fall inside the answer window"
         assert comparable(result) == comparable(expected), (agent, item, opened)
+
+
+def test_bad_taps_and_words_are_refused_and_the_test_goes_on():
+    patient = Patient(answers={"feeding": [("touch", 5)]})
+    probe = Robot(patient)
+    probe.run_test()
+    window = next(e["t"] for e in probe.port.events if e["event"] == "listening")
+    robot = Robot(patient)
+    refused = []
+    robot.panel.log = type("Log", (), {"warning": refused.append, "info": refused.append})()
+    robot.speech.log = robot.panel.log
+
+    def taps(expect):
+        for points in (7, "ten", None, True, 5.5):  # none is an option of feeding (0, 5, 10)
+            assert robot.panel.on_tap(robot.panel_runner, robot.panel_link.graph, points) is False
+        assert expect in refused[-1]
+
+    robot.bus.after(1.0, lambda: (taps("no answer is awaited"), robot.speech.on_heard("hello?")))
+    robot.bus.after(window + 0.3, lambda: taps("not an option of feeding"))  # in the window
+    result = robot.run_test()
+    assert result["total"] == 95 and items(result)["feeding"] == (5, "touch", 1)
+    assert len(refused) == 11

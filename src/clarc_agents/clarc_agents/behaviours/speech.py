@@ -117,7 +117,7 @@ class SpeechBehaviour:
         """Words recognised by the ASR."""
         ctx = self.listening
         if ctx is None or ctx.done:
-            self.log.info(f"heard {text!r} while not listening")
+            self.log.warning(f"heard {text!r} while no answer is awaited: ignored")
             return
         self.listening = None
         meaning = understand(BY_KEY[ctx["item"]], text)

@@ -38,7 +38,7 @@ class PanelAgent(GrammarAgentNode):
         publish_json(self._display, content)
 
     def on_tap(self, tap: dict[str, Any]) -> None:
-        self.behaviour.on_tap(self.runner, int(tap["points"]))
+        self.behaviour.on_tap(self.runner, self.dsr.graph, tap["points"])
 
 
 main = main_for(PanelAgent)

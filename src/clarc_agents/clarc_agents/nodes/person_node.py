@@ -56,8 +56,12 @@ class PersonAgent(GrammarAgentNode):
     def on_frame(self, frame: dict[str, Any]) -> None:
         if not self.dsr.replica.synced:
             return
-        present = bool(frame["present"])
+        present = frame["present"]
+        if not isinstance(present, bool):
+            raise ValueError(f"present must be true or false, got {present!r}")
         face = [float(v) for v in frame["face"]] if present else None
+        if face is not None and (len(face) != 3 or not all(math.isfinite(v) for v in face)):
+            raise ValueError(f"face must be 3 finite numbers (mm), got {frame['face']!r}")
         if present:
             self._present_frames, self._absent_frames = self._present_frames + 1, 0
             pose = {"translation": face, "rotation_euler_xyz": [0.0, 0.0, 0.0]}

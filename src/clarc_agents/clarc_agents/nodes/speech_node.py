@@ -56,7 +56,10 @@ class SpeechAgent(GrammarAgentNode):
         self.behaviour.on_speaker(int(event["id"]), str(event.get("event")))
 
     def on_asr(self, message: dict[str, Any]) -> None:
-        self.behaviour.on_heard(str(message["text"]))
+        text = message["text"]
+        if not isinstance(text, str):
+            raise ValueError(f"recognised text must be a string, got {type(text).__name__}")
+        self.behaviour.on_heard(text)
 
 
 main = main_for(SpeechAgent)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from clarc_agents.barthel import sentences
-from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.barthel.record import BarthelRecord
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
@@ -385,6 +385,10 @@ class HighLevelExecutive:
         self.port.send(high_to_low.consume_answer())
         if answer.item != item:
             return
+        if answer.outcome == "answered" and BY_KEY[item].option(answer.points) is None:
+            # written by an agent that did not check it: not an answer to this item
+            self.log.warning(f"{answer.points} points is not an option of {item}: not understood")
+            answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via)
             self.port.send(
