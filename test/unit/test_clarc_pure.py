@@ -171,3 +171,29 @@ def test_results_store_keeps_each_test_once_and_refuses_wrong_sums(tmp_path):
     # committed before acknowledged: another connection sees it at once
     rows = sqlite3.connect(tmp_path / "db.sqlite").execute("SELECT COUNT(*) FROM items").fetchone()
     assert rows == (10,)
+
+
+def test_a_result_sent_again_is_stored_once_and_told_once(tmp_path):
+    store = ResultsStore(tmp_path / "db.sqlite")
+    result = BarthelRecord("Carlos", "2026-11-24T10:00:00").to_json()
+    first, again = store.store(result), store.store(result)
+    assert first == again and len(store.tests()) == 1
+    assert not store.notified("result_stored", first)
+    store.notify("result_stored", "stored", first)
+    assert store.notified("result_stored", first)
+
+
+def test_a_store_written_before_notifications_named_their_test_opens(tmp_path):
+    path = tmp_path / "old.sqlite"
+    old = sqlite3.connect(path)
+    old.executescript(
+        "CREATE TABLE notifications (id INTEGER PRIMARY KEY AUTOINCREMENT, time TEXT NOT NULL,"
+        " kind TEXT NOT NULL, message TEXT NOT NULL);"
+        "INSERT INTO notifications (time, kind, message) VALUES ('t', 'clinician_called', 'hi');"
+    )
+    old.commit()
+    old.close()
+    store = ResultsStore(path)
+    assert store.notifications()[0]["message"] == "hi"
+    store.notify("result_stored", "stored", 1)
+    assert store.notified("result_stored", 1)

@@ -8,8 +8,9 @@ Run k kills process ``processes[k % len(processes)]`` (in an order shuffled by t
 moment drawn by the seed between ``--earliest`` and ``--latest`` seconds after the test's first
 step; the seed is
 printed so that a failure can be replayed. It prints one line per run and a table: process
-killed, moment, time until the test went on (from the kill to the first step of the test after
-it), result equal yes/no. Exit 0 when every run's result equals the undisturbed one.
+killed, moment, time until the test went on (from the kill to the first step of the test printed
+after the launch restarted the process), result equal yes/no. Exit 0 when every run's result
+equals the undisturbed one.
 """
 
 from __future__ import annotations
@@ -114,11 +115,22 @@ class Launch:
         self._reader.join(timeout=5)
         return code
 
-    def next_step_after(self, when: float) -> float | None:
-        """Seconds from ``when`` to the first step of the test printed after it."""
+    def went_on_after(self, killed: float, process: str) -> float | None:
+        """Seconds from the kill to the first step of the test printed after the launch said it
+        had restarted ``process``: the outage as the user sees it."""
+        restarted = next(
+            (
+                at
+                for at, line in self.lines
+                if at > killed and line.startswith(f"[launch] {process} died")
+            ),
+            None,
+        )
+        if restarted is None:
+            return None
         for at, line in self.lines:
-            if at > when and STEP.match(line):
-                return at - when
+            if at > restarted and STEP.match(line):
+                return at - killed
         return None
 
     def results(self) -> list[dict[str, Any]]:
@@ -158,7 +170,7 @@ def chaos_run(
             run.note = f"could not kill {run.process}: {e}"
     code = launch.finish(timeout + 60)
     if killed is not None:
-        run.recovery = launch.next_step_after(killed)
+        run.recovery = launch.went_on_after(killed, run.process)
     stored = launch.results()
     run.equal = code == 0 and len(stored) == 1 and comparable(stored[0]) == comparable(expected)
     if not run.equal and not run.note:

@@ -96,9 +96,9 @@ class CgamedStandIn(DsrNode):
             self.get_logger().error(f"Start for {patient} refused by the DSR: {result.error}")
 
     def _tell(self, kind: str, message: str, **extra) -> None:
-        self.store.notify(kind, message)
         note = {"kind": kind, "message": message, **extra}
-        publish_json(self._notifications, note)
+        publish_json(self._notifications, note)  # sent first: a crash may repeat it, never lose it
+        self.store.notify(kind, message, extra.get("test_id"))
         self.bridge.to_web(self.events.publish, "notification", note)
         self.get_logger().info(f"to the clinician: {message}")
 
@@ -120,6 +120,8 @@ class CgamedStandIn(DsrNode):
         except (ValueError, InvalidResult) as e:
             response.stored, response.error = False, f"result refused: {e}"
             return response
+        if self.store.notified("result_stored", response.test_id):
+            return response  # the same test sent again (PELEA or CGAmed restarted): stored once
         self._tell(
             "result_stored",
             f"The Barthel test of {result['patient']} is stored (test {response.test_id}: "

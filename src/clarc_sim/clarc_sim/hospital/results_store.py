@@ -48,7 +48,8 @@ CREATE TABLE IF NOT EXISTS notifications (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     time TEXT NOT NULL,
     kind TEXT NOT NULL,
-    message TEXT NOT NULL
+    message TEXT NOT NULL,
+    test_id INTEGER REFERENCES tests(id)
 );
 """
 
@@ -94,6 +95,10 @@ class ResultsStore:
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=FULL")
         self.db.executescript(SCHEMA)
+        columns = [row[1] for row in self.db.execute("PRAGMA table_info(notifications)")]
+        if "test_id" not in columns:  # a store written before notifications named their test
+            with self.db:
+                self.db.execute("ALTER TABLE notifications ADD COLUMN test_id INTEGER")
 
     def close(self) -> None:
         self.db.close()
@@ -134,12 +139,19 @@ class ResultsStore:
             )
         return test_id
 
-    def notify(self, kind: str, message: str) -> None:
+    def notify(self, kind: str, message: str, test_id: int | None = None) -> None:
         with self.db:
             self.db.execute(
-                "INSERT INTO notifications (time, kind, message) VALUES (?, ?, ?)",
-                (datetime.now(UTC).isoformat(timespec="seconds"), kind, message),
+                "INSERT INTO notifications (time, kind, message, test_id) VALUES (?, ?, ?, ?)",
+                (datetime.now(UTC).isoformat(timespec="seconds"), kind, message, test_id),
             )
+
+    def notified(self, kind: str, test_id: int) -> bool:
+        """The clinician was already told ``kind`` about this test (a result sent again)."""
+        row = self.db.execute(
+            "SELECT 1 FROM notifications WHERE kind = ? AND test_id = ?", (kind, test_id)
+        ).fetchone()
+        return row is not None
 
     def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
