@@ -93,11 +93,13 @@ class Robot:
         self.person_link = self.bus.agent("/person")
         self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(self, self._clock_of(self.speech_link), log)
+        self.speech = SpeechBehaviour(
+            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now
+        )
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.panel_link = self.bus.agent("/panel")
-        self.panel = PanelBehaviour(self, log)
+        self.panel = PanelBehaviour(self, log, now=lambda: self.bus.now)
         self.panel_runner = RuleRunner(
             self.panel_link, load_grammar("panel"), self.panel.processes(), log
         )
@@ -135,7 +137,9 @@ class Robot:
         """Speech's process dies and a new one starts: a new replica, its grammar's recovery."""
         self.speech_link.close()
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(self, self._clock_of(self.speech_link), log)
+        self.speech = SpeechBehaviour(
+            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now
+        )
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.speech_runner.setup()
@@ -146,7 +150,7 @@ class Robot:
     def restart_panel(self) -> None:
         self.panel_link.close()
         self.panel_link = self.bus.agent("/panel")
-        self.panel = PanelBehaviour(self, log)
+        self.panel = PanelBehaviour(self, log, now=lambda: self.bus.now)
         self.panel_runner = RuleRunner(
             self.panel_link, load_grammar("panel"), self.panel.processes(), log
         )

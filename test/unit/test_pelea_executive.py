@@ -275,7 +275,7 @@ def test_bad_taps_and_words_are_refused_and_the_test_goes_on():
             assert robot.panel.on_tap(robot.panel_runner, robot.panel_link.graph, points) is False
         assert expect in refused[-1]
 
-    robot.bus.after(1.0, lambda: (taps("no answer is awaited"), robot.speech.on_heard("hello?")))
+    robot.bus.after(1.0, lambda: (taps("not an option of the screen"), robot.speech.on_heard("hi")))
     robot.bus.after(window + 0.3, lambda: taps("not an option of feeding"))  # in the window
     result = robot.run_test()
     assert result["total"] == 95 and items(result)["feeding"] == (5, "touch", 1)

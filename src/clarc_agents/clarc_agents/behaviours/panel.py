@@ -4,10 +4,14 @@ an answer while one is awaited. Rules: ``grammars/panel.yaml``."""
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from typing import Any, Protocol
 
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
+
+EARLY_PATIENCE = 2.0  # seconds a tap made before the window opened is kept for it
 
 
 class Screen(Protocol):
@@ -15,9 +19,11 @@ class Screen(Protocol):
 
 
 class PanelBehaviour:
-    def __init__(self, screen: Screen, log):
+    def __init__(self, screen: Screen, log, now: Callable[[], float] = time.monotonic):
         self.screen = screen
         self.log = log
+        self.now = now
+        self._early: tuple[int, str, float] | None = None  # (points, item shown, when)
 
     def processes(self) -> dict[str, Process]:
         return {"show": self.show, "clear": self.clear}
@@ -38,26 +44,35 @@ class PanelBehaviour:
         return "done"
 
     def on_tap(self, runner: RuleRunner, graph: Graph, points: Any) -> bool:
-        """A tap on the option worth ``points``. Refused, with a warning that says why, when no
-        answer is awaited or when ``points`` is not an option of the item the DSR shows."""
-        waiting = graph.edge("person", "answer", "waiting")
-        if waiting is None:
-            self.log.warning(f"tap on {points!r} points while no answer is awaited: ignored")
-            return False
+        """A tap on the option worth ``points``. Refused, with a warning that says why, when
+        ``points`` is not an option of the item the DSR shows, or when no answer is awaited (a
+        valid tap is then kept a moment for the window about to open, see ``on_graph``)."""
         shown = graph.edge("test", "test_part", "is_in")
         options = [] if shown is None else list(shown.attrs.get("option_points", []))
-        if (
-            isinstance(points, bool)
-            or not isinstance(points, (int, float))
-            or points not in options
-        ):
-            item = waiting.attrs.get("item", "?")
+        item = "" if shown is None else str(shown.attrs.get("item", ""))
+        is_number = isinstance(points, (int, float)) and not isinstance(points, bool)
+        if not is_number or points not in options:
+            worth = [int(p) for p in options]
             self.log.warning(
-                f"tap on {points!r} points refused: not an option of {item} "
-                f"(its options are worth {[int(p) for p in options]})"
+                f"tap on {points!r} points refused: not an option of "
+                f"{item or 'the screen'} (its options are worth {worth})"
             )
             return False
-        if runner.signal("tap", points=int(points)):
-            return True
-        self.log.warning(f"tap on {points} points while no answer is awaited: ignored")
-        return False
+        if graph.edge("person", "answer", "waiting") is None:
+            self._early = (int(points), item, self.now())
+            self.log.warning(
+                f"tap on {points} points while no answer is awaited: ignored "
+                f"unless a window for {item} opens now"
+            )
+            return False
+        return bool(runner.signal("tap", points=int(points)))
+
+    def on_graph(self, runner: RuleRunner, graph: Graph) -> None:
+        """A window opened: a tap made just before it, for the same item, is its answer."""
+        waiting = graph.edge("person", "answer", "waiting")
+        if self._early is None or waiting is None:
+            return
+        points, item, when = self._early
+        self._early = None
+        if item == waiting.attrs.get("item") and self.now() - when <= EARLY_PATIENCE:
+            runner.signal("tap", points=points)

@@ -10,6 +10,7 @@ or not ended within twice its expected length, is sent again, from the start; af
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from typing import Protocol
 
@@ -19,6 +20,7 @@ from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
 MAX_SENDS = 3
+EARLY_PATIENCE = 2.0  # seconds an answer given before the window opened is kept for it
 WORDS_PER_SECOND = 2.5  # a slow speaker, to bound how long a sentence may take
 SLACK = 2.0  # seconds of a real session on top of that
 
@@ -37,7 +39,13 @@ Clock = Callable[[float, Callable[[], None]], Timer]  # after(seconds, callback)
 
 class SpeechBehaviour:
     def __init__(
-        self, speaker: Speaker, after: Clock, log, scale: float = 1.0, start_patience: float = 1.0
+        self,
+        speaker: Speaker,
+        after: Clock,
+        log,
+        scale: float = 1.0,
+        start_patience: float = 1.0,
+        now: Callable[[], float] = time.monotonic,
     ):
         self.speaker = speaker
         self.after = after
@@ -48,6 +56,10 @@ class SpeechBehaviour:
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
         self._watchdogs: dict[int, Timer] = {}
+        # words heard just before a window opened (the patient did not wait for the robot):
+        # (text, item on screen, when), used by the window for that item if it opens soon
+        self._early: tuple[str, str, float] | None = None
+        self.now = now
 
     def processes(self) -> dict[str, Process]:
         return {"say": self.say, "stop": self.stop, "listen": self.listen}
@@ -112,12 +124,23 @@ class SpeechBehaviour:
     # -- listen -----------------------------------------------------------------------------
     def listen(self, ctx: ActionContext) -> None:
         self.listening = ctx
+        early, self._early = self._early, None
+        if (
+            early is not None
+            and early[1] == ctx["item"]
+            and self.now() - early[2] <= EARLY_PATIENCE
+        ):
+            self.on_heard(early[0])
 
-    def on_heard(self, text: str) -> None:
-        """Words recognised by the ASR."""
+    def on_heard(self, text: str, item_shown: str = "") -> None:
+        """Words recognised by the ASR (``item_shown``: the item of the sentence on screen)."""
         ctx = self.listening
         if ctx is None or ctx.done:
-            self.log.warning(f"heard {text!r} while no answer is awaited: ignored")
+            unless = ""
+            if item_shown:  # perhaps an answer to the window about to open: keep it a moment
+                self._early = (text, item_shown, self.now())
+                unless = f" unless a window for {item_shown} opens now"
+            self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
         self.listening = None
         meaning = understand(BY_KEY[ctx["item"]], text)

@@ -33,6 +33,7 @@ class PanelAgent(GrammarAgentNode):
         self._display = self.create_publisher(String, topics.PANEL_DISPLAY, qos_latched())
         subscribe_json(self, topics.PANEL_TAP, self.on_tap, qos_stream())
         super().setup()
+        self.dsr.add_listener(lambda d, r: self.behaviour.on_graph(self.runner, self.dsr.graph))
 
     def display(self, content: dict[str, Any]) -> None:  # the Screen protocol
         publish_json(self._display, content)

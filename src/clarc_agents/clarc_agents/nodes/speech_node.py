@@ -59,7 +59,8 @@ class SpeechAgent(GrammarAgentNode):
         text = message["text"]
         if not isinstance(text, str):
             raise ValueError(f"recognised text must be a string, got {type(text).__name__}")
-        self.behaviour.on_heard(text)
+        shown = self.dsr.graph.edge("test", "test_part", "is_in")
+        self.behaviour.on_heard(text, shown.attrs.get("item", "") if shown is not None else "")
 
 
 main = main_for(SpeechAgent)
