@@ -10,7 +10,7 @@ import abc
 from clarc_agents.grammar_files import load_grammar
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode
-from dsr_graph.ros.parameters import declare, float_param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param
 from dsr_graph.rules.runner import Process, RuleRunner
 
 
@@ -30,14 +30,7 @@ class GrammarAgentNode(DsrNode, abc.ABC):
             read_only=True,
             minimum=0.0,
         )
-        declare(
-            self,
-            "setup_timeout",
-            20.0,
-            "seconds to wait for the DSR server",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_setup_timeout(self, 20.0)
         self.dsr = DsrAgent()
         self.runner: RuleRunner | None = None
 

@@ -29,7 +29,7 @@ from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 from dsr_msgs.srv import StoreResult
@@ -63,14 +63,7 @@ class PeleaNode(DsrNode):
             "results CGAmed has not acknowledged wait here",
             read_only=True,
         )
-        declare(
-            self,
-            "setup_timeout",
-            20.0,
-            "seconds to wait for the DSR server",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_setup_timeout(self, 20.0)
         self.dsr = DsrAgent()
         times = Times(
             scale=float_param(self, "time_scale"),

@@ -26,7 +26,7 @@ from clarc_sim.hospital.results_store import ResultsStore, default_db
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
@@ -37,14 +37,7 @@ class CgamedStandIn(DsrNode):
     def __init__(self):
         super().__init__("cgamed")
         declare(self, "db", default_db(), "SQLite results store", read_only=True)
-        declare(
-            self,
-            "setup_timeout",
-            20.0,
-            "seconds to wait for the DSR server",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_setup_timeout(self, 20.0)
         declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
         declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
         declare(

@@ -51,3 +51,15 @@ def param(node: Node, name: str) -> Any:
 def float_param(node: Node, name: str) -> float:
     """A float parameter's value (also when it was given as an integer)."""
     return float(node.get_parameter(name).value)
+
+
+def declare_setup_timeout(node: Node, default: float) -> None:
+    """``setup_timeout``: how long ``setup()`` waits for the DSR server before failing."""
+    declare(
+        node,
+        "setup_timeout",
+        default,
+        "seconds to wait for the DSR server",
+        read_only=True,
+        minimum=0.0,
+    )

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.timers import OneShot
 from dsr_graph.rules.runner import ActionContext, RuleRunner
 from dsr_graph.rules.syntax import load_grammar_file
@@ -23,14 +23,7 @@ class RuleAgentNode(DsrNode):
         super().__init__("dsr_rule_agent")
         declare(self, "grammar_file", "", "YAML/JSON list of rules", read_only=True)
         declare(self, "process_time", 0.2, "seconds the wait process takes", minimum=0.0)
-        declare(
-            self,
-            "setup_timeout",
-            10.0,
-            "seconds to wait for the server",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_setup_timeout(self, 10.0)
         self.agent = DsrAgent()
         self.runner: RuleRunner | None = None
 

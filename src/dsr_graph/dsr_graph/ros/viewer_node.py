@@ -17,7 +17,7 @@ from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
 from dsr_graph.web.viewer_app import make_app
@@ -36,14 +36,7 @@ class Viewer(DsrNode):
             minimum=0,
             maximum=65535,
         )
-        declare(
-            self,
-            "setup_timeout",
-            20.0,
-            "seconds to wait for the DSR server",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_setup_timeout(self, 20.0)
         self.agent = DsrAgent()
         self.history = History()
         self.events = Broadcaster()
