@@ -28,6 +28,12 @@
 #
 # See the results later: clarc results [--db PATH].
 set -euo pipefail
+# Started as a background job of a non-interactive shell, this script inherits SIGINT ignored,
+# and bash cannot trap a signal ignored at entry: restore its default so that Ctrl-C (SIGINT)
+# always stops the run cleanly.
+if (( 0x$(awk '/^SigIgn/ {print $2}' /proc/$$/status) & 0x2 )); then
+  exec env --default-signal=INT "$0" "$@"
+fi
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 scenario="$root/scenarios/default.yaml"
 db=""
