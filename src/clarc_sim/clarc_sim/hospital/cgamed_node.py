@@ -55,6 +55,7 @@ class CgamedStandIn(DsrNode):
         self.bridge: Bridge | None = None
         self._start_for: str | None = None  # pressed on the dashboard, to be written to the DSR
         self.dsr = DsrAgent()
+        self._shown: dict[str, Any] | None = None
 
     def setup(self) -> None:
         self.store = ResultsStore(param(self, "db"), shared=True)  # used by the ROS thread
@@ -67,6 +68,7 @@ class CgamedStandIn(DsrNode):
         subscribe_json(self, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self.dsr.add_listener(self._on_graph)
         self.create_timer(0.1, self._send_start)
         self.get_logger().info(f"results store: {self.store.path}")
 
@@ -99,8 +101,17 @@ class CgamedStandIn(DsrNode):
         self.bridge.to_web(self._follow, event)
 
     def _follow(self, event: dict) -> None:  # web thread
-        self.status.follow(event)
         self.events.publish("pelea", event)
+
+    def _on_graph(self, deltas, resynced) -> None:  # ROS thread: the test's status from the DSR
+        status = TestStatus.of(self.dsr.graph)
+        if status != self._shown:
+            self._shown = status
+            self.bridge.to_web(self._show_status, status)
+
+    def _show_status(self, status: dict[str, Any]) -> None:  # web thread
+        self.status.update(status)
+        self.events.publish("status", self.status.to_json())
 
     def on_speaker(self, event: dict[str, Any]) -> None:
         self.bridge.to_web(self.events.publish, "speaker", event)

@@ -18,14 +18,17 @@ from typing import Any
 
 from aiohttp import web
 
+from clarc_agents.barthel.items import ORDER
 from clarc_sim.hospital.results_store import ResultsStore
+from dsr_graph.model.graph import Graph
 from dsr_graph.web.events import Broadcaster
 
 WEB = Path(str(resources.files("clarc_sim").joinpath("hospital/web")))
 
 
 class TestStatus:
-    """What the dashboard shows of the test in progress, followed from PELEA's events."""
+    """What the dashboard shows of the test in progress, read from the DSR's test node (so it is
+    right whenever the dashboard starts, and across a restart of PELEA)."""
 
     def __init__(self) -> None:
         self.running = False
@@ -33,14 +36,21 @@ class TestStatus:
         self.item = ""
         self.position = 0
 
-    def follow(self, event: dict[str, Any]) -> None:
-        kind = event.get("event")
-        if kind == "started":
-            self.running, self.patient, self.item, self.position = True, event["patient"], "", 0
-        elif kind == "item":
-            self.item, self.position = event["item"], event["position"]
-        elif kind in ("finished", "error"):
-            self.running = False
+    @staticmethod
+    def of(graph: Graph) -> dict[str, Any]:
+        test = graph.find("test")
+        attrs = {} if test is None else test.attrs
+        item = str(attrs.get("item", "")) if attrs.get("status") == "running" else ""
+        return {
+            "running": attrs.get("status") == "running",
+            "patient": str(attrs.get("patient", "")),
+            "item": item,
+            "position": ORDER.index(item) + 1 if item in ORDER else 0,
+        }
+
+    def update(self, status: dict[str, Any]) -> None:
+        self.running, self.patient = status["running"], status["patient"]
+        self.item, self.position = status["item"], status["position"]
 
     def to_json(self) -> dict[str, Any]:
         return {

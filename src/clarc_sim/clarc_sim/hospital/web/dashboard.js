@@ -98,9 +98,11 @@ $("start").addEventListener("click", async () => {
 });
 
 const events = new EventSource("/api/events");
-events.addEventListener("status", (m) => {
+events.addEventListener("status", (m) => {  // from the DSR: right even if an event was missed
   const s = JSON.parse(m.data);
-  setRunning(s.running);
+  const ended = document.body.dataset.running === "true" && !s.running;
+  setRunning(s.running, ended);
+  if (ended) loadResults();
   if (s.patient) $("live-patient").textContent = s.patient;
   if (s.item) $("live-item").textContent = `${s.position}/10 ${s.item}`;
 });
