@@ -58,7 +58,7 @@ while [ $# -gt 0 ]; do
     --viewer-port) viewer_port="$2"; shift 2 ;;
     --dashboard-port) dashboard_port="$2"; shift 2 ;;
     --no-respawn) respawn=0; shift ;;
-    -h|--help) sed -n '2,30p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
