@@ -73,8 +73,8 @@ class Port:
             self.stored.append(result)
         self.robot.bus.soon(lambda: None if self.link.closed else on_done(True, ""))
 
-    def dsr_reachable(self):
-        return self.robot.dsr_up
+    def dsr_boot(self):
+        return self.robot.dsr_boot
 
     def now(self):
         return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
@@ -107,7 +107,7 @@ class Robot:
         self.port = Port(self, self.pelea_link)
         self.hle = HighLevelExecutive(self.port, Times(), log)
         self.pelea_restarts = 0
-        self.dsr_up = True
+        self.dsr_boot = "boot-1"  # a test changes it to stand for a restarted DSR server
         for runner in (self.person, self.speech_runner, self.panel_runner):
             runner.setup()
         self.speech_link.add_listener(lambda d, r: self.speech.on_graph(self.speech_link.graph))

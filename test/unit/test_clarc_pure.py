@@ -197,3 +197,16 @@ def test_a_store_written_before_notifications_named_their_test_opens(tmp_path):
     assert store.notifications()[0]["message"] == "hi"
     store.notify("result_stored", "stored", 1)
     assert store.notified("result_stored", 1)
+
+
+def test_the_chaos_plan_kills_each_process_in_turn_at_seeded_moments():
+    from clarc_sim.console.chaos import PROCESSES, plan
+
+    runs = plan(7, runs=4, kills=3, processes=list(PROCESSES), earliest=1.0, latest=30.0)
+    assert plan(7, 4, 3, list(PROCESSES), 1.0, 30.0) == runs  # the seed replays it
+    killed = [kill.process for run in runs for kill in run.kills]
+    assert sorted(killed[:6]) == sorted(killed[6:]) == sorted(PROCESSES)
+    for run in runs:
+        moments = [kill.moment for kill in run.kills]
+        assert len({kill.process for kill in run.kills}) == 3 and moments == sorted(moments)
+        assert all(1.0 <= m <= 30.0 for m in moments)

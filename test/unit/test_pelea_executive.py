@@ -280,3 +280,20 @@ def test_bad_taps_and_words_are_refused_and_the_test_goes_on():
     result = robot.run_test()
     assert result["total"] == 95 and items(result)["feeding"] == (5, "touch", 1)
     assert len(refused) == 11
+
+
+def test_a_window_the_dsr_server_restarted_in_is_asked_again_not_counted_as_silence():
+    # The answer given during the restart may have been lost to the close: ask again.
+    patient = Patient(answers={"feeding": ["silence", ("voice", 5)]})
+    probe = Robot(patient)
+    probe.run_test()
+    opened = next(e["t"] for e in probe.port.events if e["event"] == "listening")
+    robot = Robot(Patient(answers={"feeding": ["silence", ("voice", 5)]}))
+    robot.bus.after(opened + 0.5, lambda: setattr(robot, "dsr_boot", "boot-2"))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (5, "voice", 2)
+    feeding = [
+        (e["event"], e.get("window")) for e in robot.port.events if e.get("item") == "feeding"
+    ]
+    assert ("window_interrupted", 1) in feeding and ("no_answer", 1) not in feeding
+    assert result["total"] == probe.port.stored[-1]["total"]

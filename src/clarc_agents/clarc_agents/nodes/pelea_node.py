@@ -99,8 +99,8 @@ class PeleaNode(DsrNode):
     def notify_clinician(self, message: str) -> None:
         publish_json(self._notify, {"message": message})
 
-    def dsr_reachable(self) -> bool:
-        return self.dsr.connected
+    def dsr_boot(self) -> str:
+        return self.dsr.boot
 
     def now(self) -> str:
         return datetime.now(UTC).isoformat(timespec="milliseconds")

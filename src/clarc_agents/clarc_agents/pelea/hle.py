@@ -73,6 +73,7 @@ class AnswerWait:
     item: str
     window: int
     token: int
+    boot: str  # the DSR server that opened the window (its heartbeat's boot)
 
 
 Wait = SentenceWait | PersonWait | AnswerWait
@@ -91,7 +92,7 @@ class Port(Protocol):
         self, result: dict[str, Any], on_done: Callable[[bool, str], None]
     ) -> None: ...
     def now(self) -> str: ...
-    def dsr_reachable(self) -> bool: ...
+    def dsr_boot(self) -> str: ...
 
 
 class HighLevelExecutive:
@@ -368,10 +369,10 @@ class HighLevelExecutive:
             if not r.accepted:  # the person left at this very moment: _watch_person replans
                 self.log.info(f"could not open the answer window: {r.error}")
                 return
-            self._wait = AnswerWait(item, window, token)
+            wait = AnswerWait(item, window, token, self.port.dsr_boot())
+            self._wait = wait
             self._timer = self.port.after(
-                self.times(self.times.answer_timeout),
-                lambda: self._answer_timed_out(item, window, token),
+                self.times(self.times.answer_timeout), lambda: self._answer_timed_out(wait)
             )
             self._check_wait(self.graph)
 
@@ -404,14 +405,9 @@ class HighLevelExecutive:
                 token, monitoring.window_failed(self.state, item, window, answer.outcome)
             )
 
-    def _answer_timed_out(self, item: str, window: int, token: int) -> None:
+    def _answer_timed_out(self, wait: AnswerWait) -> None:
+        item, window, token = wait.item, wait.window, wait.token
         if token != self._token or self.graph is None:
-            return
-        if not self.port.dsr_reachable():
-            # An answer given meanwhile is on its way to a DSR server that is restarting: the
-            # window stays open until the DSR can decide between the answer and the time-out.
-            retry = lambda: self._answer_timed_out(item, window, token)  # noqa: E731
-            self._timer = self.port.after(0.5, retry)
             return
         close = high_to_low.close_answer(self.graph)
         if close is None:
@@ -421,7 +417,10 @@ class HighLevelExecutive:
         def closed(r) -> None:
             if not r.accepted:
                 return  # an answer won the race: it is in the graph and _check_wait takes it
-            if interrupted:
+            # A DSR server that restarted during the window may have lost an answer given then:
+            # Speech sends it again, but the close may reach the new server first. Such a
+            # window is asked again, never counted as silence.
+            if interrupted or self.port.dsr_boot() != wait.boot:
                 self.port.event(event="window_interrupted", item=item, window=window)
                 self._complete(token, monitoring.window_interrupted(self.state, item, window))
                 return

@@ -2,15 +2,15 @@
 a user would with ``kill -9 <pid>`` during ``scripts/launch.sh``, and check that the test still
 completes with exactly one stored result equal to an undisturbed run of the same scenario.
 
-    scripts/chaos.sh [--seed N] [--runs K] [--scenario FILE] [--processes p,q,...]
+    scripts/chaos.sh [--seed N] [--runs K] [--kills M] [--scenario FILE] [--processes p,q,...]
 
-Run k kills process ``processes[k % len(processes)]`` (in an order shuffled by the seed) at a
-moment drawn by the seed between ``--earliest`` and ``--latest`` seconds after the test's first
-step; the seed is
-printed so that a failure can be replayed. It prints one line per run and a table: process
-killed, moment, time until the test went on (from the kill to the first step of the test printed
-after the launch restarted the process), result equal yes/no. Exit 0 when every run's result
-equals the undisturbed one.
+Each run kills ``--kills`` processes (default 1), each at a moment drawn by the seed between
+``--earliest`` and ``--latest`` seconds after the test's first step; over the runs every process
+is killed in turn (in an order shuffled by the seed). The seed is printed so that a failure can
+be replayed. It prints one line per run and a table, one row per kill: process killed, moment,
+time until the test went on (from the kill to the first step of the test printed after the
+launch restarted the process), result equal yes/no. Exit 0 when every run's result equals the
+undisturbed one.
 """
 
 from __future__ import annotations
@@ -48,10 +48,15 @@ def comparable(result: dict[str, Any]) -> dict[str, Any]:
 
 
 @dataclass
-class Run:
+class Kill:
     process: str
     moment: float  # seconds after Start
     recovery: float | None = None  # seconds from the kill to the next step of the test
+
+
+@dataclass
+class Run:
+    kills: list[Kill]  # in the order of their moments
     equal: bool = False
     note: str = ""
 
@@ -161,16 +166,18 @@ def chaos_run(
         launch.finish(5)
         run.note = "the test never started"
         return run
-    time.sleep(max(0.0, launch.started_at + run.moment - time.monotonic()))
-    killed = None
-    if launch.proc.poll() is None:
+    killed: list[tuple[Kill, float]] = []
+    for kill in run.kills:
+        time.sleep(max(0.0, launch.started_at + kill.moment - time.monotonic()))
+        if launch.proc.poll() is not None:
+            break
         try:
-            killed = launch.kill9(run.process)
-        except (OSError, ValueError) as e:
-            run.note = f"could not kill {run.process}: {e}"
+            killed.append((kill, launch.kill9(kill.process)))
+        except (OSError, ValueError) as e:  # e.g. killed again before the launch restarted it
+            run.note = f"could not kill {kill.process}: {e}"
     code = launch.finish(timeout + 60)
-    if killed is not None:
-        run.recovery = launch.went_on_after(killed, run.process)
+    for kill, at in killed:
+        kill.recovery = launch.went_on_after(at, kill.process)
     stored = launch.results()
     run.equal = code == 0 and len(stored) == 1 and comparable(stored[0]) == comparable(expected)
     if not run.equal and not run.note:
@@ -181,27 +188,35 @@ def chaos_run(
     return run
 
 
-def plan(seed: int, runs: int, processes: list[str], earliest: float, latest: float) -> list[Run]:
+def plan(
+    seed: int, runs: int, kills: int, processes: list[str], earliest: float, latest: float
+) -> list[Run]:
+    """Processes taken in turn from a shuffled order (a run kills distinct ones while it can),
+    moments drawn uniformly."""
     rng = random.Random(seed)
     order = list(processes)
     rng.shuffle(order)
-    return [
-        Run(order[k % len(order)], round(rng.uniform(earliest, latest), 1)) for k in range(runs)
-    ]
+    turn = (order[k % len(order)] for k in range(runs * kills))
+    planned = []
+    for _ in range(runs):
+        chosen = [Kill(next(turn), round(rng.uniform(earliest, latest), 1)) for _ in range(kills)]
+        planned.append(Run(sorted(chosen, key=lambda kill: kill.moment)))
+    return planned
 
 
 def table(runs: list[Run]) -> str:
     lines = [f"{'run':>3}  {'process':<11} {'moment':>7}  {'went on after':>13}  equal"]
     for k, r in enumerate(runs, 1):
-        went_on = "-" if r.recovery is None else f"{r.recovery:.1f} s"
-        lines.append(
-            f"{k:>3}  {r.process:<11} {r.moment:>6.1f}s  {went_on:>13}  "
-            f"{'yes' if r.equal else 'NO'}{'  ' + r.note if r.note and not r.equal else ''}"
-        )
+        verdict = ("yes" if r.equal else "NO") + ("  " + r.note if r.note and not r.equal else "")
+        for kill in r.kills:
+            went_on = "-" if kill.recovery is None else f"{kill.recovery:.1f} s"
+            lines.append(
+                f"{k:>3}  {kill.process:<11} {kill.moment:>6.1f}s  {went_on:>13}  {verdict}"
+            )
     by_process: dict[str, list[float]] = {}
-    for r in runs:
-        if r.recovery is not None:
-            by_process.setdefault(r.process, []).append(r.recovery)
+    for kill in (kill for r in runs for kill in r.kills):
+        if kill.recovery is not None:
+            by_process.setdefault(kill.process, []).append(kill.recovery)
     for process, times in sorted(by_process.items()):
         lines.append(
             f"  {process:<11} went on after: median {statistics.median(times):.1f} s, "
@@ -214,6 +229,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="chaos.sh", description=__doc__.split("\n\n")[0])
     parser.add_argument("--seed", type=int, default=None, help="replay a run (printed at start)")
     parser.add_argument("--runs", type=int, default=6)
+    parser.add_argument("--kills", type=int, default=1, help="processes killed in each run")
     parser.add_argument("--scenario", default=None, help="default: scenarios/default.yaml")
     parser.add_argument("--processes", default=",".join(PROCESSES))
     parser.add_argument("--earliest", type=float, default=1.0, help="seconds after Start")
@@ -228,9 +244,12 @@ def main(argv: list[str] | None = None) -> int:
     unknown = set(processes) - set(PROCESSES)
     if unknown:
         parser.error(f"unknown processes {sorted(unknown)}; choose among {', '.join(PROCESSES)}")
+    if args.runs < 1 or args.kills < 1:
+        parser.error("--runs and --kills must be at least 1")
     work = Path(args.work or tempfile.mkdtemp(prefix="clarc-chaos-"))
     print(
-        f"[chaos] seed {seed} (replay: scripts/chaos.sh --seed {seed} --runs {args.runs}); "
+        f"[chaos] seed {seed} (replay: scripts/chaos.sh --seed {seed} --runs {args.runs} "
+        f"--kills {args.kills}); "
         f"scenario {scenario.name}; logs in {work}",
         flush=True,
     )
@@ -239,13 +258,19 @@ def main(argv: list[str] | None = None) -> int:
         f"[chaos] undisturbed: {expected['total']}/100, unanswered {expected['unanswered']}",
         flush=True,
     )
-    runs = plan(seed, args.runs, processes, args.earliest, args.latest)
+    runs = plan(seed, args.runs, args.kills, processes, args.earliest, args.latest)
     for k, run in enumerate(runs, 1):
-        chaos_run(root, scenario, work / f"run{k:02d}-{run.process}", run, expected, args.timeout)
-        went_on = "-" if run.recovery is None else f"{run.recovery:.1f} s"
+        name = "-".join(kill.process for kill in run.kills)
+        chaos_run(root, scenario, work / f"run{k:02d}-{name}", run, expected, args.timeout)
+        kills = ", ".join(
+            f"{kill.process} at {kill.moment:.1f} s (went on after "
+            + ("-" if kill.recovery is None else f"{kill.recovery:.1f} s")
+            + ")"
+            for kill in run.kills
+        )
         print(
-            f"[chaos] run {k}/{len(runs)}: kill -9 {run.process} at {run.moment:.1f} s: went on "
-            f"after {went_on}, result {'equal' if run.equal else 'DIFFERENT: ' + run.note}",
+            f"[chaos] run {k}/{len(runs)}: kill -9 {kills}: "
+            f"result {'equal' if run.equal else 'DIFFERENT: ' + run.note}",
             flush=True,
         )
     print(table(runs))

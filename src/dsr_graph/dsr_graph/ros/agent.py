@@ -35,7 +35,6 @@ from dsr_msgs.srv import GetSnapshot
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
-HEARTBEAT_LOST = 3.0  # seconds without a heartbeat: the server is taken as unreachable
 
 
 Listener = Callable[
@@ -53,7 +52,6 @@ class DsrAgent:
         self._unanswered: dict[str, tuple[str, float]] = {}  # id -> (request text, last sent)
         self._accepted_before: dict[str, int] = {}  # id -> seq, for requests sent again
         self._boot = ""  # the server's start, from its heartbeat
-        self._last_heartbeat = 0.0
         self._outbox: list[str] = []
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
@@ -93,9 +91,9 @@ class DsrAgent:
         return self.replica.graph
 
     @property
-    def connected(self) -> bool:
-        """The server's heartbeat came recently: requests can be decided now."""
-        return time.monotonic() - self._last_heartbeat < HEARTBEAT_LOST
+    def boot(self) -> str:
+        """The start of the server last heard (new at each restart; "" before its heartbeat)."""
+        return self._boot
 
     @property
     def synced(self) -> bool:
@@ -195,7 +193,6 @@ class DsrAgent:
             self.replica.observe_server_seq(int(beat["seq"]))
         except (ValueError, KeyError, TypeError):
             return
-        self._last_heartbeat = time.monotonic()
         boot = str(beat.get("boot", ""))
         if self._boot and boot != self._boot:  # the server restarted: what it did not answer
             self.node.get_logger().warning(
