@@ -192,6 +192,9 @@ start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
 start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port"
 start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
+# A test started from now on is this run's: the monitor tells it from its start, even when it
+# joins (or is restarted) after the test began, and ends when the DSR says it is finished.
+since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
 if [ "$wait_start" = 1 ]; then
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
@@ -200,15 +203,16 @@ else  # Start is a request in the DSR: PELEA takes it whenever it is up, even af
 fi
 echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 
-# The monitor prints the test as it goes and exits 0 when the result is stored, 1 on PELEA's
-# error or when the time is up; killed, it is started again like every node.
+# The monitor prints the test as it goes, read from the DSR, and exits 0 when the DSR says the
+# test is finished (its result is stored), 1 on PELEA's error or when the time is up; killed,
+# it is started again like every node (and tells the test again from its start).
 deadline=$(( $(date +%s) + ${timeout%.*} ))
 nodes+=(clarc_monitor)
 restarts=0
 while :; do
   remaining=$(( deadline - $(date +%s) ))
   if [ "$remaining" -le 0 ]; then code=1; echo "[launch] the test did not finish within $timeout s" >&2; break; fi
-  setpriv --pdeathsig KILL -- clarc_monitor --ros-args -p timeout:="$remaining.0" &
+  setpriv --pdeathsig KILL -- clarc_monitor --ros-args -p timeout:="$remaining.0" -p since:="$since" &
   echo "$!" > "$sup/clarc_monitor.pid"
   wait "$!" 2>/dev/null && code=0 || code=$?
   [ "$code" -le 128 ] && break

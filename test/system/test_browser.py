@@ -177,6 +177,7 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
             page.wait_for_function("Number(document.body.dataset.results) === 1", timeout=10000)
             events = page.inner_text("#events")
             assert "the patient left" in events and "finished: 80/100 (moderate)" in events
+            assert "grooming: no answer (try 2)" in events  # read from the DSR's item node
             page.click("#results tbody tr")
             page.wait_for_selector("#items")
             items = page.inner_text("#items")

@@ -155,6 +155,8 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
         "answer": 5,
         "via": "touch",
         "status": "answered",
+        "outcomes": ["answered"],
+        "heard": "",
     }
     assert graph.node("item_feeding").attrs["answer"] == 10
 
@@ -171,6 +173,22 @@ EVERY_PATH = Patient(
     },
     leaves={"toilet_use": 5.0},
 )
+
+
+def test_how_each_answer_window_ended_is_written_on_its_item():
+    robot = Robot(EVERY_PATH)
+    robot.run_test()
+    graph = robot.pelea_link.graph
+
+    def ended(item):
+        attrs = graph.node(f"item_{item}").attrs
+        return attrs["outcomes"], attrs["status"], attrs["heard"]
+
+    assert ended("grooming") == (["no_answer", "no_answer"], "unanswered", "")
+    assert ended("dressing")[:2] == (["not_understood", "answered"], "answered")
+    assert ended("dressing")[2]  # the words that were not understood
+    assert ended("bowels") == (["no_answer", "answered"], "answered", "")
+    assert ended("bladder") == (["skip"], "unanswered", "skip this one please")
 
 
 def comparable(result):

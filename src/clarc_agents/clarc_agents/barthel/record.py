@@ -6,6 +6,9 @@ from dataclasses import dataclass, field
 
 from clarc_agents.barthel.items import BY_KEY, ORDER, band
 
+# how an answer window ended; "interrupted": cut by a restart, so the item is asked again
+WINDOW_OUTCOMES = ("answered", "no_answer", "not_understood", "skip", "interrupted")
+
 
 @dataclass
 class ItemResult:
@@ -14,6 +17,8 @@ class ItemResult:
     via: str | None = None  # "voice" | "touch" | None
     attempts: int = 0  # answer windows opened for this item
     closed: bool = False  # answered, or given up on
+    outcomes: list[str] = field(default_factory=list)  # how each window ended (WINDOW_OUTCOMES)
+    heard: str = ""  # the last words heard that were not an answer
 
     def to_json(self) -> dict:
         return {

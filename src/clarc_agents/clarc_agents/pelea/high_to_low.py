@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import Any
 
 from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.record import ItemResult
 from clarc_agents.barthel.sentences import Sentence
 from dsr_graph.model.graph import Graph
 
@@ -176,18 +177,21 @@ def refuse_start(patient: str) -> dict[str, Any]:
     }
 
 
-def record_item(
-    item: str,
-    attempts: int,
-    points: int | None = None,
-    via: str | None = None,
-    status: str = "asking",
-) -> dict[str, Any]:
-    """An item's attempts so far, and its answer or that it was left unanswered."""
-    attrs: dict[str, Any] = {"attempts": attempts, "status": status}
-    if points is not None:
-        attrs.update(answer=points, via=via, status="answered")
-    return {"ops": [{"op": "set_node_attrs", "node": item_node(item), "attrs": attrs}]}
+def record_item(result: ItemResult) -> dict[str, Any]:
+    """An item as far as it went: its windows and how each ended, and its answer or that it was
+    left unanswered (what observers and a restarted PELEA read)."""
+    status = (
+        "answered" if result.points is not None else "unanswered" if result.closed else "asking"
+    )
+    attrs: dict[str, Any] = {
+        "attempts": result.attempts,
+        "status": status,
+        "outcomes": list(result.outcomes),
+        "heard": result.heard,
+    }
+    if result.points is not None:
+        attrs.update(answer=result.points, via=result.via)
+    return {"ops": [{"op": "set_node_attrs", "node": item_node(result.item), "attrs": attrs}]}
 
 
 def record_test(**attrs: Any) -> dict[str, Any]:

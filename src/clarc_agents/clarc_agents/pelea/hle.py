@@ -139,8 +139,11 @@ class HighLevelExecutive:
         self.record = low_to_high.record(graph)
         self.state = low_to_high.facts(graph)
         reset = high_to_low.reset_answer(graph)
-        if reset is not None:  # a window left open by the previous run
+        if reset is not None:  # a window left open by the previous run: it is asked again
             self.port.send(reset)
+            item = graph.node("test").attrs.get("item")
+            if item in self.record.items and not self.record.items[item].closed:
+                self._window_ended(item, "interrupted")
         self.port.event(
             event="resumed", patient=self.record.patient, item=graph.node("test").attrs.get("item")
         )
@@ -360,7 +363,7 @@ class HighLevelExecutive:
         token = self._token
         result = self.record.items[item]
         result.attempts += 1
-        self.port.send(high_to_low.record_item(item, result.attempts))
+        self.port.send(high_to_low.record_item(result))
         self.port.event(event="listening", item=item, window=window)
 
         def opened(r) -> None:
@@ -392,18 +395,23 @@ class HighLevelExecutive:
             answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via)
-            self.port.send(
-                high_to_low.record_item(
-                    item, self.record.items[item].attempts, answer.points, answer.via
-                )
-            )
+            self._window_ended(item, "answered")
             self.port.event(event="answer", item=item, points=answer.points, via=answer.via)
             self._complete(token)
         else:
+            self._window_ended(item, answer.outcome, answer.heard)
             self.port.event(event=answer.outcome, item=item, heard=answer.heard, window=window)
             self._complete(
                 token, monitoring.window_failed(self.state, item, window, answer.outcome)
             )
+
+    def _window_ended(self, item: str, outcome: str, heard: str = "") -> None:
+        """Written to the item's node: how its window ended, for observers and for a restart."""
+        result = self.record.items[item]
+        result.outcomes.append(outcome)
+        if heard:
+            result.heard = heard
+        self.port.send(high_to_low.record_item(result))
 
     def _answer_timed_out(self, wait: AnswerWait) -> None:
         item, window, token = wait.item, wait.window, wait.token
@@ -421,9 +429,11 @@ class HighLevelExecutive:
             # Speech sends it again, but the close may reach the new server first. Such a
             # window is asked again, never counted as silence.
             if interrupted or self.port.dsr_boot() != wait.boot:
+                self._window_ended(item, "interrupted")
                 self.port.event(event="window_interrupted", item=item, window=window)
                 self._complete(token, monitoring.window_interrupted(self.state, item, window))
                 return
+            self._window_ended(item, "no_answer")
             self.port.event(event="no_answer", item=item, window=window)
             self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
 
@@ -431,8 +441,7 @@ class HighLevelExecutive:
 
     def _skip_item(self, step: Step, item: str) -> None:
         self.record.give_up(item)
-        attempts = self.record.items[item].attempts
-        self.port.send(high_to_low.record_item(item, attempts, status="unanswered"))
+        self.port.send(high_to_low.record_item(self.record.items[item]))
         self.port.event(event="unanswered", item=item)
         self._complete(self._token)
 

@@ -106,6 +106,8 @@ def record(graph: Graph) -> BarthelRecord:
             continue
         result = rec.items[key]
         result.attempts = int(node.attrs.get("attempts", 0))
+        result.outcomes = list(node.attrs.get("outcomes", []))
+        result.heard = str(node.attrs.get("heard", ""))
         status = node.attrs.get("status")
         if status == "answered":
             result.points, result.via = int(node.attrs["answer"]), node.attrs.get("via")

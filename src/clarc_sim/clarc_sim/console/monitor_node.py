@@ -1,39 +1,56 @@
-"""The launch's screen: one readable line per step of the test (what CLARC says, answers, the
-person leaving, the clinician called, replanning), the result at the end. Exits 0 when CGAmed
-has stored the result, 1 if PELEA reports an error or nothing finishes within ``timeout``.
+"""The launch's screen: one readable line per step of the test, the result at the end. The steps
+are read from the DSR (clarc_agents/course.py), so the screen stays right across a restart of
+PELEA, of the DSR server or of the monitor itself; PELEA's own stream adds only what is PELEA's
+(plans, replans, warnings, errors), the speaker what CLARC says, CGAmed what it tells the
+clinician. Exits 0 once a test started at or after ``since`` is finished in the DSR (PELEA
+writes that only after CGAmed stored its result), 1 on PELEA's error or after ``timeout``.
 
-ROS Parameters: timeout (seconds, default 600). Subscriptions: clarc/speaker/events,
+ROS Parameters: timeout (seconds, default 600), since (ISO 8601; default: when the monitor
+started), setup_timeout (seconds). Subscriptions: the DSR's topics, clarc/speaker/events,
 clarc/pelea/events, clarc/cgamed/notifications.
 """
 
 from __future__ import annotations
 
 import time
+from datetime import UTC, datetime
 from typing import Any
 
 import rclpy
 
 from clarc_agents import topics
+from clarc_agents.course import Course
+from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.qos import qos_stream
 
 
-def describe_event(event: dict) -> str | None:
+def describe_step(event: dict) -> str | None:
+    """A step of the test read from the DSR (course.py's events) as one line."""
     kind = event.get("event")
+    if kind == "start_requested":
+        return f"Start pressed for {event['patient']}"
     if kind == "started":
-        return f"Start pressed: Barthel test for {event['patient']}"
+        return f"Barthel test started for {event['patient']}"
+    if kind == "following":
+        return (
+            f"following the Barthel test of {event['patient']} under way "
+            f"(item {event['position']}/10: {event['item']})"
+        )
     if kind == "item":
         return f"--- item {event['position']}/10: {event['item']}"
     if kind == "answer":
         return f"answer: {event['item']} = {event['points']} points, by {event['via']}"
     if kind == "no_answer":
-        return f"no answer to {event['item']} in time (try {event['window']})"
+        return f"no answer to {event['item']} in time (try {event['attempt']})"
     if kind == "not_understood":
-        return f"not understood: {event['heard']!r} (try {event['window']})"
+        return f"not understood: {event['heard']!r} (try {event['attempt']})"
     if kind == "skip":
         return f"the patient asked to skip {event['item']}"
+    if kind == "window_interrupted":
+        return f"{event['item']}: the answer window was cut by a restart; asked again"
     if kind == "unanswered":
         return f"{event['item']} left unanswered"
     if kind == "person_lost":
@@ -42,6 +59,12 @@ def describe_event(event: dict) -> str | None:
         return "the person is back"
     if kind == "clinician_called":
         return f"the clinician is called ({', '.join(event['unanswered'])} unanswered)"
+    return None
+
+
+def describe_pelea(event: dict) -> str | None:
+    """What only PELEA knows: its plans and replans, its warnings and errors."""
+    kind = event.get("event")
     if kind == "plan" and event.get("reason") != "start":
         return f"PELEA replans: {event['reason']} -> {event['first']} ({event['steps']} actions)"
     if kind == "plan":
@@ -70,16 +93,44 @@ class Monitor(DsrNode):
     def __init__(self):
         super().__init__("clarc_monitor")
         declare(self, "timeout", 600.0, "seconds before giving up", read_only=True, minimum=0.0)
+        declare(
+            self,
+            "since",
+            "",
+            "ISO 8601: a test started from then is this run's (default: the monitor's start)",
+            read_only=True,
+        )
+        declare_setup_timeout(self, 20.0)
         self.t0 = time.monotonic()
         self.exit_code: int | None = None
+        self.dsr = DsrAgent()
+        self.course: Course | None = None
 
     def setup(self) -> None:
+        since = param(self, "since") or datetime.now(UTC).isoformat()
+        try:
+            moment = datetime.fromisoformat(since)
+        except ValueError as e:  # reported by main_for, naming the parameter
+            raise ValueError(f"parameter since: not an ISO 8601 time: {since!r}") from e
+        self.course = Course(moment if moment.tzinfo else moment.astimezone())  # naive: local
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         subscribe_json(self, topics.PELEA_EVENTS, self.on_pelea, qos_stream())
         subscribe_json(self, topics.CGAMED_NOTIFICATIONS, self.on_notification, qos_stream())
+        self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self.dsr.add_listener(lambda deltas, resynced: self.on_graph())
 
     def say(self, line: str) -> None:
         print(f"[{time.monotonic() - self.t0:6.1f}s] {line}", flush=True)
+
+    def on_graph(self) -> None:
+        for step in self.course.follow(self.dsr.graph):
+            line = describe_step(step)
+            if line:
+                self.say(line)
+            if step["event"] == "finished" and self.exit_code is None:
+                for line in describe_result(step["result"]):
+                    print(line, flush=True)
+                self.exit_code = 0
 
     def on_speaker(self, event: dict[str, Any]) -> None:
         if event["event"] == "start":
@@ -88,7 +139,7 @@ class Monitor(DsrNode):
             self.say("CLARC stops talking")
 
     def on_pelea(self, event: dict[str, Any]) -> None:
-        line = describe_event(event)
+        line = describe_pelea(event)
         if line:
             self.say(line)
         if event.get("event") == "error":
@@ -96,13 +147,10 @@ class Monitor(DsrNode):
 
     def on_notification(self, note: dict[str, Any]) -> None:
         self.say(f"to the clinician: {note['message']}")
-        if note.get("kind") == "result_stored":
-            for line in describe_result(note["result"]):
-                print(line, flush=True)
-            self.exit_code = 0
 
     def run(self) -> int:
-        """Exit 0 once the result is stored, 1 on PELEA's error or after ``timeout``."""
+        """Exit 0 once this run's test is finished in the DSR, 1 on PELEA's error or after
+        ``timeout``."""
         deadline = time.monotonic() + float_param(self, "timeout")
         while self.exit_code is None and time.monotonic() < deadline:
             rclpy.spin_once(self, timeout_sec=0.1)

@@ -2,7 +2,9 @@
 clinician's notifications, and the clinician's dashboard in the browser (dashboard_app.py).
 
 The dashboard's Start is a request written on the DSR's test node (as ``clarc start`` does),
-which PELEA takes: a Start is never lost to a module that is restarting.
+which PELEA takes: a Start is never lost to a module that is restarting. The dashboard follows
+the test from the DSR (clarc_agents/course.py), so it stays right across a restart of PELEA or
+of CGAmed; from PELEA's own stream it shows only PELEA's errors.
 
 ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), dashboard (true),
 host (127.0.0.1), port (8081), setup_timeout (20 s). Subscriptions: clarc/cgamed/notify,
@@ -19,6 +21,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
+from clarc_agents.course import Course
 from clarc_agents.exceptions import InvalidResult
 from clarc_agents.pelea.high_to_low import request_start
 from clarc_sim.hospital.dashboard_app import TestStatus, make_app
@@ -55,6 +58,7 @@ class CgamedStandIn(DsrNode):
         self.bridge: Bridge | None = None
         self._start_for: str | None = None  # pressed on the dashboard, to be written to the DSR
         self.dsr = DsrAgent()
+        self.course = Course()
         self._shown: dict[str, Any] | None = None
 
     def setup(self) -> None:
@@ -98,12 +102,12 @@ class CgamedStandIn(DsrNode):
         self.get_logger().info(f"to the clinician: {message}")
 
     def on_pelea(self, event: dict[str, Any]) -> None:
-        self.bridge.to_web(self._follow, event)
+        if event.get("event") == "error":
+            self.bridge.to_web(self.events.publish, "pelea", event)
 
-    def _follow(self, event: dict) -> None:  # web thread
-        self.events.publish("pelea", event)
-
-    def _on_graph(self, deltas, resynced) -> None:  # ROS thread: the test's status from the DSR
+    def _on_graph(self, deltas, resynced) -> None:  # ROS thread: the test from the DSR
+        for step in self.course.follow(self.dsr.graph):
+            self.bridge.to_web(self.events.publish, "step", step)
         status = TestStatus.of(self.dsr.graph)
         if status != self._shown:
             self._shown = status

@@ -5,8 +5,10 @@ press Start, follow the running test, see the results and the history from the r
     POST /api/start           {"patient": name}: press Start (409 while a test runs)
     GET  /api/status          {"running", "patient", "item", "position"}
     GET  /api/results         the stored tests, as `clarc results --json`
-    GET  /api/events          Server-Sent Events: "pelea" (PELEA's events), "speaker" (what CLARC
-                              says), "notification" (what the clinician is told)
+    GET  /api/events          Server-Sent Events: "status" (the test node), "step" (a step of
+                              the test read from the DSR, clarc_agents/course.py), "pelea"
+                              (PELEA's errors), "speaker" (what CLARC says), "notification"
+                              (what the clinician is told)
 """
 
 from __future__ import annotations

@@ -18,13 +18,17 @@ function logEvent(text, alert) {
   $("events").prepend(li);
 }
 
+// The steps of the test, read from the DSR by CGAmed (clarc_agents/course.py).
 const DESCRIBE = {
+  start_requested: (e) => `Start pressed for ${e.patient}`,
   started: (e) => `Start: ${e.patient}`,
+  following: (e) => `test of ${e.patient} under way: item ${e.position}/10 ${e.item}`,
   item: (e) => `item ${e.position}/10: ${e.item}`,
   answer: (e) => `${e.item}: ${e.points} points (${e.via})`,
-  no_answer: (e) => `${e.item}: no answer (try ${e.window})`,
+  no_answer: (e) => `${e.item}: no answer (try ${e.attempt})`,
   not_understood: (e) => `${e.item}: not understood "${e.heard}"`,
   skip: (e) => `${e.item}: skip asked`,
+  window_interrupted: (e) => `${e.item}: cut by a restart, asked again`,
   unanswered: (e) => `${e.item}: unanswered`,
   person_lost: () => "the patient left",
   person_back: () => "the patient is back",
@@ -34,10 +38,10 @@ const DESCRIBE = {
 };
 const ALERTS = new Set(["person_lost", "clinician_called", "error"]);
 
-function onPelea(e) {
+function onStep(e) {
   const text = DESCRIBE[e.event] ? DESCRIBE[e.event](e) : null;
   if (text) logEvent(text, ALERTS.has(e.event));
-  if (e.event === "started") { setRunning(true); $("live-patient").textContent = e.patient; $("live-answer").textContent = "–"; }
+  if (e.event === "started" || e.event === "following") { setRunning(true); $("live-patient").textContent = e.patient; $("live-answer").textContent = "–"; }
   if (e.event === "item") $("live-item").textContent = `${e.position}/10 ${e.item}`;
   if (e.event === "answer") $("live-answer").textContent = `${e.item}: ${e.points} points by ${e.via}`;
   if (e.event === "unanswered") $("live-answer").textContent = `${e.item}: unanswered`;
@@ -106,7 +110,8 @@ events.addEventListener("status", (m) => {  // from the DSR: right even if an ev
   if (s.patient) $("live-patient").textContent = s.patient;
   if (s.item) $("live-item").textContent = `${s.position}/10 ${s.item}`;
 });
-events.addEventListener("pelea", (m) => onPelea(JSON.parse(m.data)));
+events.addEventListener("step", (m) => onStep(JSON.parse(m.data)));
+events.addEventListener("pelea", (m) => onStep(JSON.parse(m.data)));  // PELEA's errors
 events.addEventListener("speaker", (m) => {
   const s = JSON.parse(m.data);
   if (s.event === "start") $("live-question").textContent = s.text;
