@@ -233,12 +233,20 @@ def test_pelea_killed_three_times_still_stores_one_equal_result():
 
 def test_a_start_request_in_the_dsr_starts_the_test_and_a_second_is_refused():
     robot = Robot()
+    warned = []
+    robot.hle.log = type("Log", (), {"warning": warned.append, "info": lambda m: None})()
+    # a change from another agent may come before the answer to PELEA's own start_test, while
+    # its replica still shows the request PELEA took: not a second Start
+    robot.pelea_link.add_listener(lambda d, r: robot.hle.on_graph(robot.pelea_link.graph))
     link = robot.bus.agent("/clarc_cli")
     link.send(high_to_low.request_start("Carlos", "2026-11-24T10:00:00+00:00"))
     robot.bus.run(until=lambda: robot.hle.running, limit=10)
     link.send(high_to_low.request_start("Someone else", "2026-11-24T10:00:05+00:00"))
     robot.bus.run(until=robot.finished)
     assert [r["patient"] for r in robot.port.stored] == ["Carlos"]
+    assert [w for w in warned if "refused" in w] == [
+        "Start for Someone else while a test runs: refused"
+    ]
     assert "requested_patient" not in robot.bus.core.graph.node("test").attrs
 
 

@@ -112,6 +112,9 @@ class HighLevelExecutive:
         self._pending_say: sentences.Sentence | None = None
         self._say_in_flight = False
         self._stuck = False  # the planner found no plan: do not resume that test again
+        # Start requests already taken or refused, as (patient, when pressed): the replica shows
+        # a request until the server's answer to our transaction comes back
+        self._handled: set[tuple[str, Any]] = set()
 
     # ------------------------------------------------------------------ inputs
     def start(self, graph: Graph, patient: str) -> bool:
@@ -153,13 +156,18 @@ class HighLevelExecutive:
         """The replica changed (or was reloaded)."""
         self.graph = graph
         requested = low_to_high.start_request(graph)
+        request = (requested, graph.node("test").attrs.get("requested"))
+        if requested is not None and request in self._handled:
+            requested = None
         if not self.running:
             if low_to_high.test_running(graph) and not self._stuck:
                 self.resume(graph)
             elif requested is not None:
+                self._handled.add(request)
                 self.start(graph, requested)
             return
         if requested is not None:
+            self._handled.add(request)
             self.log.warning(f"Start for {requested} while a test runs: refused")
             self.port.send(high_to_low.refuse_start(requested))
         self._watch_person(graph)
