@@ -194,9 +194,11 @@ class DsrAgent:
         except (ValueError, KeyError, TypeError):
             return
         boot = str(beat.get("boot", ""))
-        if self._boot and boot != self._boot:  # the server restarted: what it did not answer
+        if self._boot and boot != self._boot and self._unanswered:
+            # the server restarted: what it did not answer may have died with it
             self.node.get_logger().warning(
-                "the DSR server restarted: sending unanswered requests again"
+                f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
+                "request(s) again"
             )
             self._send_again(older_than=0.0)
         self._boot = boot
