@@ -1,12 +1,19 @@
 """Every node of the suite has the one shape: its constructor only declares parameters (each with
-a description) and attaches nothing; a start-up failure is one fatal line and exit code 1."""
+a description) and attaches nothing; ``--help`` lists them with no side effect; a start-up
+failure is one fatal line and exit code 1; SIGTERM while it waits for the server is a clean
+stop."""
 
 import importlib
+import os
+import signal
+import subprocess
+import time
 from pathlib import Path
 
 import pytest
 import rclpy
 from rclpy.context import Context
+from rclpy.parameter import Parameter
 
 from ros_processes import fresh_domain_id, wait_for
 
@@ -55,8 +62,10 @@ def test_the_constructor_declares_and_attaches_nothing(module, name, context, mo
     node_class = getattr(importlib.import_module(module), name)
     real_init = rclpy.node.Node.__init__
 
+    required = [Parameter(n, value="given") for n in ("scenario", "grammar_file")]
+
     def in_our_context(self, node_name, *args, **kwargs):  # the node classes take no context
-        real_init(self, node_name, *args, context=context, **kwargs)
+        real_init(self, node_name, *args, context=context, parameter_overrides=required, **kwargs)
 
     monkeypatch.setattr(rclpy.node.Node, "__init__", in_our_context)
     node = node_class()
@@ -109,6 +118,29 @@ def test_a_corrupt_state_dir_ends_with_one_fatal_line(ros):
     assert len(fatal) == 1 and str(state) in fatal[0]
 
 
+def test_a_state_dir_made_from_another_world_is_refused_unless_told_to_resume(ros):
+    from conftest import CORTEX_WORLDS
+
+    state = ros.tmp / "state"
+    room = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
+    other = sorted(CORTEX_WORLDS.glob("*.json"))[0]
+    ros.procs.start_server(state, room)
+    wait_for(lambda: (state / "snapshot.json").exists(), 30, "the first server's state")
+    ros.procs.stop("server")
+    ros.procs.start_server(state, room, name="restart")  # the same world: a restart
+    wait_for(lambda: "restored" in ros.procs.log("restart"), 30, "the restart")
+    ros.procs.stop("restart")
+    argv = ["dsr_server", "--ros-args", "-p", f"state_dir:={state}", "-p", f"world_file:={other}"]
+    code, log = fatal_exit(ros.procs, "other", argv)
+    assert code == 1 and "Traceback" not in log
+    fatal = [line for line in log.splitlines() if "FATAL" in line]
+    assert len(fatal) == 1 and str(room) in fatal[0] and str(other) in fatal[0]
+    assert "resume:=true" in fatal[0]
+    ros.procs.start("resumed", [*argv, "-p", "resume:=true"])
+    wait_for(lambda: "restored" in ros.procs.log("resumed"), 30, "the resumed server")
+    assert "going on with it (resume:=true)" in ros.procs.log("resumed")
+
+
 def test_a_parameter_out_of_its_range_ends_the_node_naming_it(ros):
     code, log = fatal_exit(ros.procs, "kinect", ["kinect", "--ros-args", "-p", "rate_hz:=0.0"])
     assert code == 1 and "Traceback" not in log
@@ -124,6 +156,61 @@ def test_a_bad_scenario_ends_the_patient_with_its_line(ros, tmp_path):
     )
     assert code == 1 and "Traceback" not in log
     assert f"{bad}:3" in log
+
+
+SCRIPTS = {
+    module: line.split("=", 1)[0].strip().strip('"')
+    for setup in SRC.glob("*/setup.py")
+    for line in setup.read_text().splitlines()
+    if "_node:main" in line
+    for module in [line.split("=", 1)[1].strip().strip('",').split(":")[0]]
+}
+
+
+@pytest.mark.parametrize(("module", "name"), NODES)
+def test_help_lists_every_parameter_and_touches_nothing(module, name, tmp_path):
+    node_class = getattr(importlib.import_module(module), name)
+    env = dict(os.environ, XDG_STATE_HOME=str(tmp_path / "state"), HOME=str(tmp_path))
+    env["XDG_DATA_HOME"] = str(tmp_path / "data")
+    done = subprocess.run(
+        [SCRIPTS[module], "--help"], capture_output=True, text=True, timeout=60, env=env
+    )
+    assert done.returncode == 0 and not done.stderr.strip(), done.stderr
+    assert done.stdout.startswith(f"usage: {SCRIPTS[module]}")
+    assert f"node name: {node_class.NAME}" in done.stdout
+    from dsr_graph.ros.parameters import ParameterList
+
+    listed = ParameterList(node_class.NAME)
+    node_class.declare_node_parameters(listed)
+    for declared in listed.declared:
+        assert f"  {declared.name} (" in done.stdout
+        assert declared.descriptor.description in done.stdout
+    assert list(tmp_path.iterdir()) == [], "--help wrote files"
+
+
+def test_an_unexpected_argument_is_named_and_nothing_starts():
+    done = subprocess.run(["dsr_server", "world.json"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2 and "unexpected argument(s) world.json" in done.stderr
+
+
+@pytest.mark.parametrize(
+    ("script", "parameter"), [("patient", "scenario"), ("dsr_rule_agent", "grammar_file")]
+)
+def test_a_missing_required_parameter_is_named(ros, script, parameter):
+    code, log = fatal_exit(ros.procs, script, [script])
+    assert code == 1 and "Traceback" not in log
+    fatal = [line for line in log.splitlines() if "FATAL" in line]
+    assert len(fatal) == 1 and f"parameter {parameter} is required" in fatal[0]
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_a_stop_while_waiting_for_the_server_is_clean(ros, sig):
+    proc = ros.procs.start("speech", ["speech"])  # no server in this domain: it waits
+    time.sleep(3.0)  # started, and inside DsrAgent.setup's wait for the server (20 s)
+    assert proc.poll() is None, ros.procs.log("speech")
+    proc.send_signal(sig)
+    proc.wait(timeout=30)
+    assert proc.returncode == 0 and "Traceback" not in ros.procs.log("speech")
 
 
 def test_setup_attaches_what_the_constructor_did_not(context):

@@ -446,3 +446,46 @@ def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
     assert all(
         d["claims"]["granted"][0]["target"] == {"from": "robot", "to": "speaking"} for d in starts
     )
+
+
+def test_online_verbs_take_ros_args_like_any_node(ros, cortex_dir):
+    """A server in a namespace is reached with -r __ns:=, as `ros2 run` users expect."""
+    state = ros.tmp / "state"
+    ros.procs.start(
+        "server",
+        [
+            "dsr_server",
+            "--ros-args",
+            "-r",
+            "__ns:=/robot",
+            "-p",
+            f"state_dir:={state}",
+            "-p",
+            f"world_file:={cortex_dir / 'Robot_viriato.json'}",
+        ],
+    )
+    r = ros.procs.run("dsr", "get", "robot", "port", "--ros-args", "-r", "__ns:=/robot")
+    assert r.returncode == 0 and json.loads(r.stdout)["value"] == 12238, r.stderr
+    r = ros.procs.run("dsr", "graph", "--ros-args", "-r", "__ns:=/robot")
+    assert r.returncode == 0 and "robot" in r.stdout, r.stderr
+    r = ros.procs.run("dsr", "get", "robot", "port", "--timeout", "2")  # not in the namespace
+    assert r.returncode == 1 and "no answer" in r.stderr
+
+
+def test_echo_and_param_do_what_ros2_topic_and_param_would(ros, cortex_dir):
+    start(ros, cortex_dir)
+    r = ros.procs.run("dsr", "echo", "dsr/heartbeat", "--count", "1", "--field", "seq")
+    assert r.returncode == 0 and r.stdout.strip().isdigit(), r.stderr  # latched: heard at once
+    r = ros.procs.run("dsr", "echo", "/dsr/heartbeat", "--count", "1", "--field", "nothing")
+    assert "(missing: nothing: no 'nothing')" in r.stdout
+    r = ros.procs.run("dsr", "param", "list", "dsr_server")
+    assert r.returncode == 0 and "agent_grace" in r.stdout.split(), r.stderr
+    r = ros.procs.run("dsr", "param", "get", "dsr_server", "agent_grace")
+    assert r.returncode == 0 and r.stdout.strip() == "3.0"
+    r = ros.procs.run("dsr", "param", "set", "dsr_server", "agent_grace", "5.5")
+    assert r.returncode == 0 and r.stdout.strip() == "agent_grace = 5.5", r.stderr
+    assert ros.procs.run("dsr", "param", "get", "dsr_server", "agent_grace").stdout.strip() == "5.5"
+    r = ros.procs.run("dsr", "param", "set", "dsr_server", "heartbeat_period", "2.0")
+    assert r.returncode == 1 and "refused heartbeat_period" in r.stderr and "read-only" in r.stderr
+    r = ros.procs.run("dsr", "param", "get", "dsr_server", "no_such")
+    assert r.returncode == 1 and "has no parameter no_such" in r.stderr

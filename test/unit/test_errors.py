@@ -49,3 +49,14 @@ def test_every_error_derives_from_dsr_error():
             value = getattr(module, name)
             if isinstance(value, type) and issubclass(value, Exception):
                 assert issubclass(value, dsr.DsrError), name
+
+
+def test_echo_shows_whole_messages_or_chosen_fields():
+    from dsr_graph.cli.verb.echo import render
+
+    delta = '{"seq": 3, "ops": [{"op": "insert_node", "name": "cup"}]}'
+    assert render(delta, [], False) == delta
+    assert render(delta, ["ops.0.name"], False) == '"cup"'
+    assert render(delta, ["seq", "ops.-1.op"], False) == '{"seq": 3, "ops.-1.op": "insert_node"}'
+    assert render(delta, ["ops.5"], False) == '"(missing: ops.5: no item 5)"'
+    assert render("not json", ["seq"], False) == "not json"

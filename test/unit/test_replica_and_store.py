@@ -122,3 +122,28 @@ def test_a_damaged_journal_is_reported_not_skipped(tmp_path):
     with pytest.raises(CorruptState, match="seq 3"):
         again.replay_journal(core.seq, core.replay)
     again.close()
+
+
+def test_a_state_remembers_its_world_and_refuses_another(tmp_path):
+    from dsr_graph.formats.state_store import origin_conflict, world_origin
+
+    room, other = tmp_path / "room.json", tmp_path / "other.json"
+    room.write_text('{"a": 1}')
+    other.write_text('{"a": 2}')
+    store = StateStore(tmp_path / "state")
+    store.open()
+    assert store.read_origin() is None  # a state from before origin.json: taken as it is
+    store.write_origin(world_origin(str(room)))
+    stored = store.read_origin()
+    assert stored == {"world_file": str(room.resolve()), "sha256": stored["sha256"]}
+    assert origin_conflict(stored, world_origin(str(room)), 7) is None  # a restart
+    moved = tmp_path / "moved.json"
+    moved.write_bytes(room.read_bytes())
+    assert origin_conflict(stored, world_origin(str(moved)), 7) is None  # same content
+    assert origin_conflict(stored, world_origin(""), 7) is None  # no world asked for
+    conflict = origin_conflict(stored, world_origin(str(other)), 7)
+    assert str(room.resolve()) in conflict and str(other.resolve()) in conflict
+    assert "seq 7" in conflict
+    empty = {"world_file": "", "sha256": ""}
+    assert "an empty graph" in origin_conflict(empty, world_origin(str(room)), 0)
+    store.close()

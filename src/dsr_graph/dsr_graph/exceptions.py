@@ -88,5 +88,9 @@ class StateDirLocked(DsrError):
     """Another server holds this state directory."""
 
 
+class StateMismatch(DsrError):
+    """The state directory holds a graph made from another world than the one asked for."""
+
+
 class CorruptState(DsrError):
     """The stored state cannot be read back consistently; the message says where."""

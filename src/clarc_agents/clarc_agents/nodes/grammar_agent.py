@@ -20,17 +20,20 @@ class GrammarAgentNode(DsrNode, abc.ABC):
 
     GRAMMAR = ""
 
-    def __init__(self, node_name: str):
-        super().__init__(node_name)
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
         declare(
-            self,
+            node,
             "time_scale",
             1.0,
             "multiplies every time of the flow (0.1: ten times faster than a real session)",
             read_only=True,
             minimum=0.0,
         )
-        declare_setup_timeout(self, 20.0)
+        declare_setup_timeout(node, 20.0)
+
+    def __init__(self):
+        super().__init__()
         self.dsr = DsrAgent()
         self.runner: RuleRunner | None = None
 

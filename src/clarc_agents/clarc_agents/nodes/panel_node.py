@@ -22,8 +22,10 @@ from dsr_graph.rules.runner import Process
 class PanelAgent(GrammarAgentNode):
     GRAMMAR = "panel"
 
+    NAME = "panel"
+
     def __init__(self):
-        super().__init__("panel")
+        super().__init__()
         self.behaviour = PanelBehaviour(self, self.get_logger())
 
     def processes(self) -> dict[str, Process]:

@@ -38,10 +38,12 @@ STORE_TIMEOUT = 5.0  # seconds CGAmed may take to acknowledge a result
 
 
 class PeleaNode(DsrNode):
-    def __init__(self):
-        super().__init__("pelea")
+    NAME = "pelea"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
         declare(
-            self,
+            node,
             "time_scale",
             1.0,
             "multiplies every time of the flow",
@@ -49,7 +51,7 @@ class PeleaNode(DsrNode):
             minimum=0.0,
         )
         declare(
-            self,
+            node,
             "answer_timeout",
             8.0,
             "seconds of a real session an answer window stays open",
@@ -57,13 +59,16 @@ class PeleaNode(DsrNode):
             minimum=0.0,
         )
         declare(
-            self,
+            node,
             "outbox_dir",
             state_path("clarc", "pelea_outbox"),
             "results CGAmed has not acknowledged wait here",
             read_only=True,
         )
-        declare_setup_timeout(self, 20.0)
+        declare_setup_timeout(node, 20.0)
+
+    def __init__(self):
+        super().__init__()
         self.dsr = DsrAgent()
         times = Times(
             scale=float_param(self, "time_scale"),

@@ -19,26 +19,32 @@ from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
-from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.qos import qos_sensor
 from dsr_graph.rules.runner import Process
 
 
 class PersonAgent(GrammarAgentNode):
     GRAMMAR = "person"
 
-    def __init__(self):
-        super().__init__("person")
+    NAME = "person"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        super().declare_node_parameters(node)
         declare(
-            self, "seen_frames", 2, "frames with a face before the person counts as seen", minimum=1
+            node, "seen_frames", 2, "frames with a face before the person counts as seen", minimum=1
         )
         declare(
-            self,
+            node,
             "lost_frames",
             3,
             "frames without a face before the person counts as lost",
             minimum=1,
         )
-        declare(self, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
+        declare(node, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
+
+    def __init__(self):
+        super().__init__()
         self._present_frames = 0
         self._absent_frames = 0
         self._last_face: list[float] | None = None
@@ -47,7 +53,7 @@ class PersonAgent(GrammarAgentNode):
         return {}
 
     def setup(self) -> None:
-        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_stream())
+        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_sensor())
         super().setup()
 
     def _with_robot(self) -> bool:

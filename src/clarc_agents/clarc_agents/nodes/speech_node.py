@@ -25,8 +25,10 @@ from dsr_graph.rules.runner import Process
 class SpeechAgent(GrammarAgentNode):
     GRAMMAR = "speech"
 
+    NAME = "speech"
+
     def __init__(self):
-        super().__init__("speech")
+        super().__init__()
         self.behaviour = SpeechBehaviour(
             self,
             lambda seconds, callback: OneShot(self, seconds, callback),

@@ -16,6 +16,7 @@ from clarc_agents.barthel.items import ORDER
 from clarc_agents.exceptions import ScenarioError
 from clarc_sim.hospital.results_store import ResultsStore, default_db
 from clarc_sim.patient.scenario import load
+from dsr_graph.cli.api import split_ros_args
 
 
 def now() -> str:
@@ -82,7 +83,7 @@ def start(args: argparse.Namespace) -> int:
 
     verdicts = []
     try:
-        with RosSession() as ros:
+        with RosSession(ros_args=args.ros_args) as ros:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
@@ -115,7 +116,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("patient")
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
-    args = parser.parse_args(argv)
+    own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
+    args = parser.parse_args(own)
+    args.ros_args = ros_args
     return args.run(args)
 
 

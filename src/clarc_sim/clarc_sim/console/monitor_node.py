@@ -90,17 +90,22 @@ def describe_result(result: dict) -> list[str]:
 
 
 class Monitor(DsrNode):
-    def __init__(self):
-        super().__init__("clarc_monitor")
-        declare(self, "timeout", 600.0, "seconds before giving up", read_only=True, minimum=0.0)
+    NAME = "clarc_monitor"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "timeout", 600.0, "seconds before giving up", read_only=True, minimum=0.0)
         declare(
-            self,
+            node,
             "since",
             "",
             "ISO 8601: a test started from then is this run's (default: the monitor's start)",
             read_only=True,
         )
-        declare_setup_timeout(self, 20.0)
+        declare_setup_timeout(node, 20.0)
+
+    def __init__(self):
+        super().__init__()
         self.t0 = time.monotonic()
         self.exit_code: int | None = None
         self.dsr = DsrAgent()

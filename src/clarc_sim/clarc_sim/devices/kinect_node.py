@@ -18,18 +18,23 @@ from clarc_sim import sim_topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param
-from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.qos import qos_latched, qos_sensor
 
 
 class KinectStandIn(DsrNode):
+    NAME = "kinect"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "rate_hz", 50.0, "frames per second", read_only=True, minimum=0.1)
+
     def __init__(self):
-        super().__init__("kinect")
-        declare(self, "rate_hz", 50.0, "frames per second", read_only=True, minimum=0.1)
+        super().__init__()
         self.presence: dict[str, Any] = {"present": False, "face": [0.0, 0.0, 0.0]}
         self._random = random.Random(7)
 
     def setup(self) -> None:
-        self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_stream())
+        self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_sensor())
         subscribe_json(self, sim_topics.PATIENT_PRESENCE, self.on_presence, qos_latched())
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
 

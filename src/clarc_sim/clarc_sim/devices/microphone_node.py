@@ -22,10 +22,15 @@ from dsr_graph.ros.timers import OneShot
 
 
 class MicrophoneStandIn(DsrNode):
+    NAME = "microphone"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare(node, "latency", 0.4, "seconds speech recognition takes", minimum=0.0)
+
     def __init__(self):
-        super().__init__("microphone")
-        declare(self, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
-        declare(self, "latency", 0.4, "seconds speech recognition takes", minimum=0.0)
+        super().__init__()
 
     def setup(self) -> None:
         self._asr = self.create_publisher(String, topics.ASR, qos_stream())

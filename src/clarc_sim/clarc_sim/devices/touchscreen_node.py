@@ -19,8 +19,10 @@ from dsr_graph.ros.qos import qos_latched, qos_stream
 
 
 class TouchscreenStandIn(DsrNode):
+    NAME = "touchscreen"
+
     def __init__(self):
-        super().__init__("touchscreen")
+        super().__init__()
         self.shown: dict[str, Any] = {}
 
     def setup(self) -> None:

@@ -30,13 +30,18 @@ def speaking_time(text: str, words_per_second: float) -> float:
 
 
 class TtsStandIn(DsrNode):
-    def __init__(self):
-        super().__init__("tts")
-        declare(self, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
-        declare(self, "words_per_second", 2.5, "speaking rate", minimum=0.1)
+    NAME = "tts"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare(node, "words_per_second", 2.5, "speaking rate", minimum=0.1)
         declare(
-            self, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True
+            node, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True
         )
+
+    def __init__(self):
+        super().__init__()
         self._current: dict[str, Any] | None = None
         self._timer: OneShot | None = None
         self._espeak = shutil.which("espeak-ng")

@@ -37,14 +37,16 @@ from dsr_msgs.srv import StoreResult
 
 
 class CgamedStandIn(DsrNode):
-    def __init__(self):
-        super().__init__("cgamed")
-        declare(self, "db", default_db(), "SQLite results store", read_only=True)
-        declare_setup_timeout(self, 20.0)
-        declare(self, "dashboard", True, "serve the clinician's dashboard", read_only=True)
-        declare(self, "host", "127.0.0.1", "dashboard address", read_only=True)
+    NAME = "cgamed"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "db", default_db(), "SQLite results store", read_only=True)
+        declare_setup_timeout(node, 20.0)
+        declare(node, "dashboard", True, "serve the clinician's dashboard", read_only=True)
+        declare(node, "host", "127.0.0.1", "dashboard address", read_only=True)
         declare(
-            self,
+            node,
             "port",
             8081,
             "dashboard port (0: any free port)",
@@ -52,6 +54,9 @@ class CgamedStandIn(DsrNode):
             minimum=0,
             maximum=65535,
         )
+
+    def __init__(self):
+        super().__init__()
         self.status = TestStatus()
         self.events = Broadcaster()
         self.store: ResultsStore | None = None

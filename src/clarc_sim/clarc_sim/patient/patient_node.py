@@ -26,14 +26,19 @@ from dsr_graph.ros.timers import OneShot
 
 
 class SimulatedPatient(DsrNode):
-    def __init__(self):
-        super().__init__("patient")
-        declare(self, "scenario", "", "scenario YAML file", read_only=True)
-        declare(self, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+    NAME = "patient"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "scenario", "", "scenario YAML file", read_only=True, required=True)
+        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
         declare(
-            self, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0
+            node, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0
         )
-        declare(self, "face", [900.0, 0.0, -400.0], "where the face is, in the Kinect's frame (mm)")
+        declare(node, "face", [900.0, 0.0, -400.0], "where the face is, in the Kinect's frame (mm)")
+
+    def __init__(self):
+        super().__init__()
         self.script: PatientScript | None = None
 
     def setup(self) -> None:

@@ -1,6 +1,8 @@
 """``dsr``: the command line of the DSR. One module per verb in ``dsr_graph/cli/verb/`` (its
 ``NAME``, or the module's name); a new verb is a new file there, found at start (no central
-switch). Shared helpers are in ``dsr_graph/cli/api/``. Offline verbs never import rclpy."""
+switch). Shared helpers are in ``dsr_graph/cli/api/``. Offline verbs never import rclpy. The
+online verbs take ROS arguments after ``--ros-args`` like any ROS node (``-r __ns:=/robot``,
+remaps of the DSR's topics and services)."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import sys
 
 from dsr_graph import __version__
 from dsr_graph.cli import verb
+from dsr_graph.cli.api import split_ros_args
 
 
 def _verbs():
@@ -35,7 +38,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
+    args = build_parser().parse_args(own)
+    args.ros_args = ros_args
     try:
         return args.run(args)
     except KeyboardInterrupt:

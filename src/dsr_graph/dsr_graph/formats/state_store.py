@@ -4,6 +4,9 @@
                                "claims": [...]}
     state_dir/journal.jsonl   one accepted delta per line, seq S+1, S+2, ...
     state_dir/lock            held (flock) by the running server: one server per directory
+    state_dir/origin.json     what the graph was first made from: {"world_file", "sha256"}
+                              (both "" for an empty graph); a server started with another
+                              world on this directory refuses unless told to resume
 
 A delta is written and fdatasync'ed before the server broadcasts it, so an acknowledged change
 survives kill -9. Compaction writes a new snapshot atomically (temp file, fsync, rename, fsync of
@@ -15,6 +18,7 @@ the middle of a write) was never broadcast, and is dropped with a warning.
 from __future__ import annotations
 
 import fcntl
+import hashlib
 import json
 import logging
 import os
@@ -30,6 +34,28 @@ log = logging.getLogger("dsr_graph.state_store")
 SNAPSHOT = "snapshot.json"
 JOURNAL = "journal.jsonl"
 LOCK = "lock"
+ORIGIN = "origin.json"
+
+
+def world_origin(world_file: str) -> dict[str, str]:
+    """What a graph is made from: the world file's absolute path and the SHA-256 of its bytes
+    (the content decides: the same world moved elsewhere is the same origin)."""
+    if not world_file:
+        return {"world_file": "", "sha256": ""}
+    path = Path(world_file).resolve()
+    return {"world_file": str(path), "sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+
+
+def origin_conflict(stored: dict[str, str] | None, wanted: dict[str, str], seq: int) -> str | None:
+    """Why a state made from ``stored`` must not be taken for ``wanted`` (None: it may). A state
+    without a record (older than origin.json) or started without a world file is taken."""
+    if stored is None or not wanted["sha256"] or stored.get("sha256") == wanted["sha256"]:
+        return None
+    made_from = stored.get("world_file") or "an empty graph"
+    return (
+        f"it holds a graph made from {made_from} (now at seq {seq}), "
+        f"not from world_file {wanted['world_file']}"
+    )
 
 
 class StateStore:
@@ -64,6 +90,18 @@ class StateStore:
             self._lock_file = None
 
     # ------------------------------------------------------------------ reading
+    def read_origin(self) -> dict[str, str] | None:
+        path = self.dir / ORIGIN
+        if not path.exists():
+            return None
+        try:
+            return json.loads(path.read_text("utf-8"))
+        except (OSError, json.JSONDecodeError) as e:
+            raise CorruptState(f"{path}: {e}") from e
+
+    def write_origin(self, origin: dict[str, str]) -> None:
+        write_json_atomically(origin, self.dir / ORIGIN)
+
     def load_snapshot(self) -> dict[str, Any] | None:
         path = self.dir / SNAPSHOT
         if not path.exists():

@@ -1,16 +1,21 @@
-"""The one shape of every node of the suite, as py_trees_ros has it: ``__init__`` declares the
-parameters and builds pure state; ``setup()`` attaches publishers, subscriptions, services and
-timers, and fails loudly with a typed error when something is not ready; ``run()`` spins (a node
-that also serves a web page overrides it); ``close()`` releases what ``setup()`` took.
+"""The one shape of every node of the suite, as py_trees_ros has it: the class method
+``declare_node_parameters(node)`` declares the parameters (so ``--help`` can list them without
+making a node); ``__init__`` builds pure state; ``setup()`` attaches publishers, subscriptions,
+services and timers, and fails loudly with a typed error when something is not ready; ``run()``
+spins (a node that also serves a web page overrides it); ``close()`` releases what ``setup()``
+took.
 
-``main_for(NodeClass)`` is every node's ``main``: init, build, set up, run, and always shut down
-cleanly; any error of the suite (``DsrError``: a locked or corrupt state directory, a scenario
-that cannot be used, a server that does not answer), a parameter out of its range, a bad file or
-a taken port becomes one fatal log line and exit code 1 instead of a traceback.
+``main_for(NodeClass)`` is every node's ``main``: ``--help`` prints the node's parameters and
+exits with no side effect; otherwise init, build, set up, run, and always shut down cleanly. Any
+error of the suite (``DsrError``: a locked or corrupt state directory, a scenario that cannot be
+used, a server that does not answer), a missing or out-of-range parameter, a bad file or a taken
+port becomes one fatal log line and exit code 1 instead of a traceback; SIGINT and SIGTERM end
+it with exit 0, also while it waits for the DSR server.
 """
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
 
 import rclpy
@@ -19,9 +24,21 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
+from dsr_graph.ros.parameters import check_required, help_text
 
 
 class DsrNode(Node):
+    NAME = ""  # the node's name unless remapped
+
+    def __init__(self, node_name: str = "", **kwargs) -> None:
+        super().__init__(node_name or self.NAME, **kwargs)
+        self.declare_node_parameters(self)
+        check_required(self)
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        """Declare the node's parameters on ``node`` (this node, or a list for ``--help``)."""
+
     def setup(self) -> None:
         """Attach publishers, subscriptions, services and timers (the second phase)."""
 
@@ -43,8 +60,13 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
         return node.run() or 0
     except (KeyboardInterrupt, ExternalShutdownException):
         return 0
-    except (DsrError, ParameterException, OSError, ValueError) as e:
-        logger = node.get_logger() if node is not None else rclpy.logging.get_logger("dsr")
+    except Exception as e:
+        if not rclpy.ok():  # SIGINT or SIGTERM came (rclpy shut down) while waiting: a stop
+            return 0
+        if not isinstance(e, (DsrError, ParameterException, OSError, ValueError)):
+            raise
+        name = node_name_of(make_node)
+        logger = node.get_logger() if node is not None else rclpy.logging.get_logger(name)
         logger.fatal(str(e))
         return 1
     finally:
@@ -54,10 +76,32 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
         rclpy.try_shutdown()
 
 
-def main_for(node_class: Callable[[], DsrNode]) -> Callable[[list[str] | None], int]:
+def node_name_of(make_node) -> str:
+    return getattr(make_node, "NAME", "") or "dsr"
+
+
+def _own_arguments(args: list[str]) -> list[str]:
+    """The arguments before ``--ros-args`` (the program name left out)."""
+    own = args[1:]
+    return own[: own.index("--ros-args")] if "--ros-args" in own else own
+
+
+def main_for(node_class: type[DsrNode]) -> Callable[[list[str] | None], int]:
     """The console script's ``main`` of a node class."""
 
     def main(args: list[str] | None = None) -> int:
+        argv = sys.argv if args is None else args
+        own = _own_arguments(argv)
+        if "-h" in own or "--help" in own:
+            print(help_text(node_class, argv[0] if argv else node_class.NAME))
+            return 0
+        if own:
+            print(
+                f"{node_class.NAME}: unexpected argument(s) {' '.join(own)}; parameters are "
+                "given as --ros-args -p name:=value (--help lists them)",
+                file=sys.stderr,
+            )
+            return 2
         return run_node(node_class, args)
 
     main.__doc__ = (

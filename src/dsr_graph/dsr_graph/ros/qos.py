@@ -1,6 +1,12 @@
 """QoS profiles of the DSR topics, chosen on purpose and named (ROS plumbing)."""
 
-from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import (
+    DurabilityPolicy,
+    HistoryPolicy,
+    QoSProfile,
+    ReliabilityPolicy,
+    qos_profile_sensor_data,
+)
 
 # Deep enough to absorb a burst of a few seconds at benchmark rates; a consumer that still
 # falls behind sees a gap in seq and resynchronises from a snapshot.
@@ -14,6 +20,17 @@ def qos_stream() -> QoSProfile:
         depth=STREAM_DEPTH,
         reliability=ReliabilityPolicy.RELIABLE,
         durability=DurabilityPolicy.VOLATILE,
+    )
+
+
+def qos_sensor() -> QoSProfile:
+    """Sensor streams (Kinect frames): ROS's sensor-data profile, best effort and shallow. A
+    lost frame is replaced by the next; a late one is worth nothing."""
+    return QoSProfile(
+        history=qos_profile_sensor_data.history,
+        depth=qos_profile_sensor_data.depth,
+        reliability=qos_profile_sensor_data.reliability,
+        durability=qos_profile_sensor_data.durability,
     )
 
 

@@ -19,11 +19,16 @@ from dsr_graph.rules.syntax import load_grammar_file
 
 
 class RuleAgentNode(DsrNode):
+    NAME = "dsr_rule_agent"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "grammar_file", "", "YAML/JSON list of rules", read_only=True, required=True)
+        declare(node, "process_time", 0.2, "seconds the wait process takes", minimum=0.0)
+        declare_setup_timeout(node, 10.0)
+
     def __init__(self) -> None:
-        super().__init__("dsr_rule_agent")
-        declare(self, "grammar_file", "", "YAML/JSON list of rules", read_only=True)
-        declare(self, "process_time", 0.2, "seconds the wait process takes", minimum=0.0)
-        declare_setup_timeout(self, 10.0)
+        super().__init__()
         self.agent = DsrAgent()
         self.runner: RuleRunner | None = None
 

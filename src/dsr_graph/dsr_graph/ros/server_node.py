@@ -1,7 +1,9 @@
 """The DSR server node: the one authoritative graph (ROS plumbing around ``server_core``).
 
 ROS Parameters:
-    world_file (str): world to start from (ours or CORTEX) when state_dir holds no state yet.
+    world_file (str): world to start from (ours or CORTEX) when state_dir holds no state yet;
+        a state_dir holding a graph made from another world is refused unless ``resume``.
+    resume (bool): go on with the graph in state_dir even if it was made from another world.
     vocabulary_file (str): vocabulary file; empty for the built-in one.
     state_dir (str): where the state persists (default $XDG_STATE_HOME/dsr/<node name>);
         a second server on the same directory, or a corrupt one, exits 1 naming it.
@@ -35,8 +37,9 @@ import orjson
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
+from dsr_graph.exceptions import StateMismatch
 from dsr_graph.formats.default_paths import state_path
-from dsr_graph.formats.state_store import StateStore
+from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
@@ -52,31 +55,38 @@ MAX_BATCH = 256  # requests made durable by one fdatasync
 
 
 class DsrServer(DsrNode):
-    def __init__(self, node_name: str = "dsr_server", **kwargs: Any):
-        super().__init__(node_name, **kwargs)
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
         declare(
-            self,
+            node,
             "world_file",
             "",
             "world file (ours or CORTEX) loaded when state_dir holds no state",
             read_only=True,
         )
         declare(
-            self,
+            node,
+            "resume",
+            False,
+            "go on with the graph in state_dir even if it was made from another world_file",
+            read_only=True,
+        )
+        declare(
+            node,
             "vocabulary_file",
             "",
             "vocabulary file; empty for the built-in default",
             read_only=True,
         )
         declare(
-            self,
+            node,
             "state_dir",
-            state_path("dsr", node_name),
+            state_path("dsr", node.get_name()),
             "directory where the graph persists",
             read_only=True,
         )
         declare(
-            self,
+            node,
             "compact_every",
             1000,
             "journaled deltas between snapshots",
@@ -84,7 +94,7 @@ class DsrServer(DsrNode):
             minimum=1,
         )
         declare(
-            self,
+            node,
             "max_request_bytes",
             DEFAULT_MAX_REQUEST_BYTES,
             "larger requests are rejected",
@@ -92,14 +102,14 @@ class DsrServer(DsrNode):
             minimum=1024,
         )
         declare(
-            self,
+            node,
             "publish_poses",
             True,
             "publish geometry_msgs/PoseStamped per geometric node",
             read_only=True,
         )
         declare(
-            self,
+            node,
             "heartbeat_period",
             1.0,
             "seconds between heartbeats and claim housekeeping",
@@ -107,12 +117,17 @@ class DsrServer(DsrNode):
             minimum=0.01,
         )
         declare(
-            self,
+            node,
             "agent_grace",
             3.0,
             "seconds a claim holder may be absent before its claims are freed",
             minimum=0.0,
         )
+
+    NAME = "dsr_server"
+
+    def __init__(self, node_name: str = "", **kwargs: Any):
+        super().__init__(node_name, **kwargs)
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
         self._pose_pubs: dict[str, Any] = {}
@@ -130,7 +145,19 @@ class DsrServer(DsrNode):
         self.store.open()
         snapshot = self.store.load_snapshot()
         world_file = param(self, "world_file")
+        origin = world_origin(world_file)
         if snapshot is not None:
+            conflict = origin_conflict(self.store.read_origin(), origin, int(snapshot["seq"]))
+            if conflict and not param(self, "resume"):
+                raise StateMismatch(
+                    f"state_dir {self.store.dir}: {conflict}. Set -p resume:=true to go on with "
+                    "the stored graph, or give another state_dir (or remove this one) to start "
+                    "from the world"
+                )
+            if conflict:
+                self.get_logger().warning(
+                    f"state_dir {self.store.dir}: {conflict}; going on with it (resume:=true)"
+                )
             self.core = ServerCore.from_snapshot(
                 snapshot, vocabulary, max_request_bytes=param(self, "max_request_bytes")
             )
@@ -151,6 +178,7 @@ class DsrServer(DsrNode):
                     self.get_logger().warning(f"world file: left out: {violation}")
                 graph = world.graph
             self.core = ServerCore(graph, 0, max_request_bytes=param(self, "max_request_bytes"))
+            self.store.write_origin(origin)
             self.store.write_snapshot(self.core.durable_snapshot())
             self.get_logger().info(
                 f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "

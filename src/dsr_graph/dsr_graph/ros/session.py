@@ -16,9 +16,16 @@ from dsr_graph.exceptions import TimedOutError
 
 
 class RosSession:
-    def __init__(self, name: str | None = None, domain_id: int | None = None):
+    def __init__(
+        self,
+        name: str | None = None,
+        domain_id: int | None = None,
+        ros_args: list[str] | None = None,
+    ):
+        """``ros_args`` (``--ros-args -r __ns:=/robot ...``) apply to this session's node:
+        namespaces, remaps, parameters, as for any ROS node."""
         self.context = Context()
-        rclpy.init(context=self.context, domain_id=domain_id)
+        rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)

@@ -24,11 +24,13 @@ from dsr_graph.web.viewer_app import make_app
 
 
 class Viewer(DsrNode):
-    def __init__(self) -> None:
-        super().__init__("dsr_viewer")
-        declare(self, "host", "127.0.0.1", "address to serve on", read_only=True)
+    NAME = "dsr_viewer"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare(node, "host", "127.0.0.1", "address to serve on", read_only=True)
         declare(
-            self,
+            node,
             "port",
             8080,
             "port to serve on (0: any free port)",
@@ -36,7 +38,10 @@ class Viewer(DsrNode):
             minimum=0,
             maximum=65535,
         )
-        declare_setup_timeout(self, 20.0)
+        declare_setup_timeout(node, 20.0)
+
+    def __init__(self) -> None:
+        super().__init__()
         self.agent = DsrAgent()
         self.history = History()
         self.events = Broadcaster()

@@ -47,12 +47,21 @@ def error(message: str) -> int:
     return 1
 
 
-def fetch_snapshot(timeout: float) -> dict:
+def split_ros_args(argv: list[str]) -> tuple[list[str], list[str]]:
+    """A command line split at ``--ros-args``: the tool's own arguments, and the ROS ones (with
+    ``--ros-args`` first, as rclpy takes them; empty when there are none)."""
+    if "--ros-args" not in argv:
+        return list(argv), []
+    k = argv.index("--ros-args")
+    return list(argv[:k]), list(argv[k:])
+
+
+def fetch_snapshot(timeout: float, ros_args: list[str] | None = None) -> dict:
     from dsr_graph.protocol.topic_names import GET_SNAPSHOT
     from dsr_graph.ros.session import RosSession
     from dsr_msgs.srv import GetSnapshot
 
-    with RosSession() as ros:
+    with RosSession(ros_args=ros_args) as ros:
         client = ros.node.create_client(GetSnapshot, GET_SNAPSHOT)
         return json.loads(
             ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json
@@ -66,4 +75,5 @@ __all__ = [
     "warn_violations",
     "error",
     "fetch_snapshot",
+    "split_ros_args",
 ]

@@ -32,7 +32,7 @@ def run(args: argparse.Namespace) -> int:
         return error("a transaction is a JSON object")
     results = []
     try:
-        with RosSession() as ros:
+        with RosSession(ros_args=args.ros_args) as ros:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=args.timeout)
             # Wait for the replica too: our delta must not arrive before the stream is matched.

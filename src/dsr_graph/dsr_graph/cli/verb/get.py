@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     if args.edge and not args.attr:
         return error("--edge needs ATTR")
     try:
-        with RosSession() as ros:
+        with RosSession(ros_args=args.ros_args) as ros:
             if args.attr is None:
                 client = ros.node.create_client(GetNode, GET_NODE)
                 answer = ros.call(client, GetNode.Request(node=args.node), args.timeout, "the node")

@@ -21,7 +21,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        doc = fetch_snapshot(args.timeout)
+        doc = fetch_snapshot(args.timeout, args.ros_args)
     except DsrError as e:
         return error(str(e))
     if args.json:

@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from dsr_graph.protocol.topic_names import POSE_PREFIX
     from dsr_graph.ros.session import RosSession
 
-    with RosSession() as ros:
+    with RosSession(ros_args=args.ros_args) as ros:
         me = ros.node.get_fully_qualified_name()
 
         def look():

@@ -23,7 +23,7 @@ def run(args: argparse.Namespace) -> int:
     from dsr_graph.formats.world_files import world_document, write_json_atomically
 
     try:
-        doc = fetch_snapshot(args.timeout)
+        doc = fetch_snapshot(args.timeout, args.ros_args)
         if args.format == "cortex":
             graph, _ = dsr_json.snapshot_from_json(doc)
             doc = world_document(graph, "cortex")

@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:
             flush=True,
         )
 
-    with RosSession() as ros:
+    with RosSession(ros_args=args.ros_args) as ros:
         ros.node.create_subscription(String, DELTAS, on_delta, qos_stream())
         if args.rejections:
             ros.node.create_subscription(String, REJECTIONS, on_rejection, qos_stream())
