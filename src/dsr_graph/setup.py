@@ -17,7 +17,15 @@ setup(
         ("share/" + PACKAGE, ["package.xml"]),
     ],
     package_data={
-        PACKAGE: ["data/*.json", "web/*.html", "web/*.js", "web/*.css", "web/package*.json"]
+        PACKAGE: [
+            "data/*.json",
+            "web/*.html",
+            "web/*.js",
+            "web/*.css",
+            "web/package*.json",
+            # the viewer's library, fetched by `npm ci` in web/ (scripts/setup.sh does it)
+            "web/node_modules/cytoscape/dist/cytoscape.min.js",
+        ]
     },
     entry_points={
         "console_scripts": [
