@@ -39,6 +39,21 @@ class Patient:
     leaves: dict[str, float] = field(default_factory=dict)
 
 
+# every deviation of the test once: a touch, silence twice, words not understood, silence then
+# an answer, a skip, the person leaving
+EVERY_PATH = Patient(
+    answers={
+        "bathing": [("touch", 0)],
+        "grooming": ["silence", "silence"],
+        "dressing": ["garbled", ("voice", 5)],
+        "bowels": ["silence", ("voice", 10)],
+        "bladder": ["skip"],
+        "stairs": [("touch", 5)],
+    },
+    leaves={"toilet_use": 5.0},
+)
+
+
 class Port:
     """PELEA's Port on the bus; CGAmed's store can be made to fail ``store_failures`` times."""
 

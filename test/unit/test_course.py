@@ -6,19 +6,7 @@ from datetime import datetime
 
 from clarc_agents.course import Course
 
-from local_clarc import Patient, Robot
-
-EVERY_PATH = Patient(
-    answers={
-        "bathing": [("touch", 0)],
-        "grooming": ["silence", "silence"],
-        "dressing": ["garbled", ("voice", 5)],
-        "bowels": ["silence", ("voice", 10)],
-        "bladder": ["skip"],
-        "stairs": [("touch", 5)],
-    },
-    leaves={"toilet_use": 5.0},
-)
+from local_clarc import EVERY_PATH, Robot
 
 
 def observe(robot, at: float = 0.0, since=None) -> list[dict]:

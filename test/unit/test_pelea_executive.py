@@ -10,7 +10,7 @@ from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.hle import HighLevelExecutive
 
-from local_clarc import Patient, Robot
+from local_clarc import EVERY_PATH, Patient, Robot
 
 
 def replans(robot):
@@ -162,17 +162,6 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
 
 
 # ------------------------------------------------------------------ crash-only PELEA
-EVERY_PATH = Patient(
-    answers={
-        "bathing": [("touch", 0)],
-        "grooming": ["silence", "silence"],
-        "dressing": ["garbled", ("voice", 5)],
-        "bowels": ["silence", ("voice", 10)],
-        "bladder": ["skip"],
-        "stairs": [("touch", 5)],
-    },
-    leaves={"toilet_use": 5.0},
-)
 
 
 def test_how_each_answer_window_ended_is_written_on_its_item():

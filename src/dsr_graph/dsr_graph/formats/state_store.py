@@ -90,26 +90,24 @@ class StateStore:
             self._lock_file = None
 
     # ------------------------------------------------------------------ reading
-    def read_origin(self) -> dict[str, str] | None:
-        path = self.dir / ORIGIN
+    def _read(self, name: str) -> Any:
+        """A JSON file of the state; None if absent, CorruptState if unreadable."""
+        path = self.dir / name
         if not path.exists():
             return None
         try:
             return json.loads(path.read_text("utf-8"))
         except (OSError, json.JSONDecodeError) as e:
             raise CorruptState(f"{path}: {e}") from e
+
+    def read_origin(self) -> dict[str, str] | None:
+        return self._read(ORIGIN)
 
     def write_origin(self, origin: dict[str, str]) -> None:
         write_json_atomically(origin, self.dir / ORIGIN)
 
     def load_snapshot(self) -> dict[str, Any] | None:
-        path = self.dir / SNAPSHOT
-        if not path.exists():
-            return None
-        try:
-            return json.loads(path.read_text("utf-8"))
-        except (OSError, json.JSONDecodeError) as e:
-            raise CorruptState(f"{path}: {e}") from e
+        return self._read(SNAPSHOT)
 
     def replay_journal(self, snapshot_seq: int, replay: Callable[[dict[str, Any]], None]) -> int:
         """Feed every journaled delta after ``snapshot_seq`` to ``replay``; returns how many."""

@@ -46,6 +46,18 @@ class RosSession:
         while time.monotonic() < deadline:
             self.executor.spin_once(timeout_sec=min(0.05, max(0.0, deadline - time.monotonic())))
 
+    def follow(self, done: Callable[[], bool], duration: float = 0.0) -> None:
+        """Spin until ``done()``, ``duration`` seconds (0: no limit) or Ctrl-C: a tool that
+        follows a stream (``dsr watch``, ``dsr echo``)."""
+        deadline = time.monotonic() + duration if duration else None
+        try:
+            while not done():
+                if deadline is not None and time.monotonic() >= deadline:
+                    return
+                self.executor.spin_once(timeout_sec=0.1)
+        except KeyboardInterrupt:
+            pass
+
     def spin_until(self, done: Callable[[], bool], timeout_sec: float, what: str) -> None:
         """Spin until ``done()``; ``TimedOutError`` naming ``what`` after ``timeout_sec``."""
         deadline = time.monotonic() + timeout_sec

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 from typing import Any
 
 from dsr_graph.cli.api import error
@@ -94,14 +93,7 @@ def run(args: argparse.Namespace) -> int:
         ):
             qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
         ros.node.create_subscription(String, topic, on_message, qos)
-        deadline = time.monotonic() + args.duration if args.duration else None
-        try:
-            while not (args.count and seen[0] >= args.count):
-                if deadline is not None and time.monotonic() >= deadline:
-                    break
-                ros.executor.spin_once(timeout_sec=0.1)
-        except KeyboardInterrupt:
-            pass
+        ros.follow(lambda: bool(args.count) and seen[0] >= args.count, args.duration)
     if args.count and seen[0] < args.count:
         return error(f"saw {seen[0]} of {args.count} messages on {topic}")
     return 0

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-import time
 
 from dsr_graph.cli.api import error
 
@@ -55,14 +54,7 @@ def run(args: argparse.Namespace) -> int:
         ros.node.create_subscription(String, DELTAS, on_delta, qos_stream())
         if args.rejections:
             ros.node.create_subscription(String, REJECTIONS, on_rejection, qos_stream())
-        deadline = time.monotonic() + args.duration if args.duration else None
-        try:
-            while not (args.count and seen[0] >= args.count):
-                if deadline is not None and time.monotonic() >= deadline:
-                    break
-                ros.executor.spin_once(timeout_sec=0.1)
-        except KeyboardInterrupt:
-            pass
+        ros.follow(lambda: bool(args.count) and seen[0] >= args.count, args.duration)
     return (
         0
         if not args.count or seen[0] >= args.count
