@@ -120,7 +120,7 @@ fi
 # every file under src/ so that new entry points, messages or data files do trigger one.
 src_hash=$( { find src -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
-  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim)"
+  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim, clarc_bringup)"
   if ! colcon --log-base log build --symlink-install --event-handlers console_cohesion- summary+ \
       --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF \
       > "$stamps/colcon.log" 2>&1; then

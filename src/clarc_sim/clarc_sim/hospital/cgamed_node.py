@@ -41,7 +41,9 @@ class CgamedStandIn(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(node, "db", default_db(), "SQLite results store", read_only=True)
+        declare(
+            node, "db", default_db(), "SQLite results store (empty: this default)", read_only=True
+        )
         declare_setup_timeout(node, 20.0)
         declare(node, "dashboard", True, "serve the clinician's dashboard", read_only=True)
         declare(node, "host", "127.0.0.1", "dashboard address", read_only=True)
@@ -67,7 +69,8 @@ class CgamedStandIn(DsrNode):
         self._shown: dict[str, Any] | None = None
 
     def setup(self) -> None:
-        self.store = ResultsStore(param(self, "db"), shared=True)  # used by the ROS thread
+        self.db = param(self, "db") or default_db()  # empty (a launch's unset argument): default
+        self.store = ResultsStore(self.db, shared=True)  # used by the ROS thread
         self.bridge = Bridge(self)
         self._notifications = self.create_publisher(
             String, topics.CGAMED_NOTIFICATIONS, qos_stream()
@@ -150,7 +153,7 @@ class CgamedStandIn(DsrNode):
     def run(self) -> int:
         if not param(self, "dashboard"):
             return super().run() or 0
-        app = make_app(param(self, "db"), self.status, self.events, self.press_start)
+        app = make_app(self.db, self.status, self.events, self.press_start)
         served = self.bridge.serve(
             app,
             param(self, "host"),

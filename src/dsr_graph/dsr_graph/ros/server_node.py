@@ -82,7 +82,7 @@ class DsrServer(DsrNode):
             node,
             "state_dir",
             state_path("dsr", node.get_name()),
-            "directory where the graph persists",
+            "directory where the graph persists (empty: this default)",
             read_only=True,
         )
         declare(
@@ -140,7 +140,9 @@ class DsrServer(DsrNode):
         """Load the state (or the world), then open the topics and services."""
         vocabulary = Vocabulary.load(param(self, "vocabulary_file"))
         self.store = StateStore(
-            param(self, "state_dir"), compact_every=param(self, "compact_every")
+            # empty (a launch file's unset argument): the default
+            param(self, "state_dir") or state_path("dsr", self.get_name()),
+            compact_every=param(self, "compact_every"),
         )
         self.store.open()
         snapshot = self.store.load_snapshot()

@@ -1,0 +1,110 @@
+"""The whole CLARC suite on a ROS 2 Jazzy install, as ``scripts/launch.sh`` runs it here:
+
+    ros2 launch clarc_bringup clarc.launch.py [scenario:=FILE] [time_scale:=0.1] [start:=true]
+        [state_dir:=DIR] [db:=FILE] [viewer_port:=8080] [dashboard_port:=8081]
+
+Every node is respawned when it dies (``respawn=True``, as launch.sh supervises them); the
+monitor prints the test read from the DSR and, when it exits (the test is finished, or it gave
+up), the launch shuts down. With ``start:=true`` (the default) Start is pressed for the
+scenario's patient (a request in the DSR, which PELEA takes whenever it runs); with
+``start:=false`` press it on the clinician's dashboard.
+"""
+
+from datetime import UTC, datetime
+
+from launch import LaunchDescription
+from launch.actions import DeclareLaunchArgument, OpaqueFunction, Shutdown
+from launch.conditions import IfCondition
+from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
+from launch_ros.actions import Node
+from launch_ros.substitutions import FindPackageShare
+
+RESPAWN_DELAY = 0.5  # seconds, as launch.sh
+
+
+def supervised(package: str, executable: str, **parameters) -> Node:
+    """A node of the suite, respawned when it dies."""
+    return Node(
+        package=package,
+        executable=executable,
+        parameters=[parameters] if parameters else [],
+        respawn=True,
+        respawn_delay=RESPAWN_DELAY,
+        output="screen",
+    )
+
+
+def press_start(context):
+    """Start for the scenario's patient (read from the scenario file, as launch.sh does)."""
+    from clarc_sim.patient.scenario import load
+
+    patient = load(LaunchConfiguration("scenario").perform(context)).patient
+    return [Node(package="clarc_sim", executable="clarc", arguments=["start", patient])]
+
+
+def generate_launch_description() -> LaunchDescription:
+    share = FindPackageShare("clarc_bringup")
+    scale = LaunchConfiguration("time_scale")
+    arguments = [
+        DeclareLaunchArgument(
+            "scenario",
+            default_value=PathJoinSubstitution([share, "scenarios", "default.yaml"]),
+            description="the patient's scenario (YAML)",
+        ),
+        DeclareLaunchArgument(
+            "world_file",
+            default_value=PathJoinSubstitution([share, "worlds", "clarc_room.json"]),
+            description="the DSR's world when state_dir holds no graph yet",
+        ),
+        DeclareLaunchArgument("time_scale", default_value="0.1", description="0.1: 10x fast"),
+        DeclareLaunchArgument(
+            "state_dir", default_value="", description="the DSR's state (empty: per user)"
+        ),
+        DeclareLaunchArgument(
+            "db", default_value="", description="CGAmed's results store (empty: per user)"
+        ),
+        DeclareLaunchArgument("viewer_port", default_value="8080"),
+        DeclareLaunchArgument("dashboard_port", default_value="8081"),
+        DeclareLaunchArgument("start", default_value="true", description="press Start"),
+        DeclareLaunchArgument("timeout", default_value="600.0", description="seconds"),
+    ]
+    nodes = [
+        supervised(
+            "dsr_graph",
+            "dsr_server",
+            world_file=LaunchConfiguration("world_file"),
+            state_dir=LaunchConfiguration("state_dir"),
+        ),
+        supervised("clarc_sim", "tts", time_scale=scale),
+        supervised("clarc_sim", "microphone", time_scale=scale),
+        supervised("clarc_sim", "touchscreen"),
+        supervised("clarc_sim", "kinect"),
+        supervised("clarc_agents", "person", time_scale=scale),
+        supervised("clarc_agents", "speech", time_scale=scale),
+        supervised("clarc_agents", "panel", time_scale=scale),
+        supervised("clarc_agents", "pelea", time_scale=scale),
+        supervised(
+            "clarc_sim", "patient", time_scale=scale, scenario=LaunchConfiguration("scenario")
+        ),
+        supervised("dsr_graph", "dsr_viewer", port=LaunchConfiguration("viewer_port")),
+        supervised(
+            "clarc_sim",
+            "cgamed",
+            db=LaunchConfiguration("db"),
+            port=LaunchConfiguration("dashboard_port"),
+        ),
+        Node(
+            package="clarc_sim",
+            executable="clarc_monitor",
+            parameters=[
+                {
+                    "timeout": LaunchConfiguration("timeout"),
+                    "since": datetime.now(UTC).isoformat(timespec="seconds"),
+                }
+            ],
+            output="screen",
+            on_exit=Shutdown(reason="the monitor ended: the test is finished or timed out"),
+        ),
+        OpaqueFunction(function=press_start, condition=IfCondition(LaunchConfiguration("start"))),
+    ]
+    return LaunchDescription(arguments + nodes)
