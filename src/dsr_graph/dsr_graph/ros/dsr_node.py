@@ -15,6 +15,7 @@ it with exit 0, also while it waits for the DSR server.
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable
 
@@ -93,7 +94,7 @@ def main_for(node_class: type[DsrNode]) -> Callable[[list[str] | None], int]:
         argv = sys.argv if args is None else args
         own = _own_arguments(argv)
         if "-h" in own or "--help" in own:
-            print(help_text(node_class, argv[0] if argv else node_class.NAME))
+            print(help_text(node_class, os.path.basename(argv[0]) if argv else node_class.NAME))
             return 0
         if own:
             print(
