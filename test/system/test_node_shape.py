@@ -134,7 +134,7 @@ def test_a_state_dir_made_from_another_world_is_refused_unless_told_to_resume(ro
     code, log = fatal_exit(ros.procs, "other", argv)
     assert code == 1 and "Traceback" not in log
     fatal = [line for line in log.splitlines() if "FATAL" in line]
-    assert len(fatal) == 1 and str(room) in fatal[0] and str(other) in fatal[0]
+    assert len(fatal) == 1 and str(room.resolve()) in fatal[0] and str(other.resolve()) in fatal[0]
     assert "resume:=true" in fatal[0]
     ros.procs.start("resumed", [*argv, "-p", "resume:=true"])
     wait_for(lambda: "restored" in ros.procs.log("resumed"), 30, "the resumed server")

@@ -175,15 +175,15 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
     assert accepted == 25
     before = snapshot_via(ros.session)
     ros.procs.kill9("server")
-    ros.procs.start_server(state, world=cortex_dir / "Robot_giraff.json")  # ignored: state exists
+    # another world on that state: refused unless told to resume (test_node_shape), here told
+    ros.procs.start_server(state, world=cortex_dir / "Robot_giraff.json", resume="true")
     after = snapshot_via(ros.session, timeout=20)
     assert canonical(after) == canonical(before) and after["seq"] == 25
     wait_for(lambda: agent.ready, 15, "the agent to see the new server", ros.session)
     result = send_and_wait(ros, agent, {"ops": [{"op": "delete_node", "node": "k0"}]})
     assert result.accepted and result.seq == 26
-    assert "restored" in ros.procs.log("server") and "not loaded (state exists)" in ros.procs.log(
-        "server"
-    )
+    log = ros.procs.log("server")
+    assert "restored" in log and "not loaded (state exists)" in log and "resume:=true" in log
 
 
 def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):

@@ -63,21 +63,26 @@ def say(graph: Graph, sentence: Sentence, sid: int) -> dict[str, Any]:
     }
 
 
-def open_answer(item: str) -> dict[str, Any]:
-    """person can answer: Speech starts listening, Panel takes taps (Algorithm 3)."""
+def open_answer(graph: Graph, item: str) -> dict[str, Any]:
+    """person can answer: Speech starts listening, Panel takes taps (Algorithm 3). A window an
+    earlier close did not remove (it lost a race with a restart) is replaced in the same step."""
+    stale = [k for k in ("can", "waiting") if graph.edge("person", "answer", k) is not None]
+    edge = {"from": "person", "to": "answer"}
     return {
         "preconditions": [
             {"check": "edge_exists", "from": "person", "to": "robot", "type": "is_with"},
             {"check": "edge_absent", "from": "person", "to": "answer", "type": "got"},
+            *({"check": "edge_exists", **edge, "type": k} for k in stale),
         ],
         "ops": [
+            *({"op": "delete_edge", **edge, "type": k} for k in stale),
             {
                 "op": "insert_edge",
                 "from": "person",
                 "to": "answer",
                 "type": "can",
                 "attrs": {"item": item},
-            }
+            },
         ],
     }
 

@@ -79,6 +79,9 @@ class AnswerWait:
 Wait = SentenceWait | PersonWait | AnswerWait
 
 
+CLOSE_RETRY = 0.2  # seconds before a refused close of an answer window is tried again
+
+
 class Timer(Protocol):
     def cancel(self) -> None: ...
 
@@ -387,7 +390,7 @@ class HighLevelExecutive:
             )
             self._check_wait(self.graph)
 
-        self.port.send(high_to_low.open_answer(item), opened)
+        self.port.send(high_to_low.open_answer(self.graph, item), opened)
 
     def _on_answer(self, graph: Graph, wait: AnswerWait) -> None:
         item, window, token = wait.item, wait.window, wait.token
@@ -432,7 +435,12 @@ class HighLevelExecutive:
 
         def closed(r) -> None:
             if not r.accepted:
-                return  # an answer won the race: it is in the graph and _check_wait takes it
+                # Either an answer won the race (it is in the graph: _check_wait takes it), or
+                # the window changed under the close (Speech re-sent can -> waiting after a
+                # restart of the server): then close it again as it is now.
+                retry = lambda: self._answer_timed_out(wait)  # noqa: E731
+                self._timer = self.port.after(CLOSE_RETRY, retry)
+                return
             # A DSR server that restarted during the window may have lost an answer given then:
             # Speech sends it again, but the close may reach the new server first. Such a
             # window is asked again, never counted as silence.
