@@ -489,3 +489,22 @@ def test_echo_and_param_do_what_ros2_topic_and_param_would(ros, cortex_dir):
     assert r.returncode == 1 and "refused heartbeat_period" in r.stderr and "read-only" in r.stderr
     r = ros.procs.run("dsr", "param", "get", "dsr_server", "no_such")
     assert r.returncode == 1 and "has no parameter no_such" in r.stderr
+
+
+def test_the_graph_is_drawn_on_dsr_markers_for_rviz(ros, cortex_dir):
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    start(ros, cortex_dir)
+    arrays = []
+    ros.session.node.create_subscription(MarkerArray, "dsr/markers", arrays.append, qos_latched())
+    wait_for(lambda: bool(arrays), 15, "a drawing on dsr/markers", ros.session)
+    world = read_world(cortex_dir / "Robot_viriato.json").graph
+    labels = {m.text for m in arrays[-1].markers if m.ns == "dsr_node_labels"}
+    assert labels == {f"{n.name} ({n.type})" for n in world.nodes()}
+    assert arrays[-1].markers[0].action == Marker.DELETEALL
+    assert {m.header.frame_id for m in arrays[-1].markers[1:]} == {world.rt_root().name}
+    agent = agent_in_session(ros)
+    send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": "cup", "type": "object"}]})
+    wait_for(
+        lambda: any(m.text == "cup (object)" for m in arrays[-1].markers), 15, "cup", ros.session
+    )

@@ -25,6 +25,7 @@ GET_ATTRIBUTE = "dsr/get_attribute"  # dsr_msgs/srv/GetAttribute
 GET_NODE = "dsr/get_node"  # dsr_msgs/srv/GetNode
 GET_SNAPSHOT = "dsr/get_snapshot"  # dsr_msgs/srv/GetSnapshot
 POSE_PREFIX = "dsr/pose"  # geometry_msgs/PoseStamped per geometric node, latched
+MARKERS = "dsr/markers"  # visualization_msgs/MarkerArray: the graph drawn for RViz, latched
 
 
 def name_token(name: str) -> str:

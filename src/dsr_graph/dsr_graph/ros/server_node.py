@@ -10,6 +10,8 @@ ROS Parameters:
     compact_every (int): journaled deltas between snapshots (default 1000).
     max_request_bytes (int): larger requests are rejected (default 4 MiB).
     publish_poses (bool): publish a PoseStamped per geometric node (default true).
+    markers_period (float): seconds between checks for a changed graph to draw on dsr/markers
+        (default 0.5; 0: no markers). Graphs above 5000 nodes are not drawn.
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
         claims are freed (default 3.0).
@@ -19,6 +21,8 @@ Publishers:
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
     dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot} (boot: new at each start).
+    dsr/markers (visualization_msgs/MarkerArray, latched): the graph drawn for RViz and
+        Foxglove, in the RT root's frame, in metres (protocol/graph_markers.py).
     dsr/pose/<node> (geometry_msgs/PoseStamped, latched): each geometric node's pose in its
         RT parent's frame (header.frame_id = the parent's name), again on every change.
 Services:
@@ -36,6 +40,7 @@ from typing import Any
 import orjson
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
+from visualization_msgs.msg import MarkerArray
 
 from dsr_graph.exceptions import StateMismatch
 from dsr_graph.formats.default_paths import state_path
@@ -45,13 +50,16 @@ from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
+from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
 from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
 MAX_BATCH = 256  # requests made durable by one fdatasync
+MAX_DRAWN_NODES = 5000  # a larger graph is not drawn on dsr/markers (RViz would choke)
 
 
 class DsrServer(DsrNode):
@@ -107,6 +115,14 @@ class DsrServer(DsrNode):
             True,
             "publish geometry_msgs/PoseStamped per geometric node",
             read_only=True,
+        )
+        declare(
+            node,
+            "markers_period",
+            0.5,
+            "seconds between drawings of a changed graph on dsr/markers (0: none)",
+            read_only=True,
+            minimum=0.0,
         )
         declare(
             node,
@@ -194,6 +210,10 @@ class DsrServer(DsrNode):
             String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream()
         )
         self._publish_poses = bool(param(self, "publish_poses"))
+        self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
+        self._drawn_seq = -1
+        if float_param(self, "markers_period") > 0:
+            self.create_timer(float_param(self, "markers_period"), self.on_markers)
         self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
         self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
         self.create_service(GetSnapshot, topic_names.GET_SNAPSHOT, self.on_get_snapshot)
@@ -278,6 +298,23 @@ class DsrServer(DsrNode):
         msg.pose.orientation.w, msg.pose.orientation.x = w, x
         msg.pose.orientation.y, msg.pose.orientation.z = y, z
         pub.publish(msg)
+
+    def on_markers(self) -> None:
+        """The graph drawn again when it changed since the last drawing (throttled by the
+        timer: a burst of deltas costs one drawing)."""
+        graph = self.core.graph
+        if self.core.seq == self._drawn_seq:
+            return
+        if len(graph) > MAX_DRAWN_NODES:
+            if self._drawn_seq != -2:
+                self.get_logger().warning(
+                    f"{len(graph)} nodes: too many to draw on {topic_names.MARKERS}"
+                )
+                self._drawn_seq = -2
+            return
+        self._drawn_seq = self.core.seq
+        stamp = self.get_clock().now().to_msg()
+        self._markers.publish(marker_array(drawing(graph), stamp))
 
     # ------------------------------------------------------------------ housekeeping
     def on_heartbeat(self) -> None:
