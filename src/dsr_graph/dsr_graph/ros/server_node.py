@@ -11,7 +11,7 @@ ROS Parameters:
     max_request_bytes (int): larger requests are rejected (default 4 MiB).
     publish_poses (bool): publish a PoseStamped per geometric node (default true).
     markers_period (float): seconds between checks for a changed graph to draw on dsr/markers
-        (default 0.5; 0: no markers). Graphs above 5000 nodes are not drawn.
+        (default 1.0; 0: no markers). Graphs above 1000 nodes are not drawn.
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
         claims are freed (default 3.0).
@@ -59,7 +59,7 @@ from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
 MAX_BATCH = 256  # requests made durable by one fdatasync
-MAX_DRAWN_NODES = 5000  # a larger graph is not drawn on dsr/markers (RViz would choke)
+MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable, and costly)
 
 
 class DsrServer(DsrNode):
@@ -119,7 +119,7 @@ class DsrServer(DsrNode):
         declare(
             node,
             "markers_period",
-            0.5,
+            1.0,
             "seconds between drawings of a changed graph on dsr/markers (0: none)",
             read_only=True,
             minimum=0.0,
