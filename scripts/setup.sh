@@ -118,10 +118,15 @@ fi
 # --- 5. colcon build -----------------------------------------------------------------------
 # --symlink-install: edits to Python sources take effect without a rebuild; the stamp covers
 # every file under src/ so that new entry points, messages or data files do trigger one.
-src_hash=$( { find src -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; } | sha256sum | cut -d' ' -f1)
+# Standard interfaces the wheels lack (interfaces/README.md) are built only when the ROS prefix
+# has none, so that an installed one is never shadowed.
+bases=(src)
+[ -d "$venv/share/tf2_msgs" ] || bases+=(interfaces/tf2_msgs)
+src_hash=$( { find src interfaces -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; echo "${bases[*]}"; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
-  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim, clarc_bringup)"
-  if ! colcon --log-base log build --symlink-install --event-handlers console_cohesion- summary+ \
+  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim, clarc_bringup${bases[1]:+, tf2_msgs})"
+  if ! colcon --log-base log build --base-paths "${bases[@]}" --symlink-install \
+      --event-handlers console_cohesion- summary+ \
       --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF \
       > "$stamps/colcon.log" 2>&1; then
     cat "$stamps/colcon.log" >&2

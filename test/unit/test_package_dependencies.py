@@ -18,7 +18,17 @@ ROSDEP = {
     "yaml": "python3-yaml",
     "aiohttp": "python3-aiohttp",
 }
-ROS_PACKAGES = {"rclpy", "std_msgs", "geometry_msgs", "rcl_interfaces", "dsr_msgs", *PACKAGES}
+ROS_PACKAGES = {
+    "rclpy",
+    "std_msgs",
+    "geometry_msgs",
+    "rcl_interfaces",
+    "builtin_interfaces",
+    "visualization_msgs",
+    "tf2_msgs",
+    "dsr_msgs",
+    *PACKAGES,
+}
 PIP = {"orjson": "orjson", "pyperplan": "pyperplan"}  # import name -> PyPI name
 
 

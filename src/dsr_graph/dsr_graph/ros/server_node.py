@@ -21,6 +21,8 @@ Publishers:
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
     dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot} (boot: new at each start).
+    /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
+        node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py).
     dsr/markers (visualization_msgs/MarkerArray, latched): the graph drawn for RViz and
         Foxglove, in the RT root's frame, in metres (protocol/graph_markers.py).
     dsr/pose/<node> (geometry_msgs/PoseStamped, latched): each geometric node's pose in its
@@ -52,10 +54,12 @@ from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
+from dsr_graph.protocol.tf_frames import moved_nodes
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
 MAX_BATCH = 256  # requests made durable by one fdatasync
@@ -210,6 +214,7 @@ class DsrServer(DsrNode):
             String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream()
         )
         self._publish_poses = bool(param(self, "publish_poses"))
+        self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
         self._drawn_seq = -1
         if float_param(self, "markers_period") > 0:
@@ -270,8 +275,9 @@ class DsrServer(DsrNode):
             raise SystemExit(3) from e
         for delta in deltas:
             self._deltas.publish(String(data=json.dumps(delta, separators=(",", ":"))))
+            self._tf.on_delta(self.core.graph, delta)
             if self._publish_poses:
-                for name in _moved_nodes(delta):
+                for name in moved_nodes(delta):
                     self._publish_pose(name)
         if self.store.needs_compaction():
             self.store.write_snapshot(self.core.durable_snapshot())
@@ -334,6 +340,7 @@ class DsrServer(DsrNode):
             self._accept([d for d in ended if d is not None])
         beat = {"seq": self.core.seq, "stamp": now, "boot": self._boot}
         self._heartbeat.publish(String(data=json.dumps(beat)))
+        self._tf.refresh(self.core.graph)
 
     def _gone_holders(self, now: float) -> list[str]:
         holders = {c.agent for c in self.core.claims.all()}
@@ -380,15 +387,6 @@ class DsrServer(DsrNode):
             self._snapshot_cache = (self.core.seq, orjson.dumps(self.core.snapshot()).decode())
         response.seq, response.snapshot_json = self._snapshot_cache
         return response
-
-
-def _moved_nodes(delta: dict[str, Any]) -> list[str]:
-    """Nodes whose pose in their parent's frame this delta changed."""
-    return [
-        op["to"]
-        for op in delta["ops"]
-        if (op["op"] == "insert_edge" and op["type"] == RT) or op["op"] == "set_rt"
-    ]
 
 
 main = main_for(DsrServer)
