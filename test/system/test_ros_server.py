@@ -508,3 +508,37 @@ def test_the_graph_is_drawn_on_dsr_markers_for_rviz(ros, cortex_dir):
     wait_for(
         lambda: any(m.text == "cup (object)" for m in arrays[-1].markers), 15, "cup", ros.session
     )
+
+
+def test_the_rt_tree_is_on_tf_static_and_a_moved_edge_on_tf(ros, cortex_dir):
+    from rclpy.qos import DurabilityPolicy, QoSProfile
+    from tf2_msgs.msg import TFMessage
+
+    start(ros, cortex_dir)
+    world = read_world(cortex_dir / "Robot_viriato.json").graph
+    statics, dynamics = [], []
+    latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+    node = ros.session.node
+    node.create_subscription(TFMessage, "/tf_static", statics.append, latched)
+    node.create_subscription(TFMessage, "/tf", dynamics.append, QoSProfile(depth=100))
+    wait_for(lambda: bool(statics), 15, "/tf_static", ros.session)
+    children = {t.child_frame_id for t in statics[-1].transforms}
+    assert children == {world.node(e.dst).name for e in world.edges() if e.type == "RT"}
+    laser = next(t for t in statics[-1].transforms if t.child_frame_id == "laser_pose")
+    assert (laser.header.frame_id, laser.transform.translation.y) == ("body", 0.4)  # 400 mm
+    matrix = world.transform("body", "laser_pose")
+    matrix[2, 3] += 250.0
+    agent = agent_in_session(ros)
+    tx = {"ops": [{"op": "set_rt", "from": "body", "to": "laser_pose", "rt": matrix.tolist()}]}
+    assert send_and_wait(ros, agent, tx).accepted
+    wait_for(lambda: any(dynamics), 15, "/tf", ros.session)
+    moved = dynamics[-1].transforms[0]
+    assert moved.child_frame_id == "laser_pose" and math.isclose(
+        moved.transform.translation.z, 0.25 + laser.transform.translation.z
+    )
+    wait_for(
+        lambda: "laser_pose" not in {t.child_frame_id for t in statics[-1].transforms},
+        15,
+        "laser_pose to leave /tf_static",
+        ros.session,
+    )
