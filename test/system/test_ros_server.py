@@ -12,6 +12,7 @@ from std_msgs.msg import String
 
 from dsr_graph.formats import dsr_json
 from dsr_graph.formats.world_files import read_world
+from dsr_graph.model import rigid
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.qos import qos_latched, qos_stream
 
@@ -529,7 +530,8 @@ def test_the_rt_tree_is_on_tf_static_and_a_moved_edge_on_tf(ros, cortex_dir):
     matrix = world.transform("body", "laser_pose")
     matrix[2, 3] += 250.0
     agent = agent_in_session(ros)
-    tx = {"ops": [{"op": "set_rt", "from": "body", "to": "laser_pose", "rt": matrix.tolist()}]}
+    rt = rigid.to_json(matrix)
+    tx = {"ops": [{"op": "set_rt", "from": "body", "to": "laser_pose", "rt": rt}]}
     assert send_and_wait(ros, agent, tx).accepted
     wait_for(lambda: any(dynamics), 15, "/tf", ros.session)
     moved = dynamics[-1].transforms[0]
