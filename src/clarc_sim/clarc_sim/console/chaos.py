@@ -1,5 +1,5 @@
-"""``scripts/chaos.sh``: kill -9 one process of CLARC at a random moment of a Barthel test, as
-a user would with ``kill -9 <pid>`` during ``scripts/launch.sh``, and check that the test still
+"""``scripts/chaos.sh``: kill -9 processes of CLARC at random moments of a Barthel test, as a
+user would with ``kill -9 <pid>`` during ``scripts/launch.sh``, and check that the test still
 completes with exactly one stored result equal to an undisturbed run of the same scenario.
 
     scripts/chaos.sh [--seed N] [--runs K] [--kills M] [--scenario FILE] [--processes p,q,...]
