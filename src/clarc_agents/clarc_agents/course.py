@@ -25,19 +25,9 @@ from datetime import datetime
 from typing import Any
 
 from clarc_agents.barthel.items import ORDER
-from clarc_agents.pelea.high_to_low import item_node
+from clarc_agents.barthel.record import ItemResult
 from clarc_agents.pelea.low_to_high import person_present, record
 from dsr_graph.model.graph import Graph
-
-
-@dataclass(frozen=True)
-class ItemView:
-    status: str = ""
-    attempts: int = 0
-    outcomes: tuple[str, ...] = ()
-    points: int | None = None
-    via: str | None = None
-    heard: str = ""
 
 
 @dataclass(frozen=True)
@@ -47,7 +37,7 @@ class TestView:
     started: str = ""
     requested: str = ""  # the patient a pending Start is for
     item: str = ""
-    items: tuple[tuple[str, ItemView], ...] = ()
+    items: tuple[tuple[str, ItemResult], ...] = ()  # as PELEA's record reads them
     person_present: bool = False
     clinician_called: bool = False
 
@@ -55,52 +45,35 @@ class TestView:
     def running(self) -> bool:
         return self.status == "running"
 
-    def of(self, item: str) -> ItemView:
-        return dict(self.items).get(item, ItemView())
+    def of(self, item: str) -> ItemResult:
+        return dict(self.items).get(item, ItemResult(item))
 
 
 def view(graph: Graph) -> TestView:
+    """What the DSR says of the test: its node, and its items as PELEA's record reads them."""
     test = graph.find("test")
     if test is None:
         return TestView()
-    items = []
-    for key in ORDER:
-        node = graph.find(item_node(key))
-        if node is None:
-            continue
-        a = node.attrs
-        points = int(a["answer"]) if a.get("status") == "answered" and "answer" in a else None
-        items.append(
-            (
-                key,
-                ItemView(
-                    str(a.get("status", "")),
-                    int(a.get("attempts", 0)),
-                    tuple(a.get("outcomes", ())),
-                    points,
-                    a.get("via"),
-                    str(a.get("heard", "")),
-                ),
-            )
-        )
+    rec = record(graph)
     t = test.attrs
     return TestView(
         status=str(t.get("status", "")),
-        patient=str(t.get("patient", "")),
-        started=str(t.get("started", "")),
+        patient=rec.patient,
+        started=rec.started,
         requested=str(t.get("requested_patient", "")),
         item=str(t.get("item", "")),
-        items=tuple(items),
+        items=tuple(rec.items.items()),
         person_present=person_present(graph),
-        clinician_called=bool(t.get("clinician_called", False)),
+        clinician_called=rec.clinician_called,
     )
 
 
-def _position(item: str) -> int:
+def position(item: str) -> int:
+    """An item's place in the test, from 1 (0: not an item)."""
     return ORDER.index(item) + 1 if item in ORDER else 0
 
 
-def _item_changes(key: str, before: ItemView, after: ItemView) -> list[dict[str, Any]]:
+def _item_changes(key: str, before: ItemResult, after: ItemResult) -> list[dict[str, Any]]:
     events: list[dict[str, Any]] = []
     for k, outcome in enumerate(after.outcomes[len(before.outcomes) :], len(before.outcomes) + 1):
         if outcome == "answered":
@@ -137,7 +110,7 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
     if not (after.running or ending):
         return events
     if after.item != before.item:
-        events.append({"event": "item", "item": after.item, "position": _position(after.item)})
+        events.append({"event": "item", "item": after.item, "position": position(after.item)})
     for key, item in after.items:
         events.extend(_item_changes(key, before.of(key), item))
     if after.running and before.person_present != after.person_present and not new_test:
@@ -159,15 +132,16 @@ def started_since(test: TestView, since: datetime | None) -> bool:
 
 
 class Course:
-    """Follows one graph (a replica): ``follow`` after each change gives the new steps."""
+    """Follows one graph (a replica): ``follow`` after each change gives the new steps, and
+    ``current`` is the test as the graph says it now."""
 
     def __init__(self, since: datetime | None = None) -> None:
         self.since = since
-        self._view: TestView | None = None
+        self.current: TestView | None = None
 
     def follow(self, graph: Graph) -> list[dict[str, Any]]:
         after = view(graph)
-        before, self._view = self._view, after
+        before, self.current = self.current, after
         if before is None:  # the observer just started
             if started_since(after, self.since):  # its test: told from the start
                 return changes(TestView(), after, graph)
@@ -178,7 +152,7 @@ class Course:
                     "event": "following",
                     "patient": after.patient,
                     "item": after.item,
-                    "position": _position(after.item),
+                    "position": position(after.item),
                 }
             ]
         return changes(before, after, graph)

@@ -20,6 +20,13 @@ class ItemResult:
     outcomes: list[str] = field(default_factory=list)  # how each window ended (WINDOW_OUTCOMES)
     heard: str = ""  # the last words heard that were not an answer
 
+    @property
+    def status(self) -> str:
+        """As the item's node says it: answered, unanswered (closed without one) or asking."""
+        if self.points is not None:
+            return "answered"
+        return "unanswered" if self.closed else "asking"
+
     def to_json(self) -> dict:
         return {
             "item": self.item,

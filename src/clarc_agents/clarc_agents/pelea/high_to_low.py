@@ -185,12 +185,9 @@ def refuse_start(patient: str) -> dict[str, Any]:
 def record_item(result: ItemResult) -> dict[str, Any]:
     """An item as far as it went: its windows and how each ended, and its answer or that it was
     left unanswered (what observers and a restarted PELEA read)."""
-    status = (
-        "answered" if result.points is not None else "unanswered" if result.closed else "asking"
-    )
     attrs: dict[str, Any] = {
         "attempts": result.attempts,
-        "status": status,
+        "status": result.status,
         "outcomes": list(result.outcomes),
         "heard": result.heard,
     }

@@ -116,7 +116,7 @@ class CgamedStandIn(DsrNode):
     def _on_graph(self, deltas, resynced) -> None:  # ROS thread: the test from the DSR
         for step in self.course.follow(self.dsr.graph):
             self.bridge.to_web(self.events.publish, "step", step)
-        status = TestStatus.of(self.dsr.graph)
+        status = TestStatus.of(self.course.current)
         if status != self._shown:
             self._shown = status
             self.bridge.to_web(self._show_status, status)

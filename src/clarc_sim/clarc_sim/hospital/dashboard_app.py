@@ -20,9 +20,8 @@ from typing import Any
 
 from aiohttp import web
 
-from clarc_agents.barthel.items import ORDER
+from clarc_agents.course import TestView, position
 from clarc_sim.hospital.results_store import ResultsStore
-from dsr_graph.model.graph import Graph
 from dsr_graph.web.events import Broadcaster
 
 WEB = Path(str(resources.files("clarc_sim").joinpath("hospital/web")))
@@ -39,15 +38,13 @@ class TestStatus:
         self.position = 0
 
     @staticmethod
-    def of(graph: Graph) -> dict[str, Any]:
-        test = graph.find("test")
-        attrs = {} if test is None else test.attrs
-        item = str(attrs.get("item", "")) if attrs.get("status") == "running" else ""
+    def of(test: TestView) -> dict[str, Any]:
+        item = test.item if test.running else ""
         return {
-            "running": attrs.get("status") == "running",
-            "patient": str(attrs.get("patient", "")),
+            "running": test.running,
+            "patient": test.patient,
             "item": item,
-            "position": ORDER.index(item) + 1 if item in ORDER else 0,
+            "position": position(item),
         }
 
     def update(self, status: dict[str, Any]) -> None:
