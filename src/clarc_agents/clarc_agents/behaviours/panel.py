@@ -8,10 +8,9 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
+from clarc_agents.behaviours.early_answer import EarlyAnswer
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
-
-EARLY_PATIENCE = 2.0  # seconds a tap made before the window opened is kept for it
 
 
 class Screen(Protocol):
@@ -22,8 +21,7 @@ class PanelBehaviour:
     def __init__(self, screen: Screen, log, now: Callable[[], float] = time.monotonic):
         self.screen = screen
         self.log = log
-        self.now = now
-        self._early: tuple[int, str, float] | None = None  # (points, item shown, when)
+        self._early = EarlyAnswer(now)  # a tap made just before its window opened
 
     def processes(self) -> dict[str, Process]:
         return {"show": self.show, "clear": self.clear}
@@ -59,7 +57,7 @@ class PanelBehaviour:
             )
             return False
         if graph.edge("person", "answer", "waiting") is None:
-            self._early = (int(points), item, self.now())
+            self._early.keep(int(points), item)
             self.log.warning(
                 f"tap on {points} points while no answer is awaited: ignored "
                 f"unless a window for {item} opens now"
@@ -70,9 +68,8 @@ class PanelBehaviour:
     def on_graph(self, runner: RuleRunner, graph: Graph) -> None:
         """A window opened: a tap made just before it, for the same item, is its answer."""
         waiting = graph.edge("person", "answer", "waiting")
-        if self._early is None or waiting is None:
+        if waiting is None:
             return
-        points, item, when = self._early
-        self._early = None
-        if item == waiting.attrs.get("item") and self.now() - when <= EARLY_PATIENCE:
+        points = self._early.take(str(waiting.attrs.get("item", "")))
+        if points is not None:
             runner.signal("tap", points=points)

@@ -16,11 +16,11 @@ from typing import Protocol
 
 from clarc_agents.barthel.answers import understand
 from clarc_agents.barthel.items import BY_KEY
+from clarc_agents.behaviours.early_answer import EarlyAnswer
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
 MAX_SENDS = 3
-EARLY_PATIENCE = 2.0  # seconds an answer given before the window opened is kept for it
 WORDS_PER_SECOND = 2.5  # a slow speaker, to bound how long a sentence may take
 SLACK = 2.0  # seconds of a real session on top of that
 
@@ -56,10 +56,7 @@ class SpeechBehaviour:
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
         self._watchdogs: dict[int, Timer] = {}
-        # words heard just before a window opened (the patient did not wait for the robot):
-        # (text, item on screen, when), used by the window for that item if it opens soon
-        self._early: tuple[str, str, float] | None = None
-        self.now = now
+        self._early = EarlyAnswer(now)  # words heard just before their window opened
 
     def processes(self) -> dict[str, Process]:
         return {"say": self.say, "stop": self.stop, "listen": self.listen}
@@ -124,13 +121,9 @@ class SpeechBehaviour:
     # -- listen -----------------------------------------------------------------------------
     def listen(self, ctx: ActionContext) -> None:
         self.listening = ctx
-        early, self._early = self._early, None
-        if (
-            early is not None
-            and early[1] == ctx["item"]
-            and self.now() - early[2] <= EARLY_PATIENCE
-        ):
-            self.on_heard(early[0])
+        early = self._early.take(ctx["item"])
+        if early is not None:
+            self.on_heard(early)
 
     def on_heard(self, text: str, item_shown: str = "") -> None:
         """Words recognised by the ASR (``item_shown``: the item of the sentence on screen)."""
@@ -138,7 +131,7 @@ class SpeechBehaviour:
         if ctx is None or ctx.done:
             unless = ""
             if item_shown:  # perhaps an answer to the window about to open: keep it a moment
-                self._early = (text, item_shown, self.now())
+                self._early.keep(text, item_shown)
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
