@@ -23,14 +23,15 @@ class Transform:
     rotation: tuple[float, float, float, float]  # x, y, z, w
 
 
-def transform_of(graph: Graph, child: str) -> Transform | None:
-    """``child``'s pose in its RT parent's frame, or None if it has no RT parent now."""
+def transform_of(graph: Graph, child: str, unit: float = MM) -> Transform | None:
+    """``child``'s pose in its RT parent's frame, or None if it has no RT parent now. Lengths
+    are multiplied by ``unit`` (metres by default; 1.0 keeps the DSR's millimetres)."""
     node = graph.find(child)
     parent = graph.rt_parent(child) if node is not None else None
     if parent is None:
         return None
     matrix = graph.edge(parent.id, node.id, RT).rt
-    x, y, z = (float(v) * MM for v in matrix[:3, 3])
+    x, y, z = (float(v) * unit for v in matrix[:3, 3])
     w, qx, qy, qz = rigid.quaternion_wxyz(matrix)
     return Transform(parent.name, child, (x, y, z), (qx, qy, qz, w))
 

@@ -66,7 +66,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
             return 0
         if not isinstance(e, (DsrError, ParameterException, OSError, ValueError)):
             raise
-        name = node_name_of(make_node)
+        name = getattr(make_node, "NAME", "") or "dsr"
         logger = node.get_logger() if node is not None else rclpy.logging.get_logger(name)
         logger.fatal(str(e))
         return 1
@@ -75,10 +75,6 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
             node.close()
             node.destroy_node()
         rclpy.try_shutdown()
-
-
-def node_name_of(make_node) -> str:
-    return getattr(make_node, "NAME", "") or "dsr"
 
 
 def _own_arguments(args: list[str]) -> list[str]:

@@ -26,9 +26,8 @@ def declare(
     """Declare ``name``. A float parameter also takes an integer on the command line
     (``-p time_scale:=1``); ``minimum``/``maximum`` bound numbers (rclpy refuses values outside);
     a ``required`` one (a string) must be given: ``check_required`` names it when it is not."""
-    if required:
+    if required:  # said in the description, where --help and check_required read it
         description = f"{REQUIRED}{description}"
-        node._required_parameters = [*getattr(node, "_required_parameters", ()), name]
     descriptor = ParameterDescriptor(description=description, read_only=read_only)
     bounded = minimum is not None or maximum is not None
     if isinstance(default, float):
@@ -57,9 +56,10 @@ REQUIRED = "required: "
 
 def check_required(node: Node) -> None:
     """A required parameter left empty ends the node with a message naming it."""
-    for name in getattr(node, "_required_parameters", ()):
-        if node.get_parameter(name).value in ("", None):
-            description = node.describe_parameter(name).description.removeprefix(REQUIRED)
+    for name in node.list_parameters([], 0).names:
+        description = node.describe_parameter(name).description
+        if description.startswith(REQUIRED) and node.get_parameter(name).value in ("", None):
+            description = description.removeprefix(REQUIRED)
             raise ValueError(
                 f"parameter {name} is required ({description}): give it as "
                 f"--ros-args -p {name}:=<value>"

@@ -48,13 +48,12 @@ from dsr_graph.exceptions import StateMismatch
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
-from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
-from dsr_graph.protocol.tf_frames import moved_nodes
+from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
@@ -67,6 +66,8 @@ MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable
 
 
 class DsrServer(DsrNode):
+    NAME = "dsr_server"
+
     @classmethod
     def declare_node_parameters(cls, node) -> None:
         declare(
@@ -143,8 +144,6 @@ class DsrServer(DsrNode):
             "seconds a claim holder may be absent before its claims are freed",
             minimum=0.0,
         )
-
-    NAME = "dsr_server"
 
     def __init__(self, node_name: str = "", **kwargs: Any):
         super().__init__(node_name, **kwargs)
@@ -284,25 +283,19 @@ class DsrServer(DsrNode):
 
     # ------------------------------------------------------------------ poses
     def _publish_pose(self, name: str) -> None:
-        graph = self.core.graph
-        node = graph.find(name)
-        parent = graph.rt_parent(name) if node is not None else None
-        if parent is None:
+        pose = transform_of(self.core.graph, name, unit=1.0)  # in the DSR's millimetres
+        if pose is None:
             return  # deleted, or not geometric any more: its last pose stays latched
         pub = self._pose_pubs.get(name)
         if pub is None:
             pub = self.create_publisher(PoseStamped, topic_names.pose_topic(name), qos_latched())
             self._pose_pubs[name] = pub
-        matrix = graph.edge(parent.id, node.id, RT).rt
         msg = PoseStamped()
         msg.header.stamp = self.get_clock().now().to_msg()
-        msg.header.frame_id = parent.name
-        msg.pose.position.x, msg.pose.position.y, msg.pose.position.z = (
-            float(v) for v in matrix[:3, 3]
-        )
-        w, x, y, z = rigid.quaternion_wxyz(matrix)
-        msg.pose.orientation.w, msg.pose.orientation.x = w, x
-        msg.pose.orientation.y, msg.pose.orientation.z = y, z
+        msg.header.frame_id = pose.parent
+        position, orientation = msg.pose.position, msg.pose.orientation
+        position.x, position.y, position.z = pose.translation
+        orientation.x, orientation.y, orientation.z, orientation.w = pose.rotation
         pub.publish(msg)
 
     def on_markers(self) -> None:
@@ -311,14 +304,13 @@ class DsrServer(DsrNode):
         graph = self.core.graph
         if self.core.seq == self._drawn_seq:
             return
-        if len(graph) > MAX_DRAWN_NODES:
-            if self._drawn_seq != -2:
-                self.get_logger().warning(
-                    f"{len(graph)} nodes: too many to draw on {topic_names.MARKERS}"
-                )
-                self._drawn_seq = -2
-            return
         self._drawn_seq = self.core.seq
+        if len(graph) > MAX_DRAWN_NODES:
+            self.get_logger().warning(
+                f"{len(graph)} nodes: too many to draw on {topic_names.MARKERS}",
+                throttle_duration_sec=60.0,
+            )
+            return
         stamp = self.get_clock().now().to_msg()
         self._markers.publish(marker_array(drawing(graph), stamp))
 
