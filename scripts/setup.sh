@@ -117,7 +117,8 @@ fi
 
 # --- 5. colcon build -----------------------------------------------------------------------
 # --symlink-install: edits to Python sources take effect without a rebuild; the stamp covers
-# every file under src/ so that new entry points, messages or data files do trigger one.
+# every file under src/ and interfaces/ so that new entry points, messages or data files do
+# trigger one.
 # Standard interfaces the wheels lack (interfaces/README.md) are built only when the ROS prefix
 # has none, so that an installed one is never shadowed.
 bases=(src)
