@@ -22,6 +22,9 @@
 #   --wait-start     do not press Start: the clinician presses it on the dashboard
 #   --viewer-port N  the DSR viewer's port (default 8080); --dashboard-port N (default 8081)
 #   --no-respawn     a node that dies ends the launch at once (exit 1) instead of restarting
+#   --record FILE    record the run to an MCAP file (dsr record: the DSR from its first state,
+#                    /tf, markers, every device topic); open it with dsr view --replay FILE or
+#                    in Foxglove. The recorder starts before the robot and stops after it.
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -44,6 +47,7 @@ wait_start=0
 viewer_port=8080
 dashboard_port=8081
 respawn=1
+record=""
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
@@ -58,6 +62,7 @@ while [ $# -gt 0 ]; do
     --viewer-port) viewer_port="$2"; shift 2 ;;
     --dashboard-port) dashboard_port="$2"; shift 2 ;;
     --no-respawn) respawn=0; shift ;;
+    --record) record=$(realpath -m "$2"); shift 2 ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -148,17 +153,23 @@ cleanup() {
         "/proc/$(cat "$sup/$name.pid" 2>/dev/null)/stat" 2>/dev/null || true
     done > "$CLARC_CPU_REPORT"
   fi
-  local pids=() name pid
-  for name in "${nodes[@]}"; do
-    pid=$(cat "$sup/$name.pid" 2>/dev/null) && pids+=("$pid")
-  done
-  for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do
+  local name
+  # The recorder stops last, so that it holds everything the others said until they stopped.
+  stop_pids $(for name in "${nodes[@]}"; do [ "$name" = recorder ] || cat "$sup/$name.pid" 2>/dev/null; done)
+  [ -z "$record" ] || stop_pids $(cat "$sup/recorder.pid" 2>/dev/null)
+  for pid in "${supervisors[@]}"; do wait "$pid" 2>/dev/null || true; done
+  if [ -n "$record" ]; then
+    sed -n 's/.*\] recorded \(.*\)/[launch] recorded \1/p' "$run/log/recorder.log"
+  fi
+  exit "$code"
+}
+stop_pids() {  # stop_pids PID...: SIGINT, then SIGKILL what still runs after 5 s
+  local pid
+  for pid in "$@"; do kill -INT "$pid" 2>/dev/null || true; done
+  for pid in "$@"; do
     for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
     kill -KILL "$pid" 2>/dev/null || true
   done
-  for pid in "${supervisors[@]}"; do wait "$pid" 2>/dev/null || true; done
-  exit "$code"
 }
 node_failed() {
   echo "[launch] the run stopped because $(cat "$sup/failed" 2>/dev/null || echo a node) died; see $run/log" >&2
@@ -179,6 +190,13 @@ echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace
 echo "[launch] logs: $run/log; results store: $db"
 start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state"
 dsr graph --timeout 30 > "$run/log/initial_graph.txt" || { echo "[launch] the DSR server did not start:" >&2; cat "$run/log/dsr_server.log" >&2; exit 1; }
+if [ -n "$record" ]; then  # recording from the DSR's first state, before any other node starts
+  start recorder dsr_recorder --ros-args -p output:="$record"
+  for _ in $(seq 300); do grep -q 'recording to' "$run/log/recorder.log" 2>/dev/null && break; sleep 0.1; done
+  grep -q 'recording to' "$run/log/recorder.log" 2>/dev/null ||
+    { echo "[launch] the recorder did not start:" >&2; cat "$run/log/recorder.log" >&2; exit 1; }
+  echo "[launch] $(sed -n 's/.*\]: \(recording to .*\)/\1/p' "$run/log/recorder.log" | tail -1)"
+fi
 
 scaled=(--ros-args -p time_scale:="$scale")
 start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"

@@ -33,6 +33,7 @@ setup(
             "dsr_server = dsr_graph.ros.server_node:main",
             "dsr_rule_agent = dsr_graph.ros.rule_agent_node:main",
             "dsr_viewer = dsr_graph.ros.viewer_node:main",
+            "dsr_recorder = dsr_graph.ros.recorder_node:main",
         ]
     },
     install_requires=["setuptools"],

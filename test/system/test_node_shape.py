@@ -22,6 +22,7 @@ NODES = [
     ("dsr_graph.ros.server_node", "DsrServer"),
     ("dsr_graph.ros.viewer_node", "Viewer"),
     ("dsr_graph.ros.rule_agent_node", "RuleAgentNode"),
+    ("dsr_graph.ros.recorder_node", "Recorder"),
     ("clarc_agents.nodes.speech_node", "SpeechAgent"),
     ("clarc_agents.nodes.panel_node", "PanelAgent"),
     ("clarc_agents.nodes.person_node", "PersonAgent"),
@@ -62,7 +63,7 @@ def test_the_constructor_declares_and_attaches_nothing(module, name, context, mo
     node_class = getattr(importlib.import_module(module), name)
     real_init = rclpy.node.Node.__init__
 
-    required = [Parameter(n, value="given") for n in ("scenario", "grammar_file")]
+    required = [Parameter(n, value="given") for n in ("scenario", "grammar_file", "output")]
 
     def in_our_context(self, node_name, *args, **kwargs):  # the node classes take no context
         real_init(self, node_name, *args, context=context, parameter_overrides=required, **kwargs)
@@ -194,7 +195,8 @@ def test_an_unexpected_argument_is_named_and_nothing_starts():
 
 
 @pytest.mark.parametrize(
-    ("script", "parameter"), [("patient", "scenario"), ("dsr_rule_agent", "grammar_file")]
+    ("script", "parameter"),
+    [("patient", "scenario"), ("dsr_rule_agent", "grammar_file"), ("dsr_recorder", "output")],
 )
 def test_a_missing_required_parameter_is_named(ros, script, parameter):
     code, log = fatal_exit(ros.procs, script, [script])

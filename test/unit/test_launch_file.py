@@ -68,7 +68,9 @@ def node_class(module: str) -> type[DsrNode]:
 def test_it_starts_what_launch_sh_starts_each_node_respawned_with_declared_parameters():
     scripts = console_scripts()
     nodes = launched()
-    started = set(re.findall(r"^start \S+ (\S+)", (REPO / "scripts/launch.sh").read_text(), re.M))
+    started = set(
+        re.findall(r"^\s*start \S+ (\S+)", (REPO / "scripts/launch.sh").read_text(), re.M)
+    )
     assert {exe for _, exe, _, _ in nodes} == started | {"clarc_monitor", "clarc"}
     for package, executable, parameters, respawned in nodes:
         assert (package, executable) in scripts, f"{package} has no executable {executable}"

@@ -27,9 +27,16 @@ ROS_PACKAGES = {
     "visualization_msgs",
     "tf2_msgs",
     "dsr_msgs",
+    "ament_index_python",
+    "rosidl_adapter",
     *PACKAGES,
 }
-PIP = {"orjson": "orjson", "pyperplan": "pyperplan"}  # import name -> PyPI name
+PIP = {  # import name -> PyPI name
+    "orjson": "orjson",
+    "pyperplan": "pyperplan",
+    "mcap": "mcap",
+    "mcap_ros2": "mcap-ros2-support",
+}
 
 
 def imports_of(package: str) -> set[str]:

@@ -2,19 +2,21 @@
 
     ros2 launch clarc_bringup clarc.launch.py [scenario:=FILE] [time_scale:=0.1] [start:=true]
         [state_dir:=DIR] [db:=FILE] [viewer_port:=8080] [dashboard_port:=8081]
+        [record:=FILE.mcap]
 
 Every node is respawned when it dies (``respawn=True``, as launch.sh supervises them); the
 monitor prints the test read from the DSR and, when it exits (the test is finished, or it gave
 up), the launch shuts down. With ``start:=true`` (the default) Start is pressed for the
 scenario's patient (a request in the DSR, which PELEA takes whenever it runs); with
-``start:=false`` press it on the clinician's dashboard.
+``start:=false`` press it on the clinician's dashboard. ``record:=FILE.mcap`` records the run
+with dsr_recorder (it starts with the others here; launch.sh starts it first and stops it last).
 """
 
 from datetime import UTC, datetime
 
 from launch import LaunchDescription
 from launch.actions import DeclareLaunchArgument, OpaqueFunction, Shutdown
-from launch.conditions import IfCondition
+from launch.conditions import IfCondition, LaunchConfigurationNotEquals
 from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
 from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
@@ -67,6 +69,9 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument("dashboard_port", default_value="8081"),
         DeclareLaunchArgument("start", default_value="true", description="press Start"),
         DeclareLaunchArgument("timeout", default_value="600.0", description="seconds"),
+        DeclareLaunchArgument(
+            "record", default_value="", description="record the run to this MCAP file"
+        ),
     ]
     nodes = [
         supervised(
@@ -92,6 +97,15 @@ def generate_launch_description() -> LaunchDescription:
             "cgamed",
             db=LaunchConfiguration("db"),
             port=LaunchConfiguration("dashboard_port"),
+        ),
+        Node(
+            package="dsr_graph",
+            executable="dsr_recorder",
+            parameters=[{"output": LaunchConfiguration("record")}],
+            respawn=True,
+            respawn_delay=RESPAWN_DELAY,
+            output="screen",
+            condition=LaunchConfigurationNotEquals("record", ""),
         ),
         Node(
             package="clarc_sim",

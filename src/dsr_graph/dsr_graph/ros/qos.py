@@ -42,3 +42,17 @@ def qos_latched() -> QoSProfile:
         reliability=ReliabilityPolicy.RELIABLE,
         durability=DurabilityPolicy.TRANSIENT_LOCAL,
     )
+
+
+def qos_matching(publishers, depth: int = 100) -> QoSProfile:
+    """A subscription that hears every publisher of a topic (as ``ros2 bag`` and ``ros2 topic
+    echo`` choose it): best effort if any publisher is, transient local (the latched value) only
+    if all are. ``publishers``: ``Node.get_publishers_info_by_topic``."""
+    qos = QoSProfile(depth=depth)
+    if any(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in publishers):
+        qos.reliability = ReliabilityPolicy.BEST_EFFORT
+    if publishers and all(
+        p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers
+    ):
+        qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
+    return qos

@@ -1,7 +1,7 @@
 // The DSR viewer: the graph now (live, each change highlighted) or at any past seq (scrubbed).
 "use strict";
 
-const state = { live: true, seq: 0, firstSeq: 0, shownSeq: 0, selected: null, snapshot: null, deltas: [] };
+const state = { live: true, replay: null, seq: 0, firstSeq: 0, shownSeq: 0, selected: null, snapshot: null, deltas: [] };
 const $ = (id) => document.getElementById(id);
 
 function colorOf(type) {  // a stable colour per node type
@@ -90,7 +90,11 @@ async function load(seq) {
 
 function showStatus() {
   const past = !state.live;
-  $("status").textContent = past ? `seq ${state.shownSeq} (past; live is ${state.seq})` : `seq ${state.seq} (live)`;
+  if (state.replay) {  // a recording: nothing is live, the timeline runs from its first seq to its last
+    $("status").textContent = `replay of ${state.replay}: seq ${state.shownSeq} (${state.firstSeq} to ${state.seq})`;
+  } else {
+    $("status").textContent = past ? `seq ${state.shownSeq} (past; live is ${state.seq})` : `seq ${state.seq} (live)`;
+  }
   $("status").classList.toggle("past", past);
   $("live").hidden = !past;
   document.body.dataset.seq = String(state.seq);
@@ -182,12 +186,16 @@ $("scrub").addEventListener("input", (evt) => scrubTo(Number(evt.target.value)))
 $("live").addEventListener("click", () => scrubTo(state.seq));
 
 async function start() {
+  state.replay = (await (await fetch("/api/info")).json()).replay;
+  document.body.dataset.replay = state.replay || "";
+  if (state.replay) $("live").textContent = "to the end";
   const snapshot = await load();
   const past = await (await fetch(`/api/deltas?limit=500&since=${Math.max(0, (snapshot ? snapshot.seq : 0) - 500)}`)).json();
   state.firstSeq = past.first_seq;
   state.seq = Math.max(state.seq, past.seq);
   for (const d of past.deltas) addDeltaRow(d);
   showStatus();
+  if (state.replay) { await scrubTo(state.firstSeq); return; }  // a recording opens at its start
   const events = new EventSource("/api/events");
   events.addEventListener("hello", (e) => { const h = JSON.parse(e.data); state.firstSeq = h.first_seq; showStatus(); });
   events.addEventListener("delta", async (e) => {

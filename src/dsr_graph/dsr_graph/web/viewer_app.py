@@ -8,6 +8,8 @@
     GET /api/events                     Server-Sent Events: "hello", then "delta" per accepted
                                         delta (with a readable "text") and "reset" after a
                                         resynchronisation
+    GET /api/info                       {"replay": null} live, or {"replay": "FILE.mcap"} when
+                                        the history is a recording (``dsr view --replay``)
 """
 
 from __future__ import annotations
@@ -48,7 +50,10 @@ def _graph(request: web.Request, history: History):
         raise web.HTTPNotFound(text=str(e)) from None
 
 
-def make_app(history: History, events: Broadcaster) -> web.Application:
+def make_app(history: History, events: Broadcaster, replay: str | None = None) -> web.Application:
+    """The viewer over ``history``: live (fed as the DSR changes) or a ``replay`` (the name of
+    the recording it was read from)."""
+
     async def index(request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "viewer.html")
 
@@ -96,6 +101,9 @@ def make_app(history: History, events: Broadcaster) -> web.Application:
             request, first=lambda: [("hello", {"seq": history.seq, "first_seq": history.first_seq})]
         )
 
+    async def info(request: web.Request) -> web.Response:
+        return web.json_response({"replay": replay})
+
     app = web.Application()
     app.router.add_get("/", index)
     app.router.add_static("/static/", WEB, show_index=False)
@@ -104,4 +112,5 @@ def make_app(history: History, events: Broadcaster) -> web.Application:
     app.router.add_get("/api/deltas", deltas)
     app.router.add_get("/api/transform", transform)
     app.router.add_get("/api/events", stream)
+    app.router.add_get("/api/info", info)
     return app

@@ -64,9 +64,9 @@ def render(text: str, fields: list[str], pretty: bool) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
     from std_msgs.msg import String
 
+    from dsr_graph.ros.qos import qos_matching
     from dsr_graph.ros.session import RosSession
 
     seen = [0]
@@ -85,14 +85,7 @@ def run(args: argparse.Namespace) -> int:
                 f"{topic} is of type {', '.join(sorted(types))}; dsr echo shows "
                 "std_msgs/String topics (JSON)"
             )
-        qos = QoSProfile(depth=100)
-        if any(p.qos_profile.reliability == ReliabilityPolicy.BEST_EFFORT for p in publishers):
-            qos.reliability = ReliabilityPolicy.BEST_EFFORT
-        if publishers and all(
-            p.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL for p in publishers
-        ):
-            qos.durability = DurabilityPolicy.TRANSIENT_LOCAL
-        ros.node.create_subscription(String, topic, on_message, qos)
+        ros.node.create_subscription(String, topic, on_message, qos_matching(publishers))
         ros.follow(lambda: bool(args.count) and seen[0] >= args.count, args.duration)
     if args.count and seen[0] < args.count:
         return error(f"saw {seen[0]} of {args.count} messages on {topic}")
