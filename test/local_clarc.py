@@ -21,7 +21,7 @@ from dsr_graph.protocol.local_bus import LocalBus
 from dsr_graph.rules.runner import RuleRunner
 
 ROOM = Path(__file__).resolve().parent.parent / "worlds" / "clarc_room.json"
-FACE = {"translation": [900.0, 0.0, -400.0], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+FACE = {"translation": [0.9, 0.0, -0.4], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
 WORDS_PER_SECOND = 2.5
 REACTION = 1.0  # seconds before the patient answers
 

@@ -42,7 +42,7 @@ def test_transform_prints_matrix_translation_quaternion(cortex_dir):
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     assert set(out) == {"matrix", "translation", "quaternion_wxyz"}
-    assert np.allclose(out["translation"], [100, 400, 100])
+    assert np.allclose(out["translation"], [0.1, 0.4, 0.1])  # CORTEX's mm, printed in metres
     assert np.allclose(out["quaternion_wxyz"], [1, 0, 0, 0])
     back = json.loads(dsr("transform", cortex_dir / "Robot_viriato.json", "laser1", "robot").stdout)
     assert np.allclose(np.array(out["matrix"]) @ np.array(back["matrix"]), np.eye(4))
@@ -51,7 +51,7 @@ def test_transform_prints_matrix_translation_quaternion(cortex_dir):
 def test_transform_on_a_world_with_violations_warns_and_answers(cortex_dir):
     r = dsr("transform", cortex_dir / "Robot_giraff.json", "robot", "battery")
     assert r.returncode == 0
-    assert np.allclose(json.loads(r.stdout)["translation"], [0, -200, 200])
+    assert np.allclose(json.loads(r.stdout)["translation"], [0, -0.2, 0.2])
     assert "node-missing" in r.stderr
 
 

@@ -66,7 +66,7 @@ def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
     r = ros.procs.run("dsr", "get", "speaking")
     assert json.loads(r.stdout)["in"][0]["type"] == "is_not"
     r = ros.procs.run("dsr", "get", "body", "rt", "--edge", "laser_pose", "RT")
-    assert np.allclose(np.array(json.loads(r.stdout)["value"])[:3, 3], [0, 400, 0])
+    assert np.allclose(np.array(json.loads(r.stdout)["value"])[:3, 3], [0, 0.4, 0])  # metres
     r = ros.procs.run("dsr", "graph")
     assert (
         r.returncode == 0
@@ -528,7 +528,7 @@ def test_the_rt_tree_is_on_tf_static_and_a_moved_edge_on_tf(ros, cortex_dir):
     laser = next(t for t in statics[-1].transforms if t.child_frame_id == "laser_pose")
     assert laser.header.frame_id == "body" and math.isclose(laser.transform.translation.y, 0.4)
     matrix = world.transform("body", "laser_pose")
-    matrix[2, 3] += 250.0
+    matrix[2, 3] += 0.25  # metres, as everything in the DSR
     agent = agent_in_session(ros)
     rt = rigid.to_json(matrix)
     tx = {"ops": [{"op": "set_rt", "from": "body", "to": "laser_pose", "rt": rt}]}

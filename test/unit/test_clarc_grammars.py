@@ -13,7 +13,7 @@ from dsr_graph.model.transaction import apply_ops
 from dsr_graph.rules.engine import GrammarEngine
 
 ROOM = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
-POSE = {"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
+POSE = {"translation": [0.9, 0, -0.4], "rotation_euler_xyz": [0, 0, 0]}
 
 
 def engine(name):
@@ -53,11 +53,11 @@ def test_person_rules_follow_the_kinect(room):
         and room.node("person").attrs["detected"] is False
     )
     [f] = person.signal(
-        room, "seen", {"pose": {"translation": [1000, 0, -400], "rotation_euler_xyz": [0, 0, 0]}}
+        room, "seen", {"pose": {"translation": [1.0, 0, -0.4], "rotation_euler_xyz": [0, 0, 0]}}
     )
     assert f.rule.name == "person_back"
     run(room, f.during_tx())
-    assert room.transform("kinect", "person")[0][3] == 1000
+    assert room.transform("kinect", "person")[0][3] == 1.0
 
 
 def test_speech_says_a_new_sentence_once_and_stops_when_the_person_leaves(room):

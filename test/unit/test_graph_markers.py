@@ -7,7 +7,7 @@ import pytest
 
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model.vocabulary import RT
-from dsr_graph.protocol.graph_markers import MM, ROW_GAP, SYMBOL_RISE, drawing
+from dsr_graph.protocol.graph_markers import ROW_GAP, SYMBOL_RISE, drawing
 
 from local_clarc import ROOM
 
@@ -21,7 +21,7 @@ def check(graph):
     where = {n.name: n for n in d.nodes}
     for node in d.nodes:
         if node.geometric and node.name != root:
-            expected = graph.transform(root, node.name)[:3, 3] * MM
+            expected = graph.transform(root, node.name)[:3, 3]
             assert np.allclose(node.position, expected), node.name
         assert node.geometric == (graph.is_geometric(node.name) or node.name == root)
     for edge in d.edges:
@@ -62,7 +62,7 @@ def test_a_change_moves_the_drawing():
     moved = [e for e in graph.edges() if e.type == RT][0]
     child = graph.node(moved.dst).name
     matrix = moved.rt.copy()
-    matrix[:3, 3] += [1000.0, 0.0, 0.0]  # one metre along x in the parent's frame
+    matrix[:3, 3] += [1.0, 0.0, 0.0]  # one metre along x in the parent's frame
     graph.set_rt(graph.node(moved.src).name, child, matrix)
     after = {n.name: n.position for n in drawing(graph).nodes}
     assert after[child] != before[child]

@@ -118,7 +118,7 @@ def test_nobody_there_at_start_asks_to_sit_first():
     robot.bus.after(
         5.0,
         lambda: robot.person.signal(
-            "seen", pose={"translation": [900, 0, -400], "rotation_euler_xyz": [0, 0, 0]}
+            "seen", pose={"translation": [0.9, 0, -0.4], "rotation_euler_xyz": [0, 0, 0]}
         ),
     )
     result = robot.run_test()

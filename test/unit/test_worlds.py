@@ -37,6 +37,7 @@ def test_every_shared_world_loads_or_names_what_it_rejects(cortex_dir, name):
 
 def test_viriato_transforms_by_hand(cortex_dir):
     g = read_world(cortex_dir / "Robot_viriato.json").graph
+    # CORTEX's millimetres are metres in the DSR (_translation takes mm)
     # robot -> body (0) -> laser_pose (0, 400, 0) -> laser1 (100, 0, 100): translations add up
     assert np.allclose(g.transform("robot", "laser1"), _translation(100, 400, 100))
     # laser2 seen from laser1: (-100, 0, -100) - (100, 0, 100)
@@ -45,7 +46,7 @@ def test_viriato_transforms_by_hand(cortex_dir):
     # is R_z(-th) (0, 400, -200) = (400 sin th, 400 cos th, -200)
     th = 1.5700000524520874
     t = g.transform("viriato_mesh", "laser_pose")
-    assert np.allclose(t[:3, 3], [400 * math.sin(th), 400 * math.cos(th), -200])
+    assert np.allclose(t[:3, 3] * 1000, [400 * math.sin(th), 400 * math.cos(th), -200])
     # pan joint yaws by a, tilt joint pitches by b about x: R = Rz(a) Rx(b), so e_y maps to
     # (-sin a cos b, cos a cos b, sin b)
     a, b = -0.0005755375605076551, 0.0011809815187007189
@@ -56,7 +57,7 @@ def test_viriato_transforms_by_hand(cortex_dir):
     # the camera sensor, four frames down the head, in the base laser's frame: only translations
     # (57, 1368 up the body) and the tiny head rotations, which move nothing at the origin
     t = g.transform("laser", "viriato_head_camera_sensor")
-    assert np.allclose(t[:3, 3], [0, 57 - 400, 1368])
+    assert np.allclose(t[:3, 3] * 1000, [0, 57 - 400, 1368])
 
 
 def test_autonomy_lab_transform_with_a_real_rotation(cortex_dir):
@@ -69,7 +70,7 @@ def test_autonomy_lab_transform_with_a_real_rotation(cortex_dir):
     (ax, ay, az) = link["linkAttribute"]["rt_rotation_euler_xyz"]["value"]
     child = raw["2"]["name"]
     t = g.transform("world", child)
-    assert np.allclose(t[:3, 3], [tx, ty, tz])
+    assert np.allclose(t[:3, 3] * 1000, [tx, ty, tz])  # CORTEX's mm, the DSR's metres
     # ax, ay are ~1e-7: the rotation is a yaw by az to within 1e-6
     assert np.allclose(t[:3, :3] @ [1, 0, 0], [math.cos(az), math.sin(az), 0], atol=1e-6)
     back = g.transform(child, "world")
@@ -153,6 +154,7 @@ def test_our_world_format_reports_each_bad_element():
 
 
 def _translation(x, y, z):
+    """A pure translation given in millimetres, as the DSR holds it (metres)."""
     m = np.eye(4)
-    m[:3, 3] = [x, y, z]
+    m[:3, 3] = [x / 1000, y / 1000, z / 1000]
     return m

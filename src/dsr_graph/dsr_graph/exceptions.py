@@ -94,3 +94,7 @@ class StateMismatch(DsrError):
 
 class CorruptState(DsrError):
     """The stored state cannot be read back consistently; the message says where."""
+
+
+class RecordingError(DsrError):
+    """A file that is not a DSR recording (dsr record), or one that cannot be read."""

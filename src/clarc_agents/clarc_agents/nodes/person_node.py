@@ -3,7 +3,8 @@
 
 A person counts as seen after ``seen_frames`` frames with a face and as lost after
 ``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
-written again only when the face moved more than ``move_mm``.
+written again only when the face moved more than ``move_mm``. Kinect frames give the face in
+millimetres; the DSR holds metres.
 
 ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0). Subscriptions:
 clarc/kinect/person. Plus the DSR topics.
@@ -16,11 +17,14 @@ from typing import Any
 
 from clarc_agents import topics
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_sensor
 from dsr_graph.rules.runner import Process
+
+DEVICE_UNIT = "mm"  # of clarc/kinect/person's face
 
 
 class PersonAgent(GrammarAgentNode):
@@ -70,7 +74,9 @@ class PersonAgent(GrammarAgentNode):
             raise ValueError(f"face must be 3 finite numbers (mm), got {frame['face']!r}")
         if present:
             self._present_frames, self._absent_frames = self._present_frames + 1, 0
-            pose = {"translation": face, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+            # the Kinect speaks millimetres (its SDK's unit), the DSR metres: converted here, once
+            metres = [v / PER_METRE[DEVICE_UNIT] for v in face]
+            pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
             if not self._with_robot():
                 if self._present_frames >= param(self, "seen_frames"):
                     self.runner.signal("seen", pose=pose)

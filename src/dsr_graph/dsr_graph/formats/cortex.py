@@ -7,7 +7,8 @@
 Type codes: 0 string, 1 int32, 2 float, 3 vector<float>, 4 bool, 5 vector<uint8>, 6 uint32,
 7 uint64 (written as a string). ``src``/``dst`` are ids, as strings in some files and integers in
 others. An ``RT`` link's ``rt_translation`` and ``rt_rotation_euler_xyz`` (radians) give
-Translation * Rx * Ry * Rz: the child's pose in the parent's frame.
+Translation * Rx * Ry * Rz: the child's pose in the parent's frame. CORTEX's lengths are
+millimetres: translations are converted to the DSR's metres when read, and back when written.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 from typing import Any
 
 from dsr_graph.exceptions import FormatError, Violation
+from dsr_graph.formats import units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
@@ -117,10 +119,13 @@ def from_cortex(
                         "rt-rigid", element, f"an RT link needs {', '.join(missing)}", at
                     )
                     continue
-                rt = {
-                    "translation": attrs.pop("rt_translation"),
-                    "rotation_euler_xyz": attrs.pop("rt_rotation_euler_xyz"),
-                }
+                rt = units.scale_rt(
+                    {
+                        "translation": attrs.pop("rt_translation"),
+                        "rotation_euler_xyz": attrs.pop("rt_rotation_euler_xyz"),
+                    },
+                    units.PER_METRE[units.LEGACY],
+                )
             builder.edge(src, dst, label, attrs=attrs, rt=rt, at=at)
     return builder.finish(), builder.violations
 
@@ -150,7 +155,8 @@ def to_cortex(graph: Graph) -> dict[str, Any]:
                 link_attrs["rt_rotation_euler_xyz"] = {"type": 3, "value": rigid.euler_xyz(edge.rt)}
                 link_attrs["rt_translation"] = {
                     "type": 3,
-                    "value": [float(v) for v in edge.rt[:3, 3]],
+                    # to CORTEX's mm; rounded to a nanometre so 0.35 m is 350.0, not 349.99...
+                    "value": [round(float(v) * units.PER_METRE["mm"], 6) for v in edge.rt[:3, 3]],
                 }
             links.append(
                 {

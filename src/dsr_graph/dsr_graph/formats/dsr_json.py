@@ -1,6 +1,7 @@
 """Our versioned JSON format for world files and snapshots (schema in docs/FORMAT.md).
 
     {"format": "dsr-graph", "version": 1, "kind": "world" | "snapshot", "seq": N (snapshots),
+     "units": {"length": "m" | "cm" | "mm"} (optional: mm when absent; see units.py),
      "nodes": [{"id", "name", "type", "attrs", "version" (snapshots)}],
      "edges": [{"from": name, "to": name, "type", "attrs", "rt" (RT only), "version" (snapshots)}]}
 
@@ -13,6 +14,7 @@ from operator import attrgetter
 from typing import Any
 
 from dsr_graph.exceptions import FormatError, Violation
+from dsr_graph.formats import units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
@@ -57,6 +59,7 @@ def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[s
             item["version"] = edge.version
         edges.append(item)
     doc: dict[str, Any] = {"format": FORMAT, "version": VERSION, "kind": kind}
+    doc["units"] = {"length": units.METRES}
     if seq is not None:
         doc["seq"] = seq
     doc["nodes"] = nodes
@@ -85,8 +88,10 @@ def _header(doc: Any, source: str) -> str:
 def from_json(
     doc: Any, vocabulary: Vocabulary | None = None, source: str = "world"
 ) -> tuple[Graph, list[Violation]]:
-    """Build a graph from a world or snapshot document; bad elements are reported, not loaded."""
+    """Build a graph from a world or snapshot document; bad elements are reported, not loaded.
+    Lengths are converted to metres from the unit the document declares."""
     kind = _header(doc, source)
+    doc = units.in_metres(doc, source)
     builder = WorldBuilder(vocabulary, source)
     node_versions: dict[int, int] = {}
     edge_versions = {}
@@ -143,6 +148,7 @@ def snapshot_from_json(
     if trusted:
         if _header(doc, "snapshot") != "snapshot":
             raise FormatError('snapshot: "kind" must be "snapshot"')
+        doc = units.in_metres(doc, "snapshot")
         graph = Graph(vocabulary)
         try:
             graph.restore(doc.get("nodes", []), doc.get("edges", []))

@@ -27,7 +27,7 @@ from mcap.records import Channel, Message, Metadata, Schema
 from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 
-from dsr_graph.exceptions import DsrError
+from dsr_graph.exceptions import RecordingError
 from dsr_graph.protocol.history import History
 
 PROFILE = "ros2"
@@ -35,10 +35,6 @@ SCHEMA_ENCODING = "ros2msg"
 MESSAGE_ENCODING = "cdr"
 DSR_METADATA = "dsr"  # metadata record naming the DSR's channels
 _SEPARATOR = "=" * 80
-
-
-class RecordingError(DsrError):
-    """A file that is not a DSR recording, or one that cannot be read."""
 
 
 def message_definition(type_name: str, msg_file: Callable[[str, str], Path]) -> str:

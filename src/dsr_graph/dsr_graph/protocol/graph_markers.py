@@ -1,8 +1,8 @@
 """The DSR drawn for ROS tools (pure): where each node and edge goes on ``dsr/markers``, so that
 RViz or Foxglove show the graph without our viewer. Geometric nodes stand at their pose in the
 RT root's frame; a symbolic node stands above the geometric node it is linked to (the person's
-``answer`` above the person), or, linked to none, in a row above the scene. Lengths in the DSR
-are millimetres, as in CORTEX; ROS tools take metres (REP 103), so positions are converted here.
+``answer`` above the person), or, linked to none, in a row above the scene. Lengths are metres,
+as in the DSR (units.py) and in ROS tools (REP 103).
 """
 
 from __future__ import annotations
@@ -13,7 +13,6 @@ from dsr_graph.exceptions import LookupFailed
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT
 
-MM = 0.001  # metres per DSR length unit
 SYMBOL_RISE = 0.25  # metres between a geometric node and each symbol stacked above it
 ROW_GAP = 0.5  # metres between unanchored symbols, and between the scene's top and their row
 
@@ -50,7 +49,7 @@ def _geometric_positions(graph: Graph, root: str) -> dict[str, Point]:
         if node.name == root or not graph.is_geometric(node.name):
             continue
         try:
-            x, y, z = graph.transform(root, node.name)[:3, 3] * MM
+            x, y, z = graph.transform(root, node.name)[:3, 3]
         except LookupFailed:  # a second RT tree (only in a world that breaks the rules)
             continue
         positions[node.name] = (float(x), float(y), float(z))

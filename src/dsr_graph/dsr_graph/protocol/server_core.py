@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from dsr_graph.exceptions import TransactionRejected, Violation
-from dsr_graph.formats import dsr_json
+from dsr_graph.formats import dsr_json, units
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops, parse_transaction
@@ -239,6 +239,22 @@ class ServerCore:
         doc = self.snapshot()
         doc["accepted_ids"] = [[i, s] for i, s in list(self.accepted_ids.items())[-SNAPSHOT_IDS:]]
         return doc
+
+    @classmethod
+    def restore(
+        cls, snapshot: dict[str, Any], replay_journal, vocabulary=None, **kwargs: Any
+    ) -> tuple[ServerCore, int, bool]:
+        """The core a stored state gives: its snapshot, then ``replay_journal(seq, replay)``
+        (``StateStore.replay_journal``). Returns (core, deltas replayed, converted): a state
+        written before units were declared is in millimetres, journal included, and is
+        converted to metres (store a new snapshot then, so it is converted once)."""
+        core = cls.from_snapshot(snapshot, vocabulary, **kwargs)
+        legacy = not units.declared(snapshot)
+        per_metre = units.PER_METRE[units.LEGACY] if legacy else 1.0
+        replayed = replay_journal(
+            core.seq, lambda delta: core.replay(units.delta_in_metres(delta, per_metre))
+        )
+        return core, replayed, legacy
 
     @classmethod
     def from_snapshot(cls, doc: dict[str, Any], vocabulary=None, **kwargs: Any) -> ServerCore:

@@ -1,7 +1,7 @@
 """The DSR's RT tree as tf2 sees it (pure): frame ids are node names, lengths in metres,
 quaternions x, y, z, w (REP 103). The edges that never changed since the server started go on
 /tf_static; an edge that changes, or appears later, moves to /tf for good, so that tf2 never
-holds a frame both as static and as dynamic. The DSR's lengths are millimetres, as CORTEX's.
+holds a frame both as static and as dynamic. The DSR's lengths are already metres (units.py).
 """
 
 from __future__ import annotations
@@ -12,7 +12,6 @@ from typing import Any
 from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT
-from dsr_graph.protocol.graph_markers import MM
 
 
 @dataclass(frozen=True)
@@ -23,15 +22,14 @@ class Transform:
     rotation: tuple[float, float, float, float]  # x, y, z, w
 
 
-def transform_of(graph: Graph, child: str, unit: float = MM) -> Transform | None:
-    """``child``'s pose in its RT parent's frame, or None if it has no RT parent now. Lengths
-    are multiplied by ``unit`` (metres by default; 1.0 keeps the DSR's millimetres)."""
+def transform_of(graph: Graph, child: str) -> Transform | None:
+    """``child``'s pose in its RT parent's frame, or None if it has no RT parent now."""
     node = graph.find(child)
     parent = graph.rt_parent(child) if node is not None else None
     if parent is None:
         return None
     matrix = graph.edge(parent.id, node.id, RT).rt
-    x, y, z = (float(v) * unit for v in matrix[:3, 3])
+    x, y, z = (float(v) for v in matrix[:3, 3])
     w, qx, qy, qz = rigid.quaternion_wxyz(matrix)
     return Transform(parent.name, child, (x, y, z), (qx, qy, qz, w))
 

@@ -179,10 +179,18 @@ class DsrServer(DsrNode):
                 self.get_logger().warning(
                     f"state_dir {self.store.dir}: {conflict}; going on with it (resume:=true)"
                 )
-            self.core = ServerCore.from_snapshot(
-                snapshot, vocabulary, max_request_bytes=param(self, "max_request_bytes")
+            self.core, replayed, legacy = ServerCore.restore(
+                snapshot,
+                self.store.replay_journal,
+                vocabulary,
+                max_request_bytes=param(self, "max_request_bytes"),
             )
-            replayed = self.store.replay_journal(self.core.seq, self.core.replay)
+            if legacy:
+                self.store.write_snapshot(self.core.durable_snapshot())
+                self.get_logger().warning(
+                    f"state_dir {self.store.dir} was in millimetres (written before units were "
+                    "declared): converted to metres and stored so"
+                )
             for warning in self.store.warnings:
                 self.get_logger().warning(warning)
             self.get_logger().info(
@@ -283,7 +291,7 @@ class DsrServer(DsrNode):
 
     # ------------------------------------------------------------------ poses
     def _publish_pose(self, name: str) -> None:
-        pose = transform_of(self.core.graph, name, unit=1.0)  # in the DSR's millimetres
+        pose = transform_of(self.core.graph, name)
         if pose is None:
             return  # deleted, or not geometric any more: its last pose stays latched
         pub = self._pose_pubs.get(name)
