@@ -6,6 +6,7 @@ import logging
 import pytest
 
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import Policy
 from dsr_graph.protocol.local_bus import LocalBus
 from dsr_graph.rules.runner import RuleRunner
 from dsr_graph.rules.syntax import load_rules
@@ -179,8 +180,20 @@ def test_a_racing_percept_is_refused_by_the_server_not_applied_twice():
     assert bus.core.seq == 1 and len(bus.core.graph) == 6
 
 
+PRIORITIES = Policy.from_doc(
+    {
+        "version": 1,
+        "agents": [
+            {"name": "/urgent", "priority": 5, "edges": ["*"]},
+            {"name": "/speech", "priority": 1, "edges": ["*"], "attributes": ["*"]},
+            {"name": "*", "priority": 0, "nodes": ["*"], "edges": ["*"], "attributes": ["*"]},
+        ],
+    }
+)
+
+
 def test_a_higher_priority_preempts_and_the_holder_is_told():
-    bus = LocalBus(world())
+    bus = LocalBus(world(), policy=PRIORITIES)
     bus.agent("/pelea")
     runner, speaker = speech_agent(bus)
     told = []
@@ -191,7 +204,7 @@ def test_a_higher_priority_preempts_and_the_holder_is_told():
     verdicts = []
     urgent.send(
         {
-            "priority": 5,
+            "priority": 0,  # ignored: the policy gives /urgent priority 5
             "ops": [
                 {"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is"},
                 {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},

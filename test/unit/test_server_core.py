@@ -5,8 +5,17 @@ import json
 import pytest
 
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import AgentRule, Policy
 from dsr_graph.model.transaction import apply_ops
 from dsr_graph.protocol.server_core import Rejection, ServerCore
+
+# claim priorities come from a policy only; these tests' agents, all free to write
+PRIORITIES = Policy(
+    [
+        AgentRule(name, prio, frozenset("*"), frozenset("*"), frozenset("*"))
+        for name, prio in [("/person", 2), ("/speech", 1), ("/panel", 2), ("/pelea", 5), ("*", 0)]
+    ]
+)
 
 
 def core():
@@ -28,7 +37,7 @@ def core():
             {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
         ],
     )
-    return ServerCore(g, max_request_bytes=10_000)
+    return ServerCore(g, max_request_bytes=10_000, policy=PRIORITIES)
 
 
 def submit(c, doc, now=100.0):
@@ -93,11 +102,11 @@ def test_rejection_carries_the_request_id_and_agent():
 
 def test_claims_block_lower_and_equal_priorities_and_yield_to_higher():
     c = core()
-    d = submit(c, {"agent": "/person", "priority": 2, "claim": [{"node": "person"}]})
+    d = submit(c, {"agent": "/person", "claim": [{"node": "person"}]})
     assert d["claims"]["granted"][0]["target"] == {"node": "person"}
     write = {"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}
-    for agent, prio in [("/speech", 1), ("/panel", 2)]:
-        r = submit(c, {"agent": agent, "priority": prio, "ops": [write]})
+    for agent in ["/speech", "/panel"]:  # priorities 1 and 2 (PRIORITIES)
+        r = submit(c, {"agent": agent, "ops": [write]})
         assert isinstance(r, Rejection) and r.violation.rule == "claimed"
         assert "claimed by '/person' with priority 2" in r.violation.message
     # moving the person (its RT edge) is protected too
@@ -119,7 +128,7 @@ def test_claims_block_lower_and_equal_priorities_and_yield_to_higher():
     # the holder itself writes freely
     assert not isinstance(submit(c, {"agent": "/person", "ops": [write]}), Rejection)
     # a higher priority goes through and preempts; the holder learns it from the delta
-    d = submit(c, {"agent": "/pelea", "priority": 5, "ops": [write]})
+    d = submit(c, {"agent": "/pelea", "ops": [write]})
     assert d["claims"]["released"] == [
         {"target": {"node": "person"}, "agent": "/person", "reason": "preempted", "by": "/pelea"}
     ]
@@ -128,11 +137,11 @@ def test_claims_block_lower_and_equal_priorities_and_yield_to_higher():
 
 def test_pair_claims_cover_every_edge_type_between_the_pair():
     c = core()
-    submit(c, {"agent": "/speech", "priority": 1, "claim": [{"from": "robot", "to": "speaking"}]})
+    submit(c, {"agent": "/speech", "claim": [{"from": "robot", "to": "speaking"}]})
     r = submit(
         c,
         {
-            "agent": "/panel",
+            "agent": "/other",  # priority 0, below /speech's 1
             "ops": [{"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"}],
         },
     )

@@ -23,6 +23,7 @@ from typing import Any
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Rejection, Result, ServerCore
 
@@ -39,8 +40,8 @@ class LocalTimer:
 
 
 class LocalBus:
-    def __init__(self, graph: Graph, start_time: float = 0.0):
-        self.core = ServerCore(graph)
+    def __init__(self, graph: Graph, start_time: float = 0.0, policy: Policy = OPEN):
+        self.core = ServerCore(graph, policy=policy)
         self.agents: list[LocalAgent] = []
         self.now = start_time
         self._queue: deque[Callable[[], None]] = deque()
@@ -56,7 +57,7 @@ class LocalBus:
 
     # ------------------------------------------------------------------ the server's side
     def submit(self, sender: LocalAgent, doc: dict[str, Any]) -> None:
-        result = self.core.submit(json.dumps(doc), now=self.now)
+        result = self.core.submit(json.dumps(doc), now=self.now, sender=sender.name)
         if isinstance(result, Rejection) and result.duplicate_of is not None:
             verdict = Result(result.id, True, delta={"seq": result.duplicate_of, "id": result.id})
             self.soon(lambda: sender.rejected(verdict))

@@ -20,6 +20,7 @@ from dsr_graph.exceptions import TransactionRejected, Violation
 from dsr_graph.formats import dsr_json, units
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.transaction import apply_ops, parse_transaction
 
 SERVER_AGENT = "dsr_server"
@@ -81,8 +82,10 @@ class ServerCore:
         seq: int = 0,
         claims: ClaimTable | None = None,
         max_request_bytes: int = DEFAULT_MAX_REQUEST_BYTES,
+        policy: Policy = OPEN,
     ):
         self.graph = graph
+        self.policy = policy  # who may write what, and every claim's priority
         self.seq = seq
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
@@ -91,11 +94,13 @@ class ServerCore:
         self.accepted_ids: OrderedDict[str, int] = OrderedDict()
 
     # ------------------------------------------------------------------ requests
-    def submit(self, text: str, now: float | None = None) -> Any:
+    def submit(self, text: str, now: float | None = None, sender: str | None = None) -> Any:
         """A delta (dict) if the request was accepted, else a ``Rejection``. Never raises for
-        bad input: anything a client can send ends in one of the two."""
+        bad input: anything a client can send ends in one of the two. ``sender``: the node the
+        ROS graph shows sent it (the server's), which the delta names; None only where no
+        middleware is involved (pure tests), and then the request's own ``agent`` is taken."""
         now = time.time() if now is None else now
-        ident, agent = "", ""
+        ident, agent = "", sender or ""
         try:
             if len(text) > self.max_request_bytes:
                 raise TransactionRejected(
@@ -113,8 +118,9 @@ class ServerCore:
                 ) from None
             if isinstance(doc, dict):
                 ident = doc["id"] if isinstance(doc.get("id"), str) else ""
-                agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
-            return self.submit_doc(doc, now)
+                if sender is None:
+                    agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
+            return self.submit_doc(doc, now, sender)
         except Duplicate as e:
             return Rejection(ident, agent, e.violation, duplicate_of=e.seq)
         except TransactionRejected as e:
@@ -124,10 +130,37 @@ class ServerCore:
                 ident, agent, Violation("malformed", "transaction", "nested too deeply")
             )
 
-    def submit_doc(self, doc: Any, now: float) -> dict[str, Any]:
+    def unattributed(self, text: str, violation: Violation) -> Rejection:
+        """The answer to a request whose sender cannot be proven: refused, its id kept (when it
+        has one) so that the agent that sent it hears why."""
+        ident = ""
+        try:
+            doc = json.loads(text) if len(text) <= self.max_request_bytes else None
+            if isinstance(doc, dict) and isinstance(doc.get("id"), str):
+                ident = doc["id"]
+        except (ValueError, RecursionError):
+            pass
+        return Rejection(ident, "", violation)
+
+    def submit_doc(self, doc: Any, now: float, sender: str | None = None) -> dict[str, Any]:
+        if sender is not None and isinstance(doc, dict):
+            declared = doc.get("agent")
+            if declared not in (None, "", sender):
+                raise TransactionRejected(
+                    Violation(
+                        "identity",
+                        f"agent {declared!r}",
+                        f"the request says it comes from {declared!r}, but the ROS graph shows "
+                        f"{sender!r} sent it",
+                    )
+                )
+            doc = {**doc, "agent": sender}
         tx = parse_transaction(doc)
+        # a request's own priority is never trusted: it comes from the policy
+        tx.priority = self.policy.priority_of(tx.agent)
         if tx.id and tx.id in self.accepted_ids:
             raise Duplicate(tx.id, self.accepted_ids[tx.id])
+        self.policy.check(self.graph, tx.agent, tx.ops)
         claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
         for key in claim_keys:
             for name in [key[1]] if key[0] == "node" else [key[1], key[2]]:

@@ -17,9 +17,10 @@ _SAFE = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
 _UNSAFE_RUN = re.compile(r"[^A-Za-z0-9]+")
 
 # Relative names (they resolve in the node's namespace and can be remapped).
-TRANSACTIONS = "dsr/transactions"  # std_msgs/String, JSON transaction requests -> server
+TRANSACTIONS = "dsr/transactions"  # + /<node name>: std_msgs/String, JSON requests -> server
 DELTAS = "dsr/deltas"  # std_msgs/String, JSON accepted deltas, in seq order <- server
 REJECTIONS = "dsr/rejections"  # std_msgs/String, JSON {id, agent, reason, error} <- server
+ALARMS = "dsr/alarms"  # std_msgs/String, JSON {kind, topic, intruders, message} <- server
 HEARTBEAT = "dsr/heartbeat"  # std_msgs/String, JSON {seq, stamp} every second <- server
 GET_ATTRIBUTE = "dsr/get_attribute"  # dsr_msgs/srv/GetAttribute
 GET_NODE = "dsr/get_node"  # dsr_msgs/srv/GetNode

@@ -9,7 +9,8 @@ to send transactions and hear whether they were accepted.
 Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a node and fails
 with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
 
-Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat. Publishers: dsr/transactions.
+Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat. Publishers: dsr/transactions/<node
+name> (protocol/identity.py).
 Clients: dsr/get_snapshot.
 """
 
@@ -27,6 +28,7 @@ from std_msgs.msg import String
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
+from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros.qos import qos_latched, qos_stream
@@ -68,7 +70,8 @@ class DsrAgent:
     def setup(self, node, timeout_sec: float = 10.0) -> None:
         self.node = node
         self.name = node.get_fully_qualified_name()
-        self._tx_pub = node.create_publisher(String, topic_names.TRANSACTIONS, qos_stream())
+        # a request topic of our own: the server knows who we are from the ROS graph
+        self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_stream())
         self._delta_sub = node.create_subscription(
             String, topic_names.DELTAS, self._on_delta, qos_stream()
         )

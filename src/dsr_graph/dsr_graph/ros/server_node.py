@@ -15,11 +15,19 @@ ROS Parameters:
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
         claims are freed (default 3.0).
+    policy_file (str): YAML of who may write what, with which claim priority
+        (model/policy.py); empty: every agent may write anything, all with the same priority.
 Subscriptions:
-    dsr/transactions (std_msgs/String): JSON transaction requests.
+    dsr/transactions/<node name> (std_msgs/String): each agent's JSON transaction requests,
+        taken as that node's only while the ROS graph shows it as the topic's only publisher
+        (protocol/identity.py); the delta's "agent" is that node's fully qualified name.
+    dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
+        while exactly one node publishes on it; otherwise each request gets a rejection.
 Publishers:
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
+    dsr/alarms (std_msgs/String): {kind, topic, intruders, message} when a request topic has a
+        publisher that is not its owner (at most one per topic and intruders every 5 s).
     dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot} (boot: new at each start).
     /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
         node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py).
@@ -44,24 +52,27 @@ from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from dsr_graph.exceptions import StateMismatch
+from dsr_graph.exceptions import StateMismatch, Violation
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.graph_markers import drawing
+from dsr_graph.protocol.identity import Sender
 from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.request_topics import RequestTopics
 from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
-MAX_BATCH = 256  # requests made durable by one fdatasync
+ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same topic
 MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable, and costly)
 
 
@@ -144,6 +155,13 @@ class DsrServer(DsrNode):
             "seconds a claim holder may be absent before its claims are freed",
             minimum=0.0,
         )
+        declare(
+            node,
+            "policy_file",
+            "",
+            "YAML: who may write what, and claim priorities (empty: all may, all equal)",
+            read_only=True,
+        )
 
     def __init__(self, node_name: str = "", **kwargs: Any):
         super().__init__(node_name, **kwargs)
@@ -152,12 +170,24 @@ class DsrServer(DsrNode):
         self._pose_pubs: dict[str, Any] = {}
         self._snapshot_cache = (-1, "")
         self._missing_since: dict[str, float] = {}
+        self._alarmed: dict[tuple[str, tuple[str, ...]], float] = {}  # (topic, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
 
     # ------------------------------------------------------------------ start
     def setup(self) -> None:
         """Load the state (or the world), then open the topics and services."""
         vocabulary = Vocabulary.load(param(self, "vocabulary_file"))
+        policy = Policy.load(param(self, "policy_file")) if param(self, "policy_file") else OPEN
+        if policy is OPEN:
+            self.get_logger().warning(
+                "no policy loaded (policy_file): every agent may write anything, all with the "
+                "same claim priority, so no one preempts anyone"
+            )
+        else:
+            self.get_logger().info(
+                f"policy {policy.source}: {len(policy.rules)} entries "
+                f"({', '.join(r.name for r in policy.rules)})"
+            )
         self.store = StateStore(
             # empty (a launch file's unset argument): the default
             param(self, "state_dir") or state_path("dsr", self.get_name()),
@@ -184,6 +214,7 @@ class DsrServer(DsrNode):
                 self.store.replay_journal,
                 vocabulary,
                 max_request_bytes=param(self, "max_request_bytes"),
+                policy=policy,
             )
             if legacy:
                 self.store.write_snapshot(self.core.durable_snapshot())
@@ -206,7 +237,9 @@ class DsrServer(DsrNode):
                 for violation in world.violations:
                     self.get_logger().warning(f"world file: left out: {violation}")
                 graph = world.graph
-            self.core = ServerCore(graph, 0, max_request_bytes=param(self, "max_request_bytes"))
+            self.core = ServerCore(
+                graph, 0, max_request_bytes=param(self, "max_request_bytes"), policy=policy
+            )
             self.store.write_origin(origin)
             self.store.write_snapshot(self.core.durable_snapshot())
             self.get_logger().info(
@@ -217,9 +250,8 @@ class DsrServer(DsrNode):
         self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
-        self._requests = self.create_subscription(
-            String, topic_names.TRANSACTIONS, self.on_transaction, qos_stream()
-        )
+        self._alarms = self.create_publisher(String, topic_names.ALARMS, qos_stream())
+        self.requests = RequestTopics(self, self.on_requests)
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
@@ -241,20 +273,19 @@ class DsrServer(DsrNode):
             self.store.close()
 
     # ------------------------------------------------------------------ transactions
-    def on_transaction(self, msg: String) -> None:
-        # Group commit: take the requests already waiting too, so that one fdatasync covers them
-        # all under load; alone, a request costs the same as before.
-        texts = [msg.data]
-        with self._requests.handle:
-            while len(texts) < MAX_BATCH:
-                taken = self._requests.handle.take_message(String, False)
-                if taken is None:
-                    break
-                texts.append(taken[0].data)
+    def on_requests(self, texts: list[str], sender: Sender, topic: str) -> None:
+        """A batch of requests from one topic (one fdatasync covers the accepted ones)."""
+        if sender.agent is None:
+            self._alarm(topic, sender)
         accepted = []
         for text in texts:
             try:
-                result = self.core.submit(text)
+                if sender.agent is None:
+                    result = self.core.unattributed(
+                        text, Violation("identity", topic, sender.problem)
+                    )
+                else:
+                    result = self.core.submit(text, sender=sender.agent)
             except Exception as e:  # a bug must not take the server down with it
                 self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
                 continue
@@ -267,6 +298,21 @@ class DsrServer(DsrNode):
                 accepted.append(result)
         if accepted:
             self._accept(accepted)
+
+    def _alarm(self, topic: str, sender: Sender) -> None:
+        key = (topic, sender.intruders)
+        now = time.monotonic()
+        if now - self._alarmed.get(key, -ALARM_EVERY) < ALARM_EVERY:
+            return
+        self._alarmed[key] = now
+        self.get_logger().error(f"refusing requests on {topic}: {sender.problem}")
+        alarm = {
+            "kind": "identity",
+            "topic": topic,
+            "intruders": list(sender.intruders),
+            "message": sender.problem,
+        }
+        self._alarms.publish(String(data=json.dumps(alarm)))
 
     def _accept(self, deltas: list[dict[str, Any]]) -> None:
         """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what

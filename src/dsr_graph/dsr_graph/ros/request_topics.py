@@ -1,0 +1,87 @@
+"""The server's request topics (ROS plumbing for ``protocol/identity.py``): the shared
+``dsr/transactions`` and one ``dsr/transactions/<node name>`` per agent, found as agents appear.
+Each batch of requests taken from a topic comes with the verdict on who sent it, from the ROS
+graph's list of that topic's publishers (asked again whenever their number changes, and at
+least every ``RECHECK`` seconds)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from std_msgs.msg import String
+
+from dsr_graph.protocol.identity import Publisher, Sender, sender_on
+from dsr_graph.protocol.topic_names import TRANSACTIONS
+from dsr_graph.ros.qos import qos_stream
+
+MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
+RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
+STRING = "std_msgs/msg/String"
+
+Batch = Callable[[list[str], Sender, str], None]  # (request texts, sender verdict, topic)
+
+
+class RequestTopics:
+    def __init__(self, node, on_batch: Batch, discovery_period: float = 0.2):
+        self.node = node
+        self.on_batch = on_batch
+        self.shared = node.resolve_topic_name(TRANSACTIONS)
+        self.prefix = self.shared + "/"
+        self._subs: dict[str, tuple[object, str | None]] = {}  # topic -> (subscription, owner)
+        self._verdicts: dict[str, tuple[int, float, Sender]] = {}
+        self._ignored: set[str] = set()
+        self._subscribe(self.shared, None)
+        self.discover()
+        node.create_timer(discovery_period, self.discover)
+
+    @property
+    def topics(self) -> list[str]:
+        return sorted(self._subs)
+
+    def discover(self) -> None:
+        for topic, types in self.node.get_topic_names_and_types():
+            if not topic.startswith(self.prefix) or topic in self._subs or topic in self._ignored:
+                continue
+            owner = topic[len(self.prefix) :]
+            if "/" in owner or types != [STRING]:
+                self._ignored.add(topic)
+                self.node.get_logger().warning(
+                    f"ignoring {topic} [{', '.join(types)}]: a request topic is "
+                    f"{self.prefix}<node name> of type {STRING}"
+                )
+                continue
+            self._subscribe(topic, owner)
+
+    def _subscribe(self, topic: str, owner: str | None) -> None:
+        sub = self.node.create_subscription(
+            String, topic, lambda msg, t=topic: self._on_message(t, msg), qos_stream()
+        )
+        self._subs[topic] = (sub, owner)
+
+    def _on_message(self, topic: str, msg: String) -> None:
+        # Group commit: the requests already waiting on this topic go with this one.
+        sub = self._subs[topic][0]
+        texts = [msg.data]
+        with sub.handle:
+            while len(texts) < MAX_BATCH:
+                taken = sub.handle.take_message(String, False)
+                if taken is None:
+                    break
+                texts.append(taken[0].data)
+        self.on_batch(texts, self.sender(topic), topic)
+
+    def sender(self, topic: str) -> Sender:
+        sub, owner = self._subs[topic]
+        count = sub.get_publisher_count()
+        now = time.monotonic()
+        cached = self._verdicts.get(topic)
+        if cached is not None and cached[0] == count and now - cached[1] < RECHECK:
+            return cached[2]
+        publishers = [
+            Publisher(info.node_namespace, info.node_name)
+            for info in self.node.get_publishers_info_by_topic(topic)
+        ]
+        verdict = sender_on(topic, owner, publishers)
+        self._verdicts[topic] = (count, now, verdict)
+        return verdict

@@ -1,0 +1,197 @@
+"""Who may write what (the policy) and who sent a request (identity from the ROS graph), as
+pure logic: the server's checks without the middleware."""
+
+import json
+
+import pytest
+
+from dsr_graph.exceptions import FormatError
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.policy import OPEN, Policy
+from dsr_graph.model.transaction import apply_ops
+from dsr_graph.protocol.identity import Publisher, agent_topic, sender_on
+from dsr_graph.protocol.server_core import Rejection, ServerCore
+
+POLICY = {
+    "version": 1,
+    "agents": [
+        {
+            "name": "/pelea",
+            "priority": 10,
+            "nodes": ["test_item"],
+            "edges": ["is_in", "is_not"],
+            "attributes": ["text", "item"],
+        },
+        {"name": "/speech", "priority": 1, "edges": ["is", "is_not"]},
+        {"name": "/clarc_*", "priority": 3, "attributes": ["item"]},
+    ],
+}
+
+
+def graph():
+    g = Graph()
+    apply_ops(
+        g,
+        [
+            {"op": "insert_node", "name": "robot", "type": "robot"},
+            {"op": "insert_node", "name": "speaking", "type": "state"},
+            {"op": "insert_node", "name": "test", "type": "test"},
+            {"op": "insert_node", "name": "test_part", "type": "test_part"},
+            {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+        ],
+    )
+    return g
+
+
+def send(core, agent, ops, **extra):
+    doc = {"ops": ops, **extra} if ops else extra
+    return core.submit(json.dumps(doc), now=1.0, sender=agent)
+
+
+def snapshot_text(core):
+    return json.dumps(core.snapshot(), sort_keys=True)
+
+
+@pytest.mark.parametrize(
+    ("agent", "op", "named"),
+    [
+        (
+            "/speech",
+            {"op": "insert_node", "name": "x", "type": "test_item"},
+            "node type 'test_item'",
+        ),
+        ("/speech", {"op": "set_node_attrs", "node": "test", "attrs": {"text": "hi"}}, "'text'"),
+        ("/pelea", {"op": "delete_node", "node": "speaking"}, "node type 'state'"),
+        (
+            "/pelea",
+            {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"},
+            "edge type 'is'",
+        ),
+        (
+            "/clarc_cli",
+            {"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+            "entry '/clarc_*' allows none",
+        ),
+        (
+            "/pelea",
+            {"op": "set_rt", "from": "robot", "to": "speaking", "rt": {"matrix": []}},
+            "edge type 'RT'",
+        ),
+        ("/viewer", {"op": "delete_node", "node": "test"}, "no entry of"),
+    ],
+)
+def test_a_write_outside_the_policy_is_refused_naming_agent_op_and_rule(agent, op, named):
+    core = ServerCore(graph(), policy=Policy.from_doc(POLICY))
+    before = snapshot_text(core)
+    result = send(core, agent, [op])
+    assert isinstance(result, Rejection) and result.violation.rule == "policy"
+    text = str(result.violation)
+    assert agent in text and named in text and "op 0" in text, text
+    assert snapshot_text(core) == before and core.seq == 0
+
+
+def test_writes_inside_the_policy_go_through_and_a_node_inserted_may_be_written_on():
+    core = ServerCore(graph(), policy=Policy.from_doc(POLICY))
+    ops = [
+        {"op": "insert_node", "name": "feeding", "type": "test_item", "attrs": {"item": "f"}},
+        {"op": "insert_edge", "from": "test", "to": "feeding", "type": "is_in"},
+        {"op": "set_node_attrs", "node": "test", "attrs": {"text": "Feeding"}},
+        {"op": "delete_node", "node": "feeding"},
+    ]
+    assert not isinstance(send(core, "/pelea", ops), Rejection)
+    flip = [
+        {"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is_not"},
+        {"op": "insert_edge", "from": "robot", "to": "speaking", "type": "is"},
+    ]
+    assert not isinstance(send(core, "/speech", flip), Rejection)
+    start = [{"op": "set_node_attrs", "node": "test", "attrs": {"item": "start"}}]
+    assert not isinstance(send(core, "/clarc_cli_42", start), Rejection)  # by pattern
+
+
+def test_priorities_come_from_the_policy_never_from_the_request():
+    core = ServerCore(graph(), policy=Policy.from_doc(POLICY))
+    claim = {"claim": [{"from": "robot", "to": "speaking"}], "priority": 99}
+    held = send(core, "/speech", [], **claim)
+    assert held["claims"]["granted"][0]["priority"] == 1
+    flip = [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is_not"}]
+    taken = send(core, "/pelea", flip, priority=0)  # the policy's 10 > 1: it preempts
+    assert not isinstance(taken, Rejection)
+    assert taken["claims"]["released"][0]["reason"] == "preempted"
+
+
+def test_without_a_policy_all_priorities_are_equal_so_no_one_preempts():
+    core = ServerCore(graph(), policy=OPEN)
+    send(core, "/speech", [], claim=[{"from": "robot", "to": "speaking"}], priority=1)
+    flip = [{"op": "delete_edge", "from": "robot", "to": "speaking", "type": "is_not"}]
+    result = send(core, "/anyone", flip, priority=1000)
+    assert isinstance(result, Rejection) and result.violation.rule == "claimed"
+
+
+@pytest.mark.parametrize(
+    ("doc", "fragment"),
+    [
+        ({"version": 2, "agents": [{"name": "*"}]}, "version must be 1"),
+        ({"version": 1, "agents": []}, "non-empty list"),
+        ({"version": 1, "agents": [{"priority": 1}]}, 'needs "name"'),
+        ({"version": 1, "agents": [{"name": "*", "nodes": "robot"}]}, "nodes must be a list"),
+        ({"version": 1, "agents": [{"name": "*", "priority": "high"}]}, "priority"),
+        ({"version": 1, "agents": [{"name": "*", "write": []}]}, "unknown keys ['write']"),
+        ([], "top level"),
+    ],
+)
+def test_a_bad_policy_file_is_named(doc, fragment):
+    with pytest.raises(FormatError, match=fragment.replace("[", r"\[").replace("]", r"\]")):
+        Policy.from_doc(doc, "p.yaml")
+
+
+def test_the_sender_is_the_graph_s_word_and_a_different_declared_agent_is_refused():
+    core = ServerCore(graph())
+    ops = [{"op": "set_node_attrs", "node": "test", "attrs": {"text": "hi"}}]
+    result = core.submit(json.dumps({"agent": "/speech", "ops": ops}), sender="/intruder")
+    assert isinstance(result, Rejection) and result.violation.rule == "identity"
+    assert "/speech" in str(result.violation) and "/intruder" in str(result.violation)
+    assert core.seq == 0
+    delta = core.submit(json.dumps({"ops": ops}), sender="/intruder")
+    assert delta["agent"] == "/intruder"  # recorded as itself
+    delta = core.submit(json.dumps({"agent": "/intruder", "ops": ops}), sender="/intruder")
+    assert delta["agent"] == "/intruder"
+
+
+T = "/dsr/transactions/speech"
+
+
+@pytest.mark.parametrize(
+    ("owner", "publishers", "agent", "intruders"),
+    [
+        ("speech", [("/", "speech")], "/speech", ()),
+        ("speech", [("/robot", "speech")], "/robot/speech", ()),
+        ("speech", [("/", "speech"), ("/", "evil")], None, ("/evil",)),
+        ("speech", [("/", "evil")], None, ("/evil",)),
+        ("speech", [("/", "speech"), ("/b", "speech")], None, ("/b/speech", "/speech")),
+        ("speech", [], None, ()),
+        (None, [("/", "old_agent")], "/old_agent", ()),
+        (None, [("/", "a"), ("/", "b")], None, ()),
+    ],
+)
+def test_a_request_topic_proves_its_sender_only_with_one_rightful_publisher(
+    owner, publishers, agent, intruders
+):
+    verdict = sender_on(T, owner, [Publisher(ns, name) for ns, name in publishers])
+    assert verdict.agent == agent and verdict.intruders == intruders
+    if agent is None:
+        assert T in verdict.problem
+        for name in intruders:
+            assert name in verdict.problem
+
+
+def test_each_agent_has_its_own_request_topic():
+    assert agent_topic("speech") == "dsr/transactions/speech"
+
+
+def test_a_request_on_an_unproven_topic_is_refused_keeping_its_id():
+    from dsr_graph.exceptions import Violation
+
+    core = ServerCore(graph())
+    result = core.unattributed('{"id": "x1", "ops": []}', Violation("identity", T, "two publish"))
+    assert result.to_json()["id"] == "x1" and result.violation.rule == "identity"
+    assert core.unattributed("not json", Violation("identity", T, "?")).id == ""
