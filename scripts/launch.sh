@@ -188,7 +188,9 @@ start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run
 
 echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
 echo "[launch] logs: $run/log; results store: $db"
-start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state"
+# The policy says who may write what (and with which claim priority); see docs/FORMAT.md.
+start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state" \
+  -p policy_file:="$root/src/clarc_bringup/policy/clarc.yaml"
 dsr graph --timeout 30 > "$run/log/initial_graph.txt" || { echo "[launch] the DSR server did not start:" >&2; cat "$run/log/dsr_server.log" >&2; exit 1; }
 if [ -n "$record" ]; then  # recording from the DSR's first state, before any other node starts
   start recorder dsr_recorder --ros-args -p output:="$record"

@@ -21,6 +21,7 @@ setup(
         (SHARE + "/launch", glob("launch/*.launch.py")),
         (SHARE + "/worlds", glob("worlds/*.json")),
         (SHARE + "/scenarios", glob("scenarios/*.yaml")),
+        (SHARE + "/policy", glob("policy/*.yaml")),
     ],
     install_requires=["setuptools"],
     zip_safe=False,

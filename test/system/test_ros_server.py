@@ -210,7 +210,7 @@ def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
         "x" * 200000,
         "[" * 50000 + "]" * 50000,
         '{"ops": [{"op": "insert_node", "name": "a", "type": "robot", "attrs": {"level": 1e999}}]}',
-        '{"id": "mine", "agent": "/t", "ops": [{"op": "delete_node", "node": "nobody"}]}',
+        '{"id": "mine", "ops": [{"op": "delete_node", "node": "nobody"}]}',
     ]
     for text in bad:
         pub.publish(String(data=text))
@@ -266,8 +266,18 @@ def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
     assert np.allclose([q.w, q.z], [math.cos(math.pi / 4), math.sin(math.pi / 4)])
 
 
+CLAIMS_POLICY = """
+version: 1
+agents:  # dsr apply's nodes outrank this test's own node
+  - {name: "/dsr_cli_*", priority: 3, nodes: ["*"], edges: ["*"], attributes: ["*"]}
+  - {name: "*", priority: 2, nodes: ["*"], edges: ["*"], attributes: ["*"]}
+"""
+
+
 def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
-    start(ros, agent_grace=0.5, heartbeat_period=0.2)
+    policy = tmp_path / "policy.yaml"
+    policy.write_text(CLAIMS_POLICY)
+    start(ros, agent_grace=0.5, heartbeat_period=0.2, policy_file=policy)
     agent = agent_in_session(ros)
     assert send_and_wait(
         ros,
@@ -285,14 +295,14 @@ def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
         "apply",
         "-",
         input=json.dumps(
-            {"agent": "/holder_that_dies", "priority": 3, "claim": [{"node": "person"}]}
+            {"claim": [{"node": "person"}]}  # held by a /dsr_cli_<pid> that then exits
         ),
     )
     assert holder.returncode == 0, holder.stdout + holder.stderr
     r = send_and_wait(
         ros,
         agent,
-        {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
+        {"ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
     )
     assert not r.accepted and r.reason["rule"] == "claimed"
     wait_for(
@@ -304,7 +314,7 @@ def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
     assert send_and_wait(
         ros,
         agent,
-        {"priority": 1, "ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
+        {"ops": [{"op": "set_node_attrs", "node": "person", "attrs": {"level": 1}}]},
     ).accepted
     # a live holder (this node) is preempted by a higher priority, and told through the delta
     released = []
@@ -313,18 +323,13 @@ def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
             c for d in ds for c in d.get("claims", {}).get("released", [])
         )
     )
-    assert send_and_wait(
-        ros, agent, {"priority": 2, "claim": [{"from": "person", "to": "speaking"}]}
-    ).accepted
+    assert send_and_wait(ros, agent, {"claim": [{"from": "person", "to": "speaking"}]}).accepted
     r = ros.procs.run(
         "dsr",
         "apply",
         "-",
         input=json.dumps(
-            {
-                "priority": 9,
-                "ops": [{"op": "insert_edge", "from": "person", "to": "speaking", "type": "is"}],
-            }
+            {"ops": [{"op": "insert_edge", "from": "person", "to": "speaking", "type": "is"}]}
         ),
     )
     assert r.returncode == 0

@@ -27,7 +27,6 @@ SPEECH = [
             {"insert_edge": ["robot", "speaking", "is"]},
         ],
         "claim": [{"from": "robot", "to": "speaking"}],
-        "priority": 1,
         "process": "say",
         "after": {
             "done": [
@@ -112,7 +111,7 @@ def test_during_is_a_compare_and_set_on_the_before_pattern(g):
         "attr": "text",
         "value": "Hello",
     } in tx["preconditions"]
-    assert tx["claim"] == [{"from": "robot", "to": "speaking"}] and tx["priority"] == 1
+    assert tx["claim"] == [{"from": "robot", "to": "speaking"}] and "priority" not in tx
     apply_ops(g, tx["ops"], tx["preconditions"])
     assert g.edge("robot", "speaking", "is")
     with pytest.raises(TransactionRejected):  # a second agent's identical write loses

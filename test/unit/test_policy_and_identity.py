@@ -168,6 +168,8 @@ T = "/dsr/transactions/speech"
         ("speech", [("/", "speech"), ("/", "evil")], None, ("/evil",)),
         ("speech", [("/", "evil")], None, ("/evil",)),
         ("speech", [("/", "speech"), ("/b", "speech")], None, ("/b/speech", "/speech")),
+        ("speech", [("/", "speech", b"p1"), ("/", "speech", b"p1")], "/speech", ()),  # one node
+        ("speech", [("/", "speech", b"p1"), ("/", "speech", b"p2")], None, ("/speech",)),
         ("speech", [], None, ()),
         (None, [("/", "old_agent")], "/old_agent", ()),
         (None, [("/", "a"), ("/", "b")], None, ()),
@@ -176,12 +178,17 @@ T = "/dsr/transactions/speech"
 def test_a_request_topic_proves_its_sender_only_with_one_rightful_publisher(
     owner, publishers, agent, intruders
 ):
-    verdict = sender_on(T, owner, [Publisher(ns, name) for ns, name in publishers])
+    verdict = sender_on(T, owner, [Publisher(*p) for p in publishers])
     assert verdict.agent == agent and verdict.intruders == intruders
     if agent is None:
         assert T in verdict.problem
         for name in intruders:
             assert name in verdict.problem
+
+
+def test_a_publisher_whose_node_is_not_known_yet_gives_no_verdict_yet():
+    verdict = sender_on(T, "speech", [Publisher("_NODE_NAMESPACE_UNKNOWN_", "_NODE_NAME_UNKNOWN_")])
+    assert verdict.agent is None and verdict.pending and not verdict.intruders
 
 
 def test_each_agent_has_its_own_request_topic():

@@ -25,7 +25,6 @@ SPEAK = {
         {"insert_edge": ["robot", "speaking", "is"]},
     ],
     "claim": [{"from": "robot", "to": "speaking"}],
-    "priority": 1,
     "process": "say",
     "after": {
         "done": [

@@ -2,7 +2,7 @@
 
     ros2 launch clarc_bringup clarc.launch.py [scenario:=FILE] [time_scale:=0.1] [start:=true]
         [state_dir:=DIR] [db:=FILE] [viewer_port:=8080] [dashboard_port:=8081]
-        [record:=FILE.mcap]
+        [record:=FILE.mcap] [policy_file:=FILE.yaml]
 
 Every node is respawned when it dies (``respawn=True``, as launch.sh supervises them); the
 monitor prints the test read from the DSR and, when it exits (the test is finished, or it gave
@@ -58,6 +58,11 @@ def generate_launch_description() -> LaunchDescription:
             default_value=PathJoinSubstitution([share, "worlds", "clarc_room.json"]),
             description="the DSR's world when state_dir holds no graph yet",
         ),
+        DeclareLaunchArgument(
+            "policy_file",
+            default_value=PathJoinSubstitution([share, "policy", "clarc.yaml"]),
+            description="who may write what in the DSR (docs/FORMAT.md)",
+        ),
         DeclareLaunchArgument("time_scale", default_value="0.1", description="0.1: 10x fast"),
         DeclareLaunchArgument(
             "state_dir", default_value="", description="the DSR's state (empty: per user)"
@@ -79,6 +84,7 @@ def generate_launch_description() -> LaunchDescription:
             "dsr_server",
             world_file=LaunchConfiguration("world_file"),
             state_dir=LaunchConfiguration("state_dir"),
+            policy_file=LaunchConfiguration("policy_file"),
         ),
         supervised("clarc_sim", "tts", time_scale=scale),
         supervised("clarc_sim", "microphone", time_scale=scale),

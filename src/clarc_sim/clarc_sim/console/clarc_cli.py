@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from datetime import UTC, datetime
 
@@ -83,7 +84,8 @@ def start(args: argparse.Namespace) -> int:
 
     verdicts = []
     try:
-        with RosSession(ros_args=args.ros_args) as ros:
+        # named for the policy: clarc.yaml lets /clarc_start_* press Start and nothing else
+        with RosSession(name=f"clarc_start_{os.getpid()}", ros_args=args.ros_args) as ros:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")

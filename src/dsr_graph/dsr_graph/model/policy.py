@@ -135,9 +135,30 @@ def _needs(graph: Graph, op: dict[str, Any], inserted: dict[str, str]) -> list[t
         return [("attributes", a) for a in attrs]
     if kind == "set_rt":
         return [("edges", RT)]
-    if kind in ("insert_edge", "delete_edge", "set_edge_attrs", "remove_edge_attrs"):
+    if kind == "delete_edge":  # (a delta's copy of it also lists the attributes that went)
+        return [("edges", op.get("type"))]
+    if kind in ("insert_edge", "set_edge_attrs", "remove_edge_attrs"):
         return [("edges", op.get("type"))] + [("attributes", a) for a in attrs]
     return []  # malformed: the transaction's own checks name it
+
+
+def observed_writes(graph: Graph, deltas: list[dict[str, Any]]) -> dict[str, dict[str, set[str]]]:
+    """What each agent wrote in these deltas (applied to ``graph`` in turn, which they change),
+    in the policy's terms: {agent: {"nodes": types, "edges": types, "attributes": names}}. The
+    same reading of ops as ``Policy.check``, so a policy drafted from it allows exactly this."""
+    from dsr_graph.model.transaction import apply_ops
+
+    seen: dict[str, dict[str, set[str]]] = {}
+    for delta in deltas:
+        mine = seen.setdefault(delta.get("agent", ""), {k: set() for k in _KIND_TEXT})
+        inserted: dict[str, str] = {}
+        for op in delta.get("ops", []):
+            for kind, what in _needs(graph, op, inserted):
+                mine[kind].add(what)
+            if op.get("op") == "insert_node":
+                inserted[op.get("name")] = op.get("type")
+        apply_ops(graph, delta.get("ops", []))
+    return seen
 
 
 def _refuse(agent: str, at: str, message: str) -> None:

@@ -22,6 +22,7 @@ from dsr_graph.protocol.topic_names import TRANSACTIONS
 class Publisher:
     namespace: str
     name: str
+    participant: bytes = b""  # the DDS participant (GUID prefix): one per process's context
 
     @property
     def fqn(self) -> str:
@@ -35,6 +36,10 @@ class Sender:
     agent: str | None
     problem: str = ""
     intruders: tuple[str, ...] = ()
+    pending: bool = False  # a publisher's node is not known yet: ask again shortly
+
+
+UNKNOWN = "_NODE_NAME_UNKNOWN_"  # rmw's name for a participant whose node info has not arrived
 
 
 def agent_topic(node_name: str) -> str:
@@ -44,18 +49,25 @@ def agent_topic(node_name: str) -> str:
 
 def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) -> Sender:
     """``owner``: the node name a per-agent topic belongs to; None for the shared topic."""
-    names = ", ".join(sorted(p.fqn for p in publishers)) or "none"
+    if any(p.name == UNKNOWN for p in publishers):
+        # DDS found the publisher before the ROS graph learnt its node (typically just after
+        # a restart): not a verdict yet
+        return Sender(None, f"{topic} has a publisher whose node is not known yet", pending=True)
+    # one node may publish through several endpoints (two DsrAgents in one node): what counts
+    # is how many nodes publish, told apart by name and by DDS participant
+    nodes = sorted({(p.fqn, p.participant): p for p in publishers}.values(), key=_order)
+    names = ", ".join(p.fqn for p in nodes) or "none"
     if owner is None:
-        if len(publishers) == 1:
-            return Sender(publishers[0].fqn)
+        if len(nodes) == 1:
+            return Sender(nodes[0].fqn)
         return Sender(
             None,
-            f"{topic} has {len(publishers)} publishers ({names}): a request on it cannot be "
+            f"{topic} has {len(nodes)} publishing nodes ({names}): a request on it cannot be "
             "told from another's; publish on dsr/transactions/<your node name>",
         )
-    owners = [p for p in publishers if p.name == owner]
-    intruders = tuple(sorted(p.fqn for p in publishers if p.name != owner))
-    if len(publishers) == 1 and owners:
+    owners = [p for p in nodes if p.name == owner]
+    intruders = tuple(sorted({p.fqn for p in nodes if p.name != owner}))
+    if len(nodes) == 1 and owners:
         return Sender(owners[0].fqn)
     if intruders:
         return Sender(
@@ -67,7 +79,11 @@ def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) ->
         )
     return Sender(
         None,
-        f"{topic} has {len(publishers)} publishers named {owner!r} ({names}): "
+        f"{topic} has {len(nodes)} publishing nodes named {owner!r} ({names}): "
         "two nodes share that name, so neither can be told from the other",
-        tuple(sorted(p.fqn for p in owners)),
+        tuple(sorted({p.fqn for p in owners})),
     )
+
+
+def _order(p: Publisher) -> tuple[str, bytes]:
+    return (p.fqn, p.participant)

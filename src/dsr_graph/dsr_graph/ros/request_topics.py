@@ -17,6 +17,7 @@ from dsr_graph.ros.qos import qos_stream
 
 MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
+HOLD = 3.0  # seconds requests wait while a publisher's node is not known yet (then: refused)
 STRING = "std_msgs/msg/String"
 
 Batch = Callable[[list[str], Sender, str], None]  # (request texts, sender verdict, topic)
@@ -31,9 +32,11 @@ class RequestTopics:
         self._subs: dict[str, tuple[object, str | None]] = {}  # topic -> (subscription, owner)
         self._verdicts: dict[str, tuple[int, float, Sender]] = {}
         self._ignored: set[str] = set()
+        self._held: dict[str, tuple[float, list[str]]] = {}  # topic -> (since, texts)
         self._subscribe(self.shared, None)
         self.discover()
         node.create_timer(discovery_period, self.discover)
+        node.create_timer(0.05, self._release_held)
 
     @property
     def topics(self) -> list[str]:
@@ -69,7 +72,22 @@ class RequestTopics:
                 if taken is None:
                     break
                 texts.append(taken[0].data)
-        self.on_batch(texts, self.sender(topic), topic)
+        if topic in self._held:  # keep their order behind those already waiting
+            self._held[topic][1].extend(texts)
+            return
+        self._deliver(topic, texts, time.monotonic())
+
+    def _deliver(self, topic: str, texts: list[str], since: float) -> None:
+        verdict = self.sender(topic)
+        if verdict.pending and time.monotonic() - since < HOLD:
+            self._held[topic] = (since, texts)
+            return
+        self._held.pop(topic, None)
+        self.on_batch(texts, verdict, topic)
+
+    def _release_held(self) -> None:
+        for topic, (since, texts) in list(self._held.items()):
+            self._deliver(topic, texts, since)
 
     def sender(self, topic: str) -> Sender:
         sub, owner = self._subs[topic]
@@ -79,9 +97,10 @@ class RequestTopics:
         if cached is not None and cached[0] == count and now - cached[1] < RECHECK:
             return cached[2]
         publishers = [
-            Publisher(info.node_namespace, info.node_name)
+            Publisher(info.node_namespace, info.node_name, bytes(info.endpoint_gid[:12]))
             for info in self.node.get_publishers_info_by_topic(topic)
         ]
         verdict = sender_on(topic, owner, publishers)
-        self._verdicts[topic] = (count, now, verdict)
+        if not verdict.pending:
+            self._verdicts[topic] = (count, now, verdict)
         return verdict

@@ -24,8 +24,6 @@ class Firing:
         }
         if self.rule.claim:
             tx["claim"] = substitute(self.rule.claim, self.bindings)
-        if self.rule.priority:
-            tx["priority"] = self.rule.priority
         return tx
 
     def after_tx(self, outcome: str, extra: Bindings | None = None) -> dict[str, Any] | None:
@@ -47,8 +45,6 @@ class Firing:
         tx: dict[str, Any] = {"preconditions": held, "ops": substitute(ops, bindings)}
         if release:
             tx["release"] = release
-        if self.rule.priority:
-            tx["priority"] = self.rule.priority
         return tx
 
 

@@ -16,8 +16,8 @@ A rule (JSON or YAML):
     during:                                # sent with `when` as its preconditions (CAS):
       - delete_edge: [robot, speaking, is_not]      # two agents never both take the action
       - insert_edge: [robot, speaking, is]
-    claim: [{from: robot, to: speaking}]   # held while the process runs (optional)
-    priority: 1
+    claim: [{from: robot, to: speaking}]   # held while the process runs (optional); its
+                                           # priority is the agent's, from the server's policy
     process: say                           # the agent's process, called with the bindings
     after:                                 # by outcome of the process (a list means "done")
       done:
@@ -151,7 +151,6 @@ class Rule:
     process: str | None = None
     once_per: list[str] | None = None
     claim: list[dict[str, Any]] = field(default_factory=list)
-    priority: int = 0
     trigger: str | None = None  # a percept event: the rule fires when the agent signals it
 
     @classmethod
@@ -167,7 +166,7 @@ class Rule:
             "process",
             "once_per",
             "claim",
-            "priority",
+            "priority",  # of earlier grammars: accepted, ignored (the server's policy decides)
             "doc",
             "trigger",
             "given",
@@ -218,7 +217,6 @@ class Rule:
             doc.get("process"),
             once_per,
             list(doc.get("claim") or []),
-            int(doc.get("priority", 0)),
             trigger,
         )
         rule._check_bound(set(given))
