@@ -15,6 +15,7 @@ setup(
     data_files=[
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
+        ("share/" + PACKAGE + "/config", ["config/fastdds_profile.xml"]),
     ],
     package_data={
         PACKAGE: [

@@ -15,7 +15,12 @@ with dsr_recorder (it starts with the others here; launch.sh starts it first and
 from datetime import UTC, datetime
 
 from launch import LaunchDescription
-from launch.actions import DeclareLaunchArgument, OpaqueFunction, Shutdown
+from launch.actions import (
+    DeclareLaunchArgument,
+    OpaqueFunction,
+    SetEnvironmentVariable,
+    Shutdown,
+)
 from launch.conditions import IfCondition, LaunchConfigurationNotEquals
 from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
 from launch_ros.actions import Node
@@ -127,4 +132,10 @@ def generate_launch_description() -> LaunchDescription:
         ),
         OpaqueFunction(function=press_start, condition=IfCondition(LaunchConfiguration("start"))),
     ]
-    return LaunchDescription(arguments + nodes)
+    # the suite's Fast DDS profile: a node killed outright is noticed as gone in 2 s, so its
+    # restarted self is not taken for a second node of that name (dsr_graph/config)
+    profile = SetEnvironmentVariable(
+        "FASTRTPS_DEFAULT_PROFILES_FILE",
+        PathJoinSubstitution([FindPackageShare("dsr_graph"), "config", "fastdds_profile.xml"]),
+    )
+    return LaunchDescription([profile, *arguments, *nodes])

@@ -2,8 +2,10 @@
 are read from the DSR (clarc_agents/course.py), so the screen stays right across a restart of
 PELEA, of the DSR server or of the monitor itself; PELEA's own stream adds only what is PELEA's
 (plans, replans, warnings, errors), the speaker what CLARC says, CGAmed what it tells the
-clinician. Exits 0 once a test started at or after ``since`` is finished in the DSR (PELEA
-writes that only after CGAmed stored its result), 1 on PELEA's error or after ``timeout``.
+clinician, the ROS graph which of the robot's nodes are in reach (a node that died, or a
+network cut between hosts). Exits 0 once a test started at or after ``since`` is finished in
+the DSR (PELEA writes that only after CGAmed stored its result), 1 on PELEA's error or after
+``timeout``.
 
 ROS Parameters: timeout (seconds, default 600), since (ISO 8601; default: when the monitor
 started), setup_timeout (seconds). Subscriptions: the DSR's topics, clarc/speaker/events,
@@ -20,6 +22,7 @@ import rclpy
 
 from clarc_agents import topics
 from clarc_agents.course import Course
+from clarc_sim.console.reach import Reach
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -89,6 +92,22 @@ def describe_result(result: dict) -> list[str]:
     return lines
 
 
+REACH_PERIOD = 0.5  # seconds between looks at the ROS graph
+ROBOT_NODES = [  # the robot's nodes whose reach the monitor shows
+    "/dsr_server",
+    "/pelea",
+    "/speech",
+    "/panel",
+    "/person",
+    "/tts",
+    "/microphone",
+    "/touchscreen",
+    "/kinect",
+    "/patient",
+    "/cgamed",
+]
+
+
 class Monitor(DsrNode):
     NAME = "clarc_monitor"
 
@@ -110,6 +129,7 @@ class Monitor(DsrNode):
         self.exit_code: int | None = None
         self.dsr = DsrAgent()
         self.course: Course | None = None
+        self.reach = Reach(ROBOT_NODES)
 
     def setup(self) -> None:
         since = param(self, "since") or datetime.now(UTC).isoformat()
@@ -123,6 +143,12 @@ class Monitor(DsrNode):
         subscribe_json(self, topics.CGAMED_NOTIFICATIONS, self.on_notification, qos_stream())
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.dsr.add_listener(lambda deltas, resynced: self.on_graph())
+        self.create_timer(REACH_PERIOD, self.on_reach)
+
+    def on_reach(self) -> None:
+        listed = [f"{ns.rstrip('/')}/{name}" for name, ns in self.get_node_names_and_namespaces()]
+        for line in self.reach.update(listed):
+            self.say(line)
 
     def say(self, line: str) -> None:
         print(f"[{time.monotonic() - self.t0:6.1f}s] {line}", flush=True)

@@ -36,6 +36,7 @@ from dsr_msgs.srv import GetSnapshot
 
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
+LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
 RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
 
 
@@ -187,6 +188,9 @@ class DsrAgent:
             return
         if ident in self._pending:
             callback = self._pending.pop(ident)
+            rule = (doc.get("reason") or {}).get("rule")
+            if callback is None and rule in LOUD_RULES:  # a set-up mistake, not a lost race
+                self.node.get_logger().error(f"request {ident} refused: {doc.get('error', '')}")
             if callback is not None:
                 callback(Result(ident, False, reason=doc.get("reason"), error=doc.get("error", "")))
 
@@ -251,4 +255,9 @@ class DsrAgent:
             return
         self.resyncs += 1
         self._gap_since = None
+        if self.resyncs > 1:  # the first is the start; later ones mean deltas were missed
+            self.node.get_logger().info(
+                f"resynchronised from a snapshot at seq {self.replica.seq} (deltas were missed: "
+                "the server restarted or was out of reach)"
+            )
         self._deliver(applied, resynced=True)

@@ -17,7 +17,9 @@ from dsr_graph.ros.qos import qos_stream
 
 MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
-HOLD = 3.0  # seconds requests wait while a publisher's node is not known yet (then: refused)
+# seconds requests wait while the verdict is pending (a publisher's node not known yet, or the
+# ghost of a killed node, listed until its DDS lease, 2 s in dsr_graph/config, runs out)
+HOLD = 3.0
 STRING = "std_msgs/msg/String"
 
 Batch = Callable[[list[str], Sender, str], None]  # (request texts, sender verdict, topic)
