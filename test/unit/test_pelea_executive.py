@@ -330,3 +330,32 @@ def test_a_close_refused_while_no_answer_came_is_tried_again():
     robot.port.send = first_close_refused
     result = robot.run_test(limit=600)
     assert refused and items(result)["feeding"] == (5, "voice", 2)
+
+
+def gone_for_a_while(robot, seconds):
+    """Speech and Panel out of reach (a network cut between the hosts): nothing reaches them and
+    nothing they send arrives, until they come back and take over from the DSR."""
+    robot.speech_link.close()
+    robot.panel_link.close()
+
+    def back():
+        robot.restart_speech()
+        robot.restart_panel()
+
+    robot.bus.after(seconds, back)
+
+
+@pytest.mark.parametrize("moment", [5, 23, 77, 101, 125, 141, 177, 199, 241])
+def test_speech_and_panel_out_of_reach_for_a_while_lose_no_answer(moment):
+    # What PELEA sees of a network cut: no agent takes its sentences or its answer windows. It
+    # waits for a sentence no one took, and a window no one took is asked again, not silence.
+    expected = undisturbed()
+    robot = Robot(EVERY_PATH)
+    robot.bus.after(moment, lambda: gone_for_a_while(robot, 50.0))
+    result = robot.run_test()
+    assert len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected), moment
+    # and the patient heard every question: none was skipped because no one could say it
+    for n, item in enumerate(ORDER, 1):
+        question = f"Question {n} of 10, {BY_KEY[item].title}. {BY_KEY[item].question}"
+        assert question in robot.said, (moment, question)

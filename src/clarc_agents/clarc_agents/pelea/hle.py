@@ -113,6 +113,7 @@ class HighLevelExecutive:
         self._wait: Wait | None = None  # what the current step waits for in the graph
         self._timer: Timer | None = None
         self._pending_say: sentences.Sentence | None = None
+        self._untaken_warned = False  # said once per sentence that no agent took it
         self._say_in_flight = False
         self._stuck = False  # the planner found no plan: do not resume that test again
         # Start requests already taken or refused, as (patient, when pressed): the replica shows
@@ -319,6 +320,7 @@ class HighLevelExecutive:
                     self._write_sentence()
                 return
             self._pending_say = None
+            self._untaken_warned = False
             self._wait = SentenceWait(sid, token)
             self._timer = self.port.after(
                 self.times.sentence_timeout(sentence.text),
@@ -329,10 +331,24 @@ class HighLevelExecutive:
         self.port.send(high_to_low.say(self.graph, sentence, sid), written)
 
     def _sentence_timed_out(self, token: int, text: str) -> None:
-        if token == self._token:
-            self.log.warning(f"no agent finished saying/showing {text!r} in time; going on")
-            self.port.event(event="warning", message=f"sentence not finished in time: {text}")
-            self._complete(token)
+        if token != self._token:
+            return
+        wait = self._wait
+        if isinstance(wait, SentenceWait) and not low_to_high.sentence_taken(self.graph, wait.sid):
+            # Neither Speech nor Panel even started it: they are out of reach (a network cut,
+            # both restarting), and the patient heard nothing. Going on would ask for an answer
+            # to an unheard question: wait for them instead (the sentence is in the DSR).
+            if not self._untaken_warned:
+                self._untaken_warned = True
+                self.log.warning(f"no agent took {text!r}: waiting for Speech and Panel")
+                self.port.event(event="warning", message=f"no agent took the sentence: {text}")
+            self._timer = self.port.after(
+                self.times.sentence_timeout(text), lambda: self._sentence_timed_out(token, text)
+            )
+            return
+        self.log.warning(f"no agent finished saying/showing {text!r} in time; going on")
+        self.port.event(event="warning", message=f"sentence not finished in time: {text}")
+        self._complete(token)
 
     # ------------------------------------------------------------------ the actions of the plan
     def _ask_to_sit(self, step: Step) -> None:
@@ -431,7 +447,11 @@ class HighLevelExecutive:
         close = high_to_low.close_answer(self.graph)
         if close is None:
             return  # the answer is already there; _check_wait takes it
-        interrupted = low_to_high.window_interrupted(self.graph)
+        # a listener restarted during the window, or none ever took it (out of reach): what the
+        # patient said was not heard, so the window does not count as silence
+        interrupted = low_to_high.window_interrupted(self.graph) or low_to_high.window_untaken(
+            self.graph
+        )
 
         def closed(r) -> None:
             if not r.accepted:

@@ -71,6 +71,19 @@ def sentence_done(graph: Graph, sid: int) -> bool:
     return bool(spoken and shown and spoken["$sid"] == sid and shown["$sid"] == sid)
 
 
+def sentence_taken(graph: Graph, sid: int) -> bool:
+    """Speech or Panel started sentence ``sid`` (or already finished it): an agent that can
+    reach the DSR took it."""
+    finished = [_first(graph, "speech_finished"), _first(graph, "panel_finished")]
+    return not channels_idle(graph) or any(f and f["$sid"] == sid for f in finished)
+
+
+def window_untaken(graph: Graph) -> bool:
+    """The answer window is open but no agent started listening (``can`` still there): no one
+    could have heard the patient."""
+    return graph.edge("person", "answer", "can") is not None
+
+
 def channels_idle(graph: Graph) -> bool:
     """Neither Speech nor Panel is in the middle of an action (a new sentence may be written)."""
     return _first(graph, "busy_speaking") is None and _first(graph, "busy_showing") is None

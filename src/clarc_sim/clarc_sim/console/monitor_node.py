@@ -53,7 +53,9 @@ def describe_step(event: dict) -> str | None:
     if kind == "skip":
         return f"the patient asked to skip {event['item']}"
     if kind == "window_interrupted":
-        return f"{event['item']}: the answer window was cut by a restart; asked again"
+        return (
+            f"{event['item']}: no one could hear the answer (a restart, a network cut); asked again"
+        )
     if kind == "unanswered":
         return f"{event['item']} left unanswered"
     if kind == "person_lost":

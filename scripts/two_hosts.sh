@@ -1,0 +1,172 @@
+#!/usr/bin/env bash
+# CLARC on two "hosts", as the real robot ran (the Kinect and the microphone on a second PC):
+# two network namespaces joined by a veth pair, with addresses that exist only inside them
+# (nothing is sent anywhere else). Host A runs the DSR server, PELEA and CGAmed (and the
+# monitor); host B the Kinect, Person, microphone, Speech, touch screen, Panel, TTS and the
+# patient. DDS discovers across the link as across a real network. Runs one whole Barthel test,
+# prints it and its result, and exits 0 when the result was stored.
+#
+#   scripts/two_hosts.sh [--scenario FILE] [--partition SECONDS [--at SECONDS]] [--db PATH]
+#                        [--scale X] [--timeout S] [--run-dir DIR]
+#
+#   --partition S   cut the link (100% loss both ways) for S seconds in the middle of the test
+#   --at T          ... T seconds after Start (default 12: during the third item at the fast pace)
+#   --scenario, --db, --scale, --timeout, --run-dir: as scripts/launch.sh
+#
+# Needs root (network namespaces). The namespaces, the link and every process are removed on
+# every exit, Ctrl-C included.
+set -euo pipefail
+if (( 0x$(awk '/^SigIgn/ {print $2}' /proc/$$/status) & 0x2 )); then
+  exec env --default-signal=INT "$0" "$@"  # (see launch.sh: Ctrl-C must reach us)
+fi
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+scenario="$root/scenarios/default.yaml"
+db=""
+scale=0.1
+timeout=300
+run=""
+partition=0
+at=12
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --scenario) scenario=$(realpath "$2"); shift 2 ;;
+    --db) db=$(realpath -m "$2"); shift 2 ;;
+    --scale) scale="$2"; shift 2 ;;
+    --timeout) timeout="$2"; shift 2 ;;
+    --run-dir) run=$(realpath -m "$2"); shift 2 ;;
+    --partition) partition="$2"; shift 2 ;;
+    --at) at="$2"; shift 2 ;;
+    -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
+    *) echo "two_hosts.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+if [ "$(id -u)" != 0 ]; then
+  echo "two_hosts.sh: needs root to make network namespaces (CI runs as root)" >&2
+  exit 2
+fi
+command -v ip > /dev/null || { echo "two_hosts.sh: needs iproute2 (ip)" >&2; exit 2; }
+
+"$root/scripts/setup.sh" | grep -v '^\[setup\] ready' || true
+# shellcheck disable=SC1091
+source "$root/scripts/env.sh"
+patient=$(clarc scenario --patient "$scenario") || exit 2
+[ -n "$run" ] || run="$root/var/runs/two-hosts-$(date +%Y%m%d-%H%M%S)-$$"
+[ -n "$db" ] || db="$run/cgamed.sqlite"
+mkdir -p "$run/log"
+
+# Names and addresses of our own: a /24 inside 10.213.0.0/16 picked by pid, only in the
+# namespaces (no default route: nothing can leave them).
+tag=$(( $$ % 100000 ))
+nsA="dsrA$tag"; nsB="dsrB$tag"; vA="vdA$tag"; vB="vdB$tag"
+net="10.213.$(( $$ % 250 ))"
+export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
+unset ROS_AUTOMATIC_DISCOVERY_RANGE  # SUBNET: discovery goes over the link
+export FASTDDS_BUILTIN_TRANSPORTS=UDPv4  # the hosts share no memory on a real robot either
+export PYTHONUNBUFFERED=1
+
+pids=()
+cleanup() {
+  local code=$?
+  trap - EXIT INT TERM
+  local pid
+  for pid in "${pids[@]}"; do kill -INT "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 30); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$pid" 2>/dev/null || true
+  done
+  ip netns pids "$nsA" 2>/dev/null | xargs -r kill -KILL 2>/dev/null || true
+  ip netns pids "$nsB" 2>/dev/null | xargs -r kill -KILL 2>/dev/null || true
+  ip netns del "$nsA" 2>/dev/null || true  # takes its end of the veth pair, and so the pair
+  ip netns del "$nsB" 2>/dev/null || true
+  exit "$code"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+ip netns add "$nsA"
+ip netns add "$nsB"
+ip link add "$vA" type veth peer name "$vB"
+ip link set "$vA" netns "$nsA"
+ip link set "$vB" netns "$nsB"
+ip -n "$nsA" addr add "$net.1/24" dev "$vA"
+ip -n "$nsB" addr add "$net.2/24" dev "$vB"
+for ns_dev in "$nsA:$vA" "$nsB:$vB"; do
+  ns=${ns_dev%%:*}; dev=${ns_dev#*:}
+  ip -n "$ns" link set lo up
+  ip -n "$ns" link set "$dev" up
+  ip -n "$ns" route add 224.0.0.0/4 dev "$dev"  # DDS discovery is multicast
+done
+
+on() {  # on HOST NAME COMMAND...: a node of the run on host A or B, logged to $run/log/NAME.log
+  local ns=$nsA
+  [ "$1" = B ] && ns=$nsB
+  local name=$2
+  shift 2
+  ip netns exec "$ns" setpriv --pdeathsig KILL -- "$@" >> "$run/log/$name.log" 2>&1 &
+  pids+=($!)
+}
+
+echo "[two_hosts] host A ($nsA, $net.1): dsr_server, pelea, cgamed; host B ($nsB, $net.2): kinect, person, microphone, speech, touchscreen, panel, tts, patient"
+echo "[two_hosts] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID; logs: $run/log"
+scaled=(--ros-args -p time_scale:="$scale")
+on A dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" \
+  -p state_dir:="$run/dsr_state" -p policy_file:="$root/src/clarc_bringup/policy/clarc.yaml"
+ip netns exec "$nsB" dsr graph --timeout 60 > "$run/log/initial_graph.txt" ||
+  { echo "[two_hosts] host B does not reach the DSR server on host A:" >&2; cat "$run/log/dsr_server.log" >&2; exit 1; }
+on B tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
+on B microphone microphone "${scaled[@]}"
+on B touchscreen touchscreen
+on B kinect kinect
+on B person person "${scaled[@]}"
+on B speech speech "${scaled[@]}"
+on B panel panel "${scaled[@]}"
+on B patient patient "${scaled[@]}" -p scenario:="$scenario"
+on A pelea pelea "${scaled[@]}" -p outbox_dir:="$run/pelea_outbox"
+on A cgamed cgamed --ros-args -p db:="$db" -p port:=0
+since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
+ip netns exec "$nsA" clarc start "$patient" --timeout 60 >> "$run/log/start.log" 2>&1 ||
+  { echo "[two_hosts] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
+started=$(date +%s.%N)
+
+# The cut: 100% loss both ways. Each host's routes to the other and to multicast become
+# blackholes, so every packet is dropped as it is sent; the link itself stays up (taking it
+# down also stops Fast DDS from discovering again once it is back up).
+cut() {
+  ip -n "$nsA" route replace blackhole 224.0.0.0/4
+  ip -n "$nsA" route replace blackhole "$net.2/32"
+  ip -n "$nsB" route replace blackhole 224.0.0.0/4
+  ip -n "$nsB" route replace blackhole "$net.1/32"
+}
+mend() {
+  ip -n "$nsA" route del blackhole "$net.2/32"
+  ip -n "$nsA" route replace 224.0.0.0/4 dev "$vA"
+  ip -n "$nsB" route del blackhole "$net.1/32"
+  ip -n "$nsB" route replace 224.0.0.0/4 dev "$vB"
+}
+if [ "$partition" != 0 ]; then
+  (
+    sleep "$at"
+    cut
+    echo "[two_hosts] link cut at $(awk -v s="$started" -v n="$(date +%s.%N)" 'BEGIN {printf "%.1f", n - s}') s after Start, for $partition s"
+    sleep "$partition"
+    mend
+    echo "[two_hosts] link back at $(awk -v s="$started" -v n="$(date +%s.%N)" 'BEGIN {printf "%.1f", n - s}') s after Start"
+  ) &
+  pids+=($!)
+fi
+
+# The monitor (host A) prints the test from the DSR, and which nodes are in reach.
+code=0
+ip netns exec "$nsA" clarc_monitor --ros-args -p timeout:="$timeout.0" -p since:="$since" || code=$?
+if [ "$code" -ne 0 ]; then
+  echo "[two_hosts] the test did not complete (exit $code); see $run/log" >&2
+  exit 1
+fi
+stored=$(clarc results --db "$db" --json | python -c 'import json, sys; print(len(json.load(sys.stdin)))')
+if [ "$stored" -lt 1 ]; then
+  echo "[two_hosts] no result stored in $db" >&2
+  exit 1
+fi
+# How the agents on host B came back: their resynchronisations, from their logs.
+grep -h "resynchronised" "$run"/log/{speech,panel,person}.log 2>/dev/null | sed 's/^/[two_hosts] /' || true
+echo "[two_hosts] test complete; stored in $db (clarc results --db $db)"
