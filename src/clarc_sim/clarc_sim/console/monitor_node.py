@@ -94,7 +94,8 @@ def describe_result(result: dict) -> list[str]:
     return lines
 
 
-REACH_PERIOD = 0.5  # seconds between looks at the ROS graph
+REACH_PERIOD = 0.5  # seconds between looks at the ROS graph and at the server's heartbeat
+SERVER_SILENCE = 2.5  # seconds without the server's heartbeat (sent every second) = out of reach
 ROBOT_NODES = [  # the robot's nodes whose reach the monitor shows
     "/dsr_server",
     "/pelea",
@@ -132,6 +133,7 @@ class Monitor(DsrNode):
         self.dsr = DsrAgent()
         self.course: Course | None = None
         self.reach = Reach(ROBOT_NODES)
+        self._server_silent_since: float | None = None
 
     def setup(self) -> None:
         since = param(self, "since") or datetime.now(UTC).isoformat()
@@ -151,6 +153,19 @@ class Monitor(DsrNode):
         listed = [f"{ns.rstrip('/')}/{name}" for name, ns in self.get_node_names_and_namespaces()]
         for line in self.reach.update(listed):
             self.say(line)
+        # The server's heartbeat (every second) going silent: it died, or the network between
+        # it and this monitor is cut (scripts/two_hosts.sh runs the monitor on the other host).
+        heard = self.dsr.heard
+        if heard is None:
+            return
+        silent = time.monotonic() - heard
+        if silent > SERVER_SILENCE and self._server_silent_since is None:
+            self._server_silent_since = heard
+            self.say(f"the DSR server is out of reach (no heartbeat for {silent:.1f} s)")
+        elif silent <= SERVER_SILENCE and self._server_silent_since is not None:
+            gap = heard - self._server_silent_since
+            self._server_silent_since = None
+            self.say(f"the DSR server is back in reach after {gap:.1f} s")
 
     def say(self, line: str) -> None:
         print(f"[{time.monotonic() - self.t0:6.1f}s] {line}", flush=True)

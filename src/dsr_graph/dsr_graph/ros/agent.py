@@ -55,6 +55,7 @@ class DsrAgent:
         self._unanswered: dict[str, tuple[str, float]] = {}  # id -> (request text, last sent)
         self._accepted_before: dict[str, int] = {}  # id -> seq, for requests sent again
         self._boot = ""  # the server's start, from its heartbeat
+        self._heard: float | None = None
         self._outbox: list[str] = []
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
@@ -194,7 +195,13 @@ class DsrAgent:
             if callback is not None:
                 callback(Result(ident, False, reason=doc.get("reason"), error=doc.get("error", "")))
 
+    @property
+    def heard(self) -> float | None:
+        """When the server's heartbeat was last heard (time.monotonic()), None before."""
+        return self._heard
+
     def _on_heartbeat(self, msg: String) -> None:
+        self._heard = time.monotonic()
         try:
             beat = json.loads(msg.data)
             self.replica.observe_server_seq(int(beat["seq"]))

@@ -1,0 +1,74 @@
+"""CLARC on two hosts (scripts/two_hosts.sh): two network namespaces joined by a veth pair, the
+DSR server, PELEA and CGAmed on one, the devices and their agents on the other; the link is cut
+for 5 s in the middle of the test, and the test still completes with the result of an
+undisturbed run, no answer lost or counted twice, and the monitor shows the cut."""
+
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from ros_processes import fresh_domain_id
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def namespaces_possible() -> str:
+    """Why network namespaces cannot be made here ("" when they can)."""
+    if os.geteuid() != 0:
+        return "network namespaces need root"
+    if not shutil.which("ip"):
+        return "iproute2 (ip) is not installed"
+    probe = f"dsrprobe{os.getpid()}"
+    made = subprocess.run(["ip", "netns", "add", probe], capture_output=True, text=True)
+    subprocess.run(["ip", "netns", "del", probe], capture_output=True)
+    return "" if made.returncode == 0 else f"ip netns add failed: {made.stderr.strip()}"
+
+
+def test_a_cut_between_the_hosts_loses_no_answer(tmp_path):
+    why = namespaces_possible()
+    if why:
+        print(f"skipped: {why}")
+        pytest.skip(why)
+    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    run = subprocess.run(
+        [
+            str(REPO / "scripts" / "two_hosts.sh"),
+            "--partition",
+            "5",
+            "--at",
+            "12",
+            "--run-dir",
+            str(tmp_path / "run"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=400,
+        env=env,
+    )
+    out = run.stdout
+    logs = "\n".join(
+        f"--- {p.name}\n{p.read_text()[-1500:]}"
+        for p in sorted((tmp_path / "run" / "log").glob("*"))
+    )
+    assert run.returncode == 0, out[-4000:] + run.stderr[-2000:] + logs
+    assert "link cut at" in out and "link back at" in out
+    assert "the DSR server is out of reach" in out and "back in reach after" in out
+    listed = subprocess.run(
+        ["clarc", "results", "--db", str(tmp_path / "run" / "cgamed.sqlite"), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
+    )
+    [stored] = json.loads(listed.stdout)
+    # the default scenario's undisturbed result (test_barthel_scenarios.py)
+    assert stored["total"] == 80 and stored["unanswered"] == ["grooming"]
+    points = {i["item"]: (i["points"], i["via"]) for i in stored["items"]}
+    assert points["dressing"] == (5, "voice") and points["stairs"] == (5, "touch")
+    assert not subprocess.run(["ip", "netns", "list"], capture_output=True, text=True).stdout.count(
+        "dsrA"
+    ), "the namespaces were left behind"
