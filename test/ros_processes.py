@@ -142,3 +142,25 @@ def send_and_wait(ros, agent, doc, timeout=10):
     agent.send(doc, results.append)
     wait_for(lambda: results, timeout, "a verdict", ros.session)
     return results[0]
+
+
+def run_robot(script, *args, run_dir, timeout=240, env=None):
+    """Run one of the README's scripts (launch.sh, two_hosts.sh) with ``--run-dir run_dir`` in a
+    ROS domain of its own, bounded; asserts it exited 0, showing its output and the tail of every
+    log of the run if not. Returns the finished process."""
+    repo = Path(__file__).resolve().parents[1]
+    env = env or dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    done = subprocess.run(
+        [str(repo / "scripts" / script), *map(str, args), "--run-dir", str(run_dir)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        env=env,
+    )
+    if done.returncode != 0:
+        logs = "\n".join(
+            f"--- {p.name}\n{p.read_text(errors='replace')[-2000:]}"
+            for p in sorted((Path(run_dir) / "log").glob("*.log"))
+        )
+        raise AssertionError(done.stdout[-4000:] + done.stderr[-2000:] + logs)
+    return done

@@ -122,32 +122,22 @@ EXPECTED = {
 
 @pytest.mark.parametrize("scenario", sorted(EXPECTED))
 def test_scenario_through_the_launch(scenario, tmp_path):
-    from ros_processes import fresh_domain_id
+    from ros_processes import fresh_domain_id, run_robot
 
     db = tmp_path / "cgamed.sqlite"
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    run = subprocess.run(
-        [
-            str(REPO / "scripts" / "launch.sh"),
-            "--scenario",
-            str(REPO / "scenarios" / scenario),
-            "--db",
-            str(db),
-            "--timeout",
-            "150",
-            "--run-dir",
-            str(tmp_path / "run"),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=240,
+    scenario_file = REPO / "scenarios" / scenario
+    run = run_robot(
+        "launch.sh",
+        "--scenario",
+        scenario_file,
+        "--db",
+        db,
+        "--timeout",
+        "150",
+        run_dir=tmp_path / "run",
         env=env,
     )
-    logs = "\n".join(
-        f"--- {p.name}\n{p.read_text()[-3000:]}"
-        for p in sorted((tmp_path / "run" / "log").glob("*.log"))
-    )
-    assert run.returncode == 0, run.stdout[-4000:] + run.stderr[-2000:] + logs
     assert "RESULT" in run.stdout and "Barthel index" in run.stdout
     listed = subprocess.run(
         ["clarc", "results", "--db", str(db), "--json"],

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from browser import chromium_page, free_port
-from ros_processes import fresh_domain_id, wait_for
+from ros_processes import run_robot, wait_for
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
@@ -53,29 +53,16 @@ def server_graph_at_end(state_dir: Path) -> dict:
 @pytest.fixture(scope="module")
 def recorded_run(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("recorded")
-    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    run = subprocess.run(
-        [
-            str(REPO / "scripts" / "launch.sh"),
-            "--record",
-            str(tmp / "run.mcap"),
-            "--db",
-            str(tmp / "cgamed.sqlite"),
-            "--run-dir",
-            str(tmp / "run"),
-            "--timeout",
-            "150",
-        ],
-        capture_output=True,
-        text=True,
-        timeout=240,
-        env=env,
+    run = run_robot(
+        "launch.sh",
+        "--record",
+        tmp / "run.mcap",
+        "--db",
+        tmp / "cgamed.sqlite",
+        "--timeout",
+        "150",
+        run_dir=tmp / "run",
     )
-    logs = "\n".join(
-        f"--- {p.name}\n{p.read_text()[-2000:]}"
-        for p in sorted((tmp / "run" / "log").glob("*.log"))
-    )
-    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-2000:] + logs
     assert "[launch] recorded " in run.stdout and str(tmp / "run.mcap") in run.stdout
     return tmp
 
