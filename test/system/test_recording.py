@@ -179,3 +179,27 @@ def test_a_killed_recorder_leaves_what_it_flushed(ros, tmp_path):
     assert ros.procs.stop("recorder2") == 0
     assert replay_history(tmp_path / "cut.1.mcap").seq == 5
     assert replay_history(tmp_path / "cut.mcap").seq == 5
+
+
+def test_dsr_writers_reads_the_run_and_the_shipped_policy_allows_what_was_written(recorded_run):
+    import yaml
+
+    from dsr_graph.model.policy import Policy
+
+    drafted = subprocess.run(
+        ["dsr", "writers", str(recorded_run / "run.mcap"), "--policy"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert drafted.returncode == 0, drafted.stderr
+    draft = Policy.from_doc(yaml.safe_load(drafted.stdout))
+    wrote = {rule.name for rule in draft.rules}
+    assert {"/pelea", "/speech", "/panel", "/person"} <= wrote
+    shipped = Policy.load(str(REPO / "src" / "clarc_bringup" / "policy" / "clarc.yaml"))
+    for rule in draft.rules:  # every write of the run is one the shipped policy allows
+        allowed = shipped.rule_for(rule.name)
+        assert allowed is not None, rule.name
+        for kind in ("nodes", "edges", "attributes"):
+            for name in getattr(rule, kind):
+                assert allowed.may(kind, name), (rule.name, kind, name)

@@ -22,7 +22,7 @@ import rclpy
 
 from clarc_agents import topics
 from clarc_agents.course import Course
-from clarc_sim.console.reach import Reach
+from clarc_sim.console.reach import HeartbeatSilence, Reach
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -133,7 +133,7 @@ class Monitor(DsrNode):
         self.dsr = DsrAgent()
         self.course: Course | None = None
         self.reach = Reach(ROBOT_NODES)
-        self._server_silent_since: float | None = None
+        self.silence = HeartbeatSilence(SERVER_SILENCE)
 
     def setup(self) -> None:
         since = param(self, "since") or datetime.now(UTC).isoformat()
@@ -153,19 +153,10 @@ class Monitor(DsrNode):
         listed = [f"{ns.rstrip('/')}/{name}" for name, ns in self.get_node_names_and_namespaces()]
         for line in self.reach.update(listed):
             self.say(line)
-        # The server's heartbeat (every second) going silent: it died, or the network between
-        # it and this monitor is cut (scripts/two_hosts.sh runs the monitor on the other host).
-        heard = self.dsr.heard
-        if heard is None:
-            return
-        silent = time.monotonic() - heard
-        if silent > SERVER_SILENCE and self._server_silent_since is None:
-            self._server_silent_since = heard
-            self.say(f"the DSR server is out of reach (no heartbeat for {silent:.1f} s)")
-        elif silent <= SERVER_SILENCE and self._server_silent_since is not None:
-            gap = heard - self._server_silent_since
-            self._server_silent_since = None
-            self.say(f"the DSR server is back in reach after {gap:.1f} s")
+        # (scripts/two_hosts.sh runs the monitor on the other host than the server's)
+        line = self.silence.update(self.dsr.heard, time.monotonic())
+        if line:
+            self.say(line)
 
     def say(self, line: str) -> None:
         print(f"[{time.monotonic() - self.t0:6.1f}s] {line}", flush=True)

@@ -1,7 +1,7 @@
-"""Which of the robot's nodes the ROS graph can reach, as it changes (pure): the monitor's way to
-show a node dying or a network cut between hosts. A node counts once it has been seen; it is out
-of reach when the ROS graph stops listing it (DDS drops a participant not heard for its lease
-duration), and back when it is listed again."""
+"""What the monitor can tell about reach, as it changes (pure): which of the robot's nodes the ROS
+graph lists (a node counts once it has been seen; it is out of reach when the graph stops listing
+it, as DDS drops a participant not heard for its lease, and back when listed again), and whether
+the DSR server's heartbeat has gone silent (it died, or the network to it is cut)."""
 
 from __future__ import annotations
 
@@ -27,3 +27,24 @@ class Reach:
         if back:
             lines.append(f"back in reach: {', '.join(sorted(back))}")
         return lines
+
+
+class HeartbeatSilence:
+    """The server's heartbeat going silent for more than ``threshold`` seconds, and coming back."""
+
+    def __init__(self, threshold: float):
+        self.threshold = threshold
+        self.since: float | None = None  # the last beat before the silence
+
+    def update(self, heard: float | None, now: float) -> str | None:
+        """A line to show, given when the last beat was heard (None: never) and the time now."""
+        if heard is None:
+            return None
+        silent = now - heard
+        if silent > self.threshold and self.since is None:
+            self.since = heard
+            return f"the DSR server is out of reach (no heartbeat for {silent:.1f} s)"
+        if silent <= self.threshold and self.since is not None:
+            gap, self.since = heard - self.since, None
+            return f"the DSR server is back in reach after {gap:.1f} s"
+        return None

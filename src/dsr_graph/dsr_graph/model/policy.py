@@ -72,21 +72,17 @@ class Policy:
         if self is OPEN:
             return
         rule = self.rule_for(agent)
-        inserted: dict[str, str] = {}  # nodes inserted earlier in this transaction: their types
-        for i, op in enumerate(ops):
+        for i, op, kind, what in _writes(graph, ops):
             at = f"op {i} ({op.get('op')})"
-            for kind, what in _needs(graph, op, inserted):
-                if rule is None:
-                    _refuse(agent, at, f"no entry of {self.source} names {agent!r}")
-                if not rule.may(kind, what):
-                    _refuse(
-                        agent,
-                        at,
-                        f"{agent!r} may not write {_KIND_TEXT[kind]} {what!r} "
-                        f"({self.source}: entry {rule.name!r} allows {_allowed(rule, kind)})",
-                    )
-            if op.get("op") == "insert_node":
-                inserted[op.get("name")] = op.get("type")
+            if rule is None:
+                _refuse(agent, at, f"no entry of {self.source} names {agent!r}")
+            if not rule.may(kind, what):
+                _refuse(
+                    agent,
+                    at,
+                    f"{agent!r} may not write {_KIND_TEXT[kind]} {what!r} "
+                    f"({self.source}: entry {rule.name!r} allows {_allowed(rule, kind)})",
+                )
 
     # ------------------------------------------------------------------ loading
     @classmethod
@@ -142,23 +138,28 @@ def _needs(graph: Graph, op: dict[str, Any], inserted: dict[str, str]) -> list[t
     return []  # malformed: the transaction's own checks name it
 
 
-def observed_writes(graph: Graph, deltas: list[dict[str, Any]]) -> dict[str, dict[str, set[str]]]:
-    """What each agent wrote in these deltas (applied to ``graph`` in turn, which they change),
-    in the policy's terms: {agent: {"nodes": types, "edges": types, "attributes": names}}. The
-    same reading of ops as ``Policy.check``, so a policy drafted from it allows exactly this."""
+def observe_writes(seen: dict[str, dict[str, set[str]]], graph: Graph, delta: dict[str, Any]):
+    """Add what an accepted delta's agent wrote to ``seen`` ({agent: {"nodes": types, "edges":
+    types, "attributes": names}}), then apply the delta to ``graph``: the same reading of ops as
+    ``Policy.check``, so a policy drafted from ``seen`` allows exactly what was written."""
     from dsr_graph.model.transaction import apply_ops
 
-    seen: dict[str, dict[str, set[str]]] = {}
-    for delta in deltas:
-        mine = seen.setdefault(delta.get("agent", ""), {k: set() for k in _KIND_TEXT})
-        inserted: dict[str, str] = {}
-        for op in delta.get("ops", []):
-            for kind, what in _needs(graph, op, inserted):
-                mine[kind].add(what)
-            if op.get("op") == "insert_node":
-                inserted[op.get("name")] = op.get("type")
-        apply_ops(graph, delta.get("ops", []))
-    return seen
+    mine = seen.setdefault(delta.get("agent", ""), {k: set() for k in _KIND_TEXT})
+    ops = delta.get("ops", [])
+    for _i, _op, kind, what in _writes(graph, ops):
+        mine[kind].add(what)
+    apply_ops(graph, ops)
+
+
+def _writes(graph: Graph, ops: list[dict[str, Any]]):
+    """(op index, op, kind, name) for everything the ops write, read on ``graph`` before they
+    run; a node inserted earlier in the same ops is known by its type."""
+    inserted: dict[str, str] = {}
+    for i, op in enumerate(ops):
+        for kind, what in _needs(graph, op, inserted):
+            yield i, op, kind, what
+        if op.get("op") == "insert_node":
+            inserted[op.get("name")] = op.get("type")
 
 
 def _refuse(agent: str, at: str, message: str) -> None:

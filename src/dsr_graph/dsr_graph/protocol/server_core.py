@@ -116,8 +116,8 @@ class ServerCore:
                 raise TransactionRejected(
                     Violation("malformed", "transaction", f"not JSON: {e}")
                 ) from None
+            ident = _id_of(doc)
             if isinstance(doc, dict):
-                ident = doc["id"] if isinstance(doc.get("id"), str) else ""
                 if sender is None:
                     agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
             return self.submit_doc(doc, now, sender)
@@ -133,14 +133,11 @@ class ServerCore:
     def unattributed(self, text: str, violation: Violation) -> Rejection:
         """The answer to a request whose sender cannot be proven: refused, its id kept (when it
         has one) so that the agent that sent it hears why."""
-        ident = ""
         try:
             doc = json.loads(text) if len(text) <= self.max_request_bytes else None
-            if isinstance(doc, dict) and isinstance(doc.get("id"), str):
-                ident = doc["id"]
         except (ValueError, RecursionError):
-            pass
-        return Rejection(ident, "", violation)
+            doc = None
+        return Rejection(_id_of(doc), "", violation)
 
     def submit_doc(self, doc: Any, now: float, sender: str | None = None) -> dict[str, Any]:
         if sender is not None and isinstance(doc, dict):
@@ -296,3 +293,8 @@ class ServerCore:
         for ident, accepted_at in doc.get("accepted_ids", []):
             core._remember(ident, accepted_at)
         return core
+
+
+def _id_of(doc: Any) -> str:
+    """A request's id, "" when it has none (or is not an object)."""
+    return doc["id"] if isinstance(doc, dict) and isinstance(doc.get("id"), str) else ""

@@ -29,6 +29,7 @@ from typing import Any
 import mcap
 import orjson
 import rclpy
+import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
 from mcap.writer import Writer
 from rclpy.qos import DurabilityPolicy, ReliabilityPolicy
@@ -80,19 +81,24 @@ def _message_class(type_name: str):
 def _qos_yaml(publishers) -> str:
     """The publishers' QoS as rosbag2 stores it in a channel's ``offered_qos_profiles``, so
     ``ros2 bag play`` publishes latched topics latched again."""
-    items = []
-    for p in publishers:
-        q = p.qos_profile
-        items.append(
-            f"- history: {int(q.history)}\n  depth: {int(q.depth)}\n"
-            f"  reliability: {int(q.reliability)}\n  durability: {int(q.durability)}\n"
-            "  deadline: {sec: 2147483647, nsec: 4294967295}\n"
-            "  lifespan: {sec: 2147483647, nsec: 4294967295}\n"
-            f"  liveliness: {int(q.liveliness)}\n"
-            "  liveliness_lease_duration: {sec: 2147483647, nsec: 4294967295}\n"
-            "  avoid_ros_namespace_conventions: false"
-        )
-    return "\n".join(items)
+    forever = {"sec": 2147483647, "nsec": 4294967295}  # rosbag2's "infinite" duration
+    return yaml.safe_dump(
+        [
+            {
+                "history": int(p.qos_profile.history),
+                "depth": int(p.qos_profile.depth),
+                "reliability": int(p.qos_profile.reliability),
+                "durability": int(p.qos_profile.durability),
+                "deadline": forever,
+                "lifespan": forever,
+                "liveliness": int(p.qos_profile.liveliness),
+                "liveliness_lease_duration": forever,
+                "avoid_ros_namespace_conventions": False,
+            }
+            for p in publishers
+        ],
+        sort_keys=False,
+    )
 
 
 class Recorder(DsrNode):

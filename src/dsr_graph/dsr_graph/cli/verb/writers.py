@@ -24,24 +24,20 @@ def run(args: argparse.Namespace) -> int:
     from dsr_graph.exceptions import DsrError
     from dsr_graph.formats import dsr_json
     from dsr_graph.formats.mcap_recording import dsr_events
-    from dsr_graph.model.policy import VERSION, observed_writes
+    from dsr_graph.model.policy import VERSION, observe_writes
 
     merged: dict[str, dict[str, set[str]]] = {}
     counts: dict[str, int] = {}
     try:
         for path in args.recording:
-            graph, batch = None, []
+            graph, seq = None, 0
             for kind, _time, doc in dsr_events(path):
                 if kind == "snapshot":
-                    if graph is not None:
-                        _merge(merged, observed_writes(graph, batch))
-                    graph, _ = dsr_json.snapshot_from_json(doc)
-                    batch = []
-                elif graph is not None:
-                    batch.append(doc)
+                    graph, seq = dsr_json.snapshot_from_json(doc)
+                elif graph is not None and doc["seq"] == seq + 1:  # as replay_history reads it
+                    observe_writes(merged, graph, doc)
+                    seq = doc["seq"]
                     counts[doc.get("agent", "")] = counts.get(doc.get("agent", ""), 0) + 1
-            if graph is not None:
-                _merge(merged, observed_writes(graph, batch))
     except DsrError as e:
         return error(str(e))
     merged.pop(SERVER, None)
@@ -59,10 +55,3 @@ def run(args: argparse.Namespace) -> int:
         for kind, names in kinds.items():
             print(f"  {kind:<11} {', '.join(sorted(names)) or '-'}")
     return 0
-
-
-def _merge(into: dict[str, dict[str, set[str]]], more: dict[str, dict[str, set[str]]]) -> None:
-    for agent, kinds in more.items():
-        mine = into.setdefault(agent, {k: set() for k in kinds})
-        for kind, names in kinds.items():
-            mine[kind] |= names
