@@ -91,6 +91,12 @@ class Port:
     def dsr_boot(self):
         return self.robot.dsr_boot
 
+    def out_of_reach(self):
+        return frozenset(self.robot.bus.unreachable)
+
+    def reach_losses(self):
+        return self.robot.bus.reach_losses
+
     def now(self):
         return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
 

@@ -44,6 +44,12 @@ def test_a_cut_between_the_hosts_loses_no_answer(tmp_path):
     out = run.stdout
     assert "link cut at" in out and "link back at" in out
     assert "the DSR server is out of reach" in out and "back in reach after" in out
+    # and the server told the agents cut off, and when they were back (protocol/presence.py)
+    server_log = (tmp_path / "run" / "log" / "dsr_server.log").read_text()
+    for agent in ("/speech", "/panel", "/person"):
+        assert (
+            f"{agent} is out of reach" in server_log and f"{agent} is back in reach" in server_log
+        )
     listed = subprocess.run(
         ["clarc", "results", "--db", str(tmp_path / "run" / "cgamed.sqlite"), "--json"],
         capture_output=True,

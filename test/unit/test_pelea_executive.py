@@ -332,6 +332,75 @@ def test_a_close_refused_while_no_answer_came_is_tried_again():
     assert refused and items(result)["feeding"] == (5, "voice", 2)
 
 
+HOST_B = ["/speech", "/panel", "/person"]
+
+
+def cut_for(robot, moment, seconds):
+    robot.bus.after(moment, lambda: robot.bus.cut(HOST_B))
+    robot.bus.after(moment + seconds, lambda: robot.bus.mend(HOST_B))
+
+
+@pytest.mark.parametrize("window", range(12))
+@pytest.mark.parametrize("offset, seconds", [(0.5, 9.0), (0.5, 30.0), (7.0, 5.0)])
+def test_a_cut_across_an_answer_window_loses_no_answer_and_counts_none_twice(
+    window, offset, seconds
+):
+    # The link to Speech, Panel and Person's host goes down while a window is open: what the
+    # patient says is heard on that side and held by the link. The window stays open while they
+    # are out of reach, and the answer counts once when it arrives; a silence stays a silence.
+    probe = Robot(EVERY_PATH)
+    expected = probe.run_test()
+    opened = [e["t"] for e in probe.port.events if e["event"] == "listening"][window]
+    robot = Robot(EVERY_PATH)
+    cut_for(robot, opened + offset, seconds)
+    result = robot.run_test()
+    assert len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected), (window, offset, seconds)
+    answers = [e for e in robot.port.events if e["event"] == "answer"]
+    assert len(answers) == len({e["item"] for e in answers})  # none counted twice
+    assert robot.bus.reach_losses == 1 and not robot.bus.unreachable
+
+
+@pytest.mark.parametrize("moment", [5, 23, 77, 101, 141, 199, 241])
+def test_a_five_second_cut_at_any_moment_changes_nothing_in_the_result(moment):
+    expected = undisturbed()
+    robot = Robot(EVERY_PATH)
+    cut_for(robot, moment, 5.0)
+    result = robot.run_test()
+    assert comparable(result) == comparable(expected), moment
+
+
+def test_claims_of_agents_cut_off_end_and_are_taken_again():
+    # Speech holds robot -> speaking while it speaks; cut off, the server ends that claim
+    # (unreachable); back, Speech takes it again while it still speaks.
+    robot = Robot(EVERY_PATH)
+    robot.hle.start(robot.pelea_link.graph, "Carlos")
+    robot.bus.run(until=lambda: robot.bus.core.claims.all(), limit=60)
+    (claim,) = robot.bus.core.claims.all()
+    assert claim.agent == "/speech"
+    robot.bus.cut(HOST_B)
+    robot.bus.run(until=lambda: not robot.bus.core.claims.all(), limit=5)
+    robot.bus.mend(HOST_B)
+    robot.bus.deliver()
+    assert [(c.agent, c.key) for c in robot.bus.core.claims.all()] == [("/speech", claim.key)]
+
+
+def test_a_claim_taken_by_another_during_the_cut_preempts_the_cut_off_action():
+    robot = Robot(EVERY_PATH)
+    robot.hle.start(robot.pelea_link.graph, "Carlos")
+    robot.bus.run(until=lambda: robot.bus.core.claims.all(), limit=60)
+    (claim,) = robot.bus.core.claims.all()
+    robot.bus.cut(HOST_B)
+    robot.bus.run(until=lambda: not robot.bus.core.claims.all(), limit=5)
+    other = robot.bus.agent("/another")
+    other.send({"claim": [{"from": "robot", "to": "speaking"}]})
+    robot.bus.deliver()
+    robot.bus.mend(HOST_B)
+    robot.bus.deliver()
+    assert [(c.agent, c.key) for c in robot.bus.core.claims.all()] == [("/another", claim.key)]
+    assert [ctx.preempted for ctx in robot.speech_runner.running] == [True]
+
+
 def gone_for_a_while(robot, seconds):
     """Speech and Panel out of reach (a network cut between the hosts): nothing reaches them and
     nothing they send arrives, until they come back and take over from the DSR."""

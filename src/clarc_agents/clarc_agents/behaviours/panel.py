@@ -8,7 +8,7 @@ import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
-from clarc_agents.behaviours.early_answer import EarlyAnswer
+from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
 
@@ -18,10 +18,16 @@ class Screen(Protocol):
 
 
 class PanelBehaviour:
-    def __init__(self, screen: Screen, log, now: Callable[[], float] = time.monotonic):
+    def __init__(
+        self,
+        screen: Screen,
+        log,
+        now: Callable[[], float] = time.monotonic,
+        server_gap: Callable[[], tuple[float, float]] = lambda: NO_GAP,
+    ):
         self.screen = screen
         self.log = log
-        self._early = EarlyAnswer(now)  # a tap made just before its window opened
+        self._early = EarlyAnswer(now, server_gap)  # a tap made just before its window opened
 
     def processes(self) -> dict[str, Process]:
         return {"show": self.show, "clear": self.clear}

@@ -16,7 +16,7 @@ from typing import Protocol
 
 from clarc_agents.barthel.answers import understand
 from clarc_agents.barthel.items import BY_KEY
-from clarc_agents.behaviours.early_answer import EarlyAnswer
+from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
@@ -46,6 +46,7 @@ class SpeechBehaviour:
         scale: float = 1.0,
         start_patience: float = 1.0,
         now: Callable[[], float] = time.monotonic,
+        server_gap: Callable[[], tuple[float, float]] = lambda: NO_GAP,
     ):
         self.speaker = speaker
         self.after = after
@@ -56,7 +57,7 @@ class SpeechBehaviour:
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
         self._watchdogs: dict[int, Timer] = {}
-        self._early = EarlyAnswer(now)  # words heard just before their window opened
+        self._early = EarlyAnswer(now, server_gap)  # words heard just before their window opened
 
     def processes(self) -> dict[str, Process]:
         return {"say": self.say, "stop": self.stop, "listen": self.listen}

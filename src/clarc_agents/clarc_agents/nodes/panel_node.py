@@ -26,7 +26,9 @@ class PanelAgent(GrammarAgentNode):
 
     def __init__(self):
         super().__init__()
-        self.behaviour = PanelBehaviour(self, self.get_logger())
+        self.behaviour = PanelBehaviour(
+            self, self.get_logger(), server_gap=lambda: self.dsr.server_gap
+        )
 
     def processes(self) -> dict[str, Process]:
         return self.behaviour.processes()

@@ -107,6 +107,12 @@ class PeleaNode(DsrNode):
     def dsr_boot(self) -> str:
         return self.dsr.boot
 
+    def out_of_reach(self) -> frozenset[str]:
+        return self.dsr.out_of_reach
+
+    def reach_losses(self) -> int:
+        return self.dsr.reach_losses
+
     def now(self) -> str:
         return datetime.now(UTC).isoformat(timespec="milliseconds")
 

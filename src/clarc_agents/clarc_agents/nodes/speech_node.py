@@ -34,6 +34,7 @@ class SpeechAgent(GrammarAgentNode):
             lambda seconds, callback: OneShot(self, seconds, callback),
             self.get_logger(),
             scale=self.scale,
+            server_gap=lambda: self.dsr.server_gap,
         )
 
     def processes(self) -> dict[str, Process]:

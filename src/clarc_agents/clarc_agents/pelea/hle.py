@@ -26,6 +26,7 @@ from clarc_agents.barthel.record import BarthelRecord
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
 from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.presence import PRESENCE_LEASE
 
 # Actions that must not be broken off when the person leaves: the test is over by then.
 CLOSING = ("say-goodbye", "store-result")
@@ -74,12 +75,31 @@ class AnswerWait:
     window: int
     token: int
     boot: str  # the DSR server that opened the window (its heartbeat's boot)
+    losses: int = 0  # how often an agent had gone out of the server's reach when it opened
+
+
+@dataclass
+class Overtime:
+    """What an answer window that timed out still waits for before it is closed (seconds of
+    wall time: these are matters of the network, not of the session)."""
+
+    margin: bool = False  # waited long enough for a cut that had begun to be told
+    away: int = 0  # looks spent waiting for agents out of reach to come back
+    settled: bool = False  # waited for what agents sent during a cut to arrive
 
 
 Wait = SentenceWait | PersonWait | AnswerWait
 
 
 CLOSE_RETRY = 0.2  # seconds before a refused close of an answer window is tried again
+# The server tells a cut-off agent a liveliness lease after the cut began (dsr_graph presence):
+# a window that times out waits that long before it believes the silence.
+PRESENCE_MARGIN = PRESENCE_LEASE + 0.5
+REACH_RECHECK = 0.5  # seconds between looks at whether agents out of reach are back
+CUT_PATIENCE = 60.0  # seconds a window waits for agents out of reach, at most
+# seconds for what agents sent during a cut to arrive once it ends (DDS delivers what it held at
+# once; an agent sends again a request unanswered for 3 s)
+CUT_SETTLE = 4.0
 
 
 class Timer(Protocol):
@@ -96,6 +116,8 @@ class Port(Protocol):
     ) -> None: ...
     def now(self) -> str: ...
     def dsr_boot(self) -> str: ...
+    def out_of_reach(self) -> frozenset[str]: ...  # agents the DSR server cannot hear now
+    def reach_losses(self) -> int: ...  # how often an agent has gone out of its reach
 
 
 class HighLevelExecutive:
@@ -114,6 +136,7 @@ class HighLevelExecutive:
         self._timer: Timer | None = None
         self._pending_say: sentences.Sentence | None = None
         self._untaken_warned = False  # said once per sentence that no agent took it
+        self._sentence_cut = False  # the sentence in progress waited for agents out of reach
         self._say_in_flight = False
         self._stuck = False  # the planner found no plan: do not resume that test again
         # Start requests already taken or refused, as (patient, when pressed): the replica shows
@@ -321,6 +344,7 @@ class HighLevelExecutive:
                 return
             self._pending_say = None
             self._untaken_warned = False
+            self._sentence_cut = False
             self._wait = SentenceWait(sid, token)
             self._timer = self.port.after(
                 self.times.sentence_timeout(sentence.text),
@@ -334,6 +358,18 @@ class HighLevelExecutive:
         if token != self._token:
             return
         wait = self._wait
+        away = self.port.out_of_reach()
+        if isinstance(wait, SentenceWait) and (away or self._sentence_cut):
+            # Cut off while saying it: its end is held on the other side of the link, and
+            # arrives when the link is back.
+            if away and not self._sentence_cut:
+                self.log.warning(f"{', '.join(sorted(away))} out of reach: waiting for {text!r}")
+            self._sentence_cut = bool(away)
+            self._timer = self.port.after(
+                REACH_RECHECK if away else CUT_SETTLE,
+                lambda: self._sentence_timed_out(token, text),
+            )
+            return
         if isinstance(wait, SentenceWait) and not low_to_high.sentence_taken(self.graph, wait.sid):
             # Neither Speech nor Panel even started it: they are out of reach (a network cut,
             # both restarting), and the patient heard nothing. Going on would ask for an answer
@@ -399,7 +435,7 @@ class HighLevelExecutive:
             if not r.accepted:  # the person left at this very moment: _watch_person replans
                 self.log.info(f"could not open the answer window: {r.error}")
                 return
-            wait = AnswerWait(item, window, token, self.port.dsr_boot())
+            wait = AnswerWait(item, window, token, self.port.dsr_boot(), self.port.reach_losses())
             self._wait = wait
             self._timer = self.port.after(
                 self.times(self.times.answer_timeout), lambda: self._answer_timed_out(wait)
@@ -440,17 +476,44 @@ class HighLevelExecutive:
             result.heard = heard
         self.port.send(high_to_low.record_item(result))
 
-    def _answer_timed_out(self, wait: AnswerWait) -> None:
+    def _answer_timed_out(self, wait: AnswerWait, over: Overtime | None = None) -> None:
         item, window, token = wait.item, wait.window, wait.token
+        over = over or Overtime()
         if token != self._token or self.graph is None:
             return
         close = high_to_low.close_answer(self.graph)
         if close is None:
             return  # the answer is already there; _check_wait takes it
-        # a listener restarted during the window, or none ever took it (out of reach): what the
-        # patient said was not heard, so the window does not count as silence
-        interrupted = low_to_high.window_interrupted(self.graph) or low_to_high.window_untaken(
-            self.graph
+
+        def later(seconds: float) -> None:
+            self._timer = self.port.after(seconds, lambda: self._answer_timed_out(wait, over))
+
+        # A network cut between the hosts: what the patient said may be held on the other side
+        # (the listener heard it; its write waits for the link). Keep the window open.
+        if not over.margin:
+            over.margin = True
+            later(PRESENCE_MARGIN)
+            return
+        away = self.port.out_of_reach()
+        if away and over.away * REACH_RECHECK < CUT_PATIENCE:
+            if over.away == 0:
+                message = f"{', '.join(sorted(away))} out of the DSR's reach: the window stays open"
+                self.log.warning(message)
+                self.port.event(event="warning", message=message)
+            over.away += 1
+            later(REACH_RECHECK)
+            return
+        cut = self.port.reach_losses() != wait.losses
+        if cut and not over.settled:
+            over.settled = True
+            later(CUT_SETTLE)
+            return
+        # a listener restarted during the window, none ever took it, or one was cut off for a
+        # while: what the patient said was not heard, so the window does not count as silence
+        interrupted = (
+            cut
+            or low_to_high.window_interrupted(self.graph)
+            or low_to_high.window_untaken(self.graph)
         )
 
         def closed(r) -> None:
@@ -458,7 +521,7 @@ class HighLevelExecutive:
                 # Either an answer won the race (it is in the graph: _check_wait takes it), or
                 # the window changed under the close (Speech re-sent can -> waiting after a
                 # restart of the server): then close it again as it is now.
-                retry = lambda: self._answer_timed_out(wait)  # noqa: E731
+                retry = lambda: self._answer_timed_out(wait, over)  # noqa: E731
                 self._timer = self.port.after(CLOSE_RETRY, retry)
                 return
             # A DSR server that restarted during the window may have lost an answer given then:

@@ -193,7 +193,7 @@ class ClaimTable:
 
 def released(claim: Claim, reason: str, by: str = "") -> dict[str, Any]:
     """The delta record of a claim ending (reason: released, preempted, expired, agent-gone,
-    node-deleted)."""
+    node-deleted, unreachable)."""
     doc = {"target": target_json(claim.key), "agent": claim.agent, "reason": reason}
     if by:
         doc["by"] = by

@@ -10,6 +10,11 @@ simulations.
     speech = bus.agent("/speech")               # send, add_listener, graph, synced, name
     bus.after(2.0, lambda: ...)                 # a timer on the virtual clock
     bus.run(until=lambda: done, limit=600.0)    # deliver and advance time until done
+    bus.cut(["/speech"]); bus.mend(["/speech"]) # a network cut: what crosses it is held
+
+A cut holds what the agents on the far side send and what is sent to them, as DDS does for
+reliable streams, and delivers it in order when it ends; the server counts them out of reach a
+liveliness lease after it began (``presence.py``), and ends their claims (``unreachable``).
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ from typing import Any
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
+from dsr_graph.protocol.presence import PRESENCE_LEASE
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Rejection, Result, ServerCore
 
@@ -47,6 +53,8 @@ class LocalBus:
         self._queue: deque[Callable[[], None]] = deque()
         self._timers: list[tuple[float, int, LocalTimer, Callable[[], None]]] = []
         self._order = itertools.count()
+        self.unreachable: set[str] = set()  # agents the server counts out of reach
+        self.reach_losses = 0  # how often an agent went out of reach (as the heartbeat tells)
 
     def agent(self, name: str) -> LocalAgent:
         """A new agent, synced with the graph as it is now."""
@@ -71,6 +79,35 @@ class LocalBus:
         wire = json.dumps(result)
         for agent in list(self.agents):
             self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
+
+    # ------------------------------------------------------------------ network cuts
+    def cut(self, names: list[str], detect: float = PRESENCE_LEASE) -> None:
+        """The link to these agents goes down: they are told out of reach ``detect`` s later."""
+        cut = [a for a in self.agents if a.name in names and not a.closed]
+        for agent in cut:
+            agent.cut = True
+
+        def told() -> None:
+            away = {a.name for a in cut if a.cut} - self.unreachable
+            if not away:
+                return
+            self.unreachable |= away
+            self.reach_losses += 1
+            held = [c for c in self.core.claims.all() if c.agent in away]
+            delta = self.core.end_claims(held, "unreachable", self.now) if held else None
+            if delta is not None:
+                wire = json.dumps(delta)
+                for agent in list(self.agents):
+                    self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
+
+        self.after(detect, told)
+
+    def mend(self, names: list[str]) -> None:
+        """The link is back: what was held crosses it, in order."""
+        self.unreachable -= set(names)
+        for agent in self.agents:
+            if agent.name in names and agent.cut:
+                agent.mend()
 
     # ------------------------------------------------------------------ time and deliveries
     def soon(self, callback: Callable[[], None]) -> None:
@@ -128,6 +165,9 @@ class LocalAgent:
         self._pending: dict[str, Callable[[Result], None] | None] = {}
         self._count = 0
         self.closed = False
+        self.cut = False
+        self._held_in: list[Callable[[], None]] = []  # what reached the cut, for this agent
+        self._held_out: list[dict[str, Any]] = []  # what this agent sent during a cut
 
     @property
     def graph(self) -> Graph:
@@ -146,6 +186,15 @@ class LocalAgent:
         self._listeners.clear()
         self._pending.clear()
 
+    def mend(self) -> None:
+        self.cut = False
+        held_in, self._held_in = self._held_in, []
+        held_out, self._held_out = self._held_out, []
+        for deliver in held_in:
+            self.bus.soon(deliver)
+        for doc in held_out:
+            self.bus.soon(lambda doc=doc: self.bus.submit(self, doc))
+
     def send(self, doc: dict[str, Any], on_done: Callable[[Result], None] | None = None) -> str:
         if self.closed:
             return ""
@@ -154,11 +203,17 @@ class LocalAgent:
         self._count += 1
         doc.setdefault("id", f"{self.name}:{self.run}:{self._count}")
         self._pending[doc["id"]] = on_done
-        self.bus.submit(self, doc)
+        if self.cut:
+            self._held_out.append(doc)
+        else:
+            self.bus.submit(self, doc)
         return doc["id"]
 
     def receive(self, delta: dict[str, Any]) -> None:
         if self.closed:
+            return
+        if self.cut:
+            self._held_in.append(lambda: self.receive(delta))
             return
         applied = self.replica.receive(delta)
         if applied:
@@ -171,6 +226,9 @@ class LocalAgent:
 
     def rejected(self, verdict: Result) -> None:
         """The verdict of a request that made no new delta: refused, or accepted earlier."""
+        if self.cut:
+            self._held_in.append(lambda: self.rejected(verdict))
+            return
         callback = self._pending.pop(verdict.id, None)
         if callback is not None:
             callback(verdict)

@@ -31,13 +31,14 @@ from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Result
-from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.qos import qos_latched, qos_requests, qos_stream
 from dsr_msgs.srv import GetSnapshot
 
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
 RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
+SERVER_SILENCE = 2.5  # seconds without the server's heartbeat (one a second): out of its reach
 
 
 Listener = Callable[
@@ -56,6 +57,10 @@ class DsrAgent:
         self._accepted_before: dict[str, int] = {}  # id -> seq, for requests sent again
         self._boot = ""  # the server's start, from its heartbeat
         self._heard: float | None = None
+        # the last silence of the server's heartbeat: (last beat before it, first beat after)
+        self.server_gap = (float("-inf"), float("-inf"))
+        self.out_of_reach: frozenset[str] = frozenset()  # agents the server cannot hear now
+        self.reach_losses = 0  # how often an agent went out of the server's reach (heartbeat)
         self._outbox: list[str] = []
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
@@ -73,7 +78,7 @@ class DsrAgent:
         self.node = node
         self.name = node.get_fully_qualified_name()
         # a request topic of our own: the server knows who we are from the ROS graph
-        self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_stream())
+        self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_requests())
         self._delta_sub = node.create_subscription(
             String, topic_names.DELTAS, self._on_delta, qos_stream()
         )
@@ -201,12 +206,20 @@ class DsrAgent:
         return self._heard
 
     def _on_heartbeat(self, msg: String) -> None:
-        self._heard = time.monotonic()
+        now = time.monotonic()
+        if self._heard is not None and now - self._heard > SERVER_SILENCE:
+            self.server_gap = (self._heard, now)  # a cut (or a dead server) ended
+        self._heard = now
         try:
             beat = json.loads(msg.data)
             self.replica.observe_server_seq(int(beat["seq"]))
         except (ValueError, KeyError, TypeError):
             return
+        away = beat.get("unreachable", [])
+        away = frozenset(a for a in away if isinstance(a, str)) if isinstance(away, list) else set()
+        if away - self.out_of_reach:
+            self.reach_losses += 1
+        self.out_of_reach = frozenset(away)
         boot = str(beat.get("boot", ""))
         if self._boot and boot != self._boot and self._unanswered:
             # the server restarted: what it did not answer may have died with it

@@ -1,12 +1,16 @@
 """QoS profiles of the DSR topics, chosen on purpose and named (ROS plumbing)."""
 
+from rclpy.duration import Duration
 from rclpy.qos import (
     DurabilityPolicy,
     HistoryPolicy,
+    LivelinessPolicy,
     QoSProfile,
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
+
+from dsr_graph.protocol.presence import PRESENCE_LEASE
 
 # Deep enough to absorb a burst of a few seconds at benchmark rates; a consumer that still
 # falls behind sees a gap in seq and resynchronises from a snapshot.
@@ -20,6 +24,30 @@ def qos_stream() -> QoSProfile:
         depth=STREAM_DEPTH,
         reliability=ReliabilityPolicy.RELIABLE,
         durability=DurabilityPolicy.VOLATILE,
+    )
+
+
+def qos_requests() -> QoSProfile:
+    """An agent's request topic: a stream whose publisher also offers a short liveliness lease,
+    so the server can tell when it is out of reach (protocol/presence.py). Any subscriber with
+    the default (infinite) lease still matches it."""
+    qos = qos_stream()
+    qos.liveliness = LivelinessPolicy.AUTOMATIC
+    qos.liveliness_lease_duration = Duration(seconds=PRESENCE_LEASE)
+    return qos
+
+
+def qos_presence() -> QoSProfile:
+    """The server's watch on an agent's request topic: only its liveliness matters (the requests
+    come through the stream subscription), so best effort and depth 1. A publisher offering no
+    lease (a foreign node's default QoS) does not match it and is never counted out of reach."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=1,
+        reliability=ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.VOLATILE,
+        liveliness=LivelinessPolicy.AUTOMATIC,
+        liveliness_lease_duration=Duration(seconds=PRESENCE_LEASE),
     )
 
 

@@ -2,18 +2,21 @@
 ``dsr/transactions`` and one ``dsr/transactions/<node name>`` per agent, found as agents appear.
 Each batch of requests taken from a topic comes with the verdict on who sent it, from the ROS
 graph's list of that topic's publishers (asked again whenever their number changes, and at
-least every ``RECHECK`` seconds)."""
+least every ``RECHECK`` seconds). Each agent topic is also watched for its publisher's DDS
+liveliness (``protocol/presence.py``): ``on_presence`` is called when it changes."""
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
 
+from rclpy.event_handler import SubscriptionEventCallbacks
 from std_msgs.msg import String
 
 from dsr_graph.protocol.identity import Publisher, Sender, sender_on
+from dsr_graph.protocol.presence import Presence
 from dsr_graph.protocol.topic_names import TRANSACTIONS
-from dsr_graph.ros.qos import qos_stream
+from dsr_graph.ros.qos import qos_presence, qos_stream
 
 MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
@@ -26,9 +29,17 @@ Batch = Callable[[list[str], Sender, str], None]  # (request texts, sender verdi
 
 
 class RequestTopics:
-    def __init__(self, node, on_batch: Batch, discovery_period: float = 0.2):
+    def __init__(
+        self,
+        node,
+        on_batch: Batch,
+        discovery_period: float = 0.2,
+        on_presence: Callable[[], None] = lambda: None,
+    ):
         self.node = node
         self.on_batch = on_batch
+        self.presence = Presence()
+        self.on_presence = on_presence
         self.shared = node.resolve_topic_name(TRANSACTIONS)
         self.prefix = self.shared + "/"
         self._subs: dict[str, tuple[object, str | None]] = {}  # topic -> (subscription, owner)
@@ -63,6 +74,22 @@ class RequestTopics:
             String, topic, lambda msg, t=topic: self._on_message(t, msg), qos_stream()
         )
         self._subs[topic] = (sub, owner)
+        if owner is not None:
+            self.node.create_subscription(
+                String,
+                topic,
+                lambda msg: None,  # the requests come through the stream subscription
+                qos_presence(),
+                event_callbacks=SubscriptionEventCallbacks(
+                    liveliness=lambda info, t=topic: self._on_liveliness(t, info)
+                ),
+            )
+
+    def _on_liveliness(self, topic: str, info) -> None:
+        owner = self._subs[topic][1]
+        agent = self.sender(topic).agent or f"/{owner}"
+        self.presence.observe(topic, agent, info.alive_count, info.not_alive_count)
+        self.on_presence()
 
     def _on_message(self, topic: str, msg: String) -> None:
         # Group commit: the requests already waiting on this topic go with this one.

@@ -28,7 +28,9 @@ Publishers:
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
     dsr/alarms (std_msgs/String): {kind, topic, intruders, message} when a request topic has a
         publisher that is not its owner (at most one per topic and intruders every 5 s).
-    dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot} (boot: new at each start).
+    dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot, unreachable} (boot: new at
+        each start; unreachable: agents listed in the ROS graph whose request topic's DDS
+        liveliness lapsed, protocol/presence.py; also sent at once when that list changes).
     /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
         node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py).
     dsr/markers (visualization_msgs/MarkerArray, latched): the graph drawn for RViz and
@@ -251,7 +253,7 @@ class DsrServer(DsrNode):
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
         self._alarms = self.create_publisher(String, topic_names.ALARMS, qos_stream())
-        self.requests = RequestTopics(self, self.on_requests)
+        self.requests = RequestTopics(self, self.on_requests, on_presence=self.on_presence)
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
@@ -382,11 +384,38 @@ class DsrServer(DsrNode):
                     [c for c in self.core.claims.all() if c.agent in gone], "agent-gone", now
                 )
             )
-        if ended:
+        ended.append(self._check_presence(now))
+        if any(ended):
             self._accept([d for d in ended if d is not None])
-        beat = {"seq": self.core.seq, "stamp": now, "boot": self._boot}
-        self._heartbeat.publish(String(data=json.dumps(beat)))
+        self._beat(now)
         self._tf.refresh(self.core.graph)
+
+    def on_presence(self) -> None:
+        """An agent's request topic changed liveliness: tell everyone now, not at the next beat."""
+        now = time.time()
+        ended = self._check_presence(now)
+        if ended is not None:
+            self._accept([ended])
+        self._beat(now)
+
+    def _beat(self, now: float) -> None:
+        beat = {"seq": self.core.seq, "stamp": now, "boot": self._boot}
+        beat["unreachable"] = self.requests.presence.away
+        self._heartbeat.publish(String(data=json.dumps(beat)))
+
+    def _check_presence(self, now: float):
+        """The claims of agents out of reach end (protocol/presence.py): a delta, or None."""
+        lost, back = self.requests.presence.update(time.monotonic())
+        for agent in lost:
+            self.get_logger().warning(
+                f"{agent} is out of reach (its request topic's DDS liveliness lapsed: a network "
+                "cut or a frozen process); its claims end until it is back"
+            )
+        for agent, seconds in back:
+            self.get_logger().info(f"{agent} is back in reach after {seconds:.1f} s")
+        away = set(self.requests.presence.away)
+        held = [c for c in self.core.claims.all() if c.agent in away]
+        return self.core.end_claims(held, "unreachable", now) if held else None
 
     def _gone_holders(self, now: float) -> list[str]:
         holders = {c.agent for c in self.core.claims.all()}

@@ -11,6 +11,9 @@ A process is ``process(ctx)``: it returns an outcome ("done", or any name the ru
 knows) or a dict of extra bindings (outcome "done"); or it returns None and calls
 ``ctx.finish(outcome, **bindings)`` later (speech that takes time). If the rule's claims are
 preempted by a higher priority, ``ctx.preempted`` becomes true and ``ctx.on_preempted`` runs.
+A claim the server ended because this agent was out of its reach (``unreachable``: a network
+cut) is taken again while the action still runs; if another agent took it meanwhile, the action
+is preempted.
 
 Pure: the runner talks to the DSR through an ``AgentLink`` (``dsr_graph.ros.agent.DsrAgent`` over
 ROS, ``dsr_graph.protocol.local_bus`` in one process).
@@ -168,13 +171,35 @@ class RuleRunner:
 
     def _note_preemptions(self, delta: dict[str, Any]) -> None:
         for item in delta.get("claims", {}).get("released", []):
-            if item.get("agent") != self.agent.name or item.get("reason") != "preempted":
+            reason = item.get("reason")
+            if item.get("agent") != self.agent.name or reason not in ("preempted", "unreachable"):
                 continue
             key = target_key(item["target"])
             for ctx in self.running:
                 claimed = {target_key(t) for t in ctx.firing.during_tx().get("claim", [])}
-                if key in claimed and not ctx.preempted:
-                    ctx.preempted = True
-                    self.log.warning(f"rule {ctx.rule.name}: claim preempted by {item.get('by')}")
-                    if ctx.on_preempted is not None:
-                        ctx.on_preempted()
+                if key not in claimed or ctx.preempted or ctx.done:
+                    continue
+                if reason == "preempted":
+                    self._preempted(ctx, f"preempted by {item.get('by')}")
+                else:
+                    self._claim_again(ctx, item["target"])
+
+    def _claim_again(self, ctx: ActionContext, target: dict[str, str]) -> None:
+        self.log.warning(
+            f"rule {ctx.rule.name}: claim on {target} ended while we were out of the server's "
+            "reach: taking it again"
+        )
+
+        def done(result) -> None:
+            if not result.accepted and not ctx.done and not ctx.preempted:
+                self._preempted(
+                    ctx, f"taken by another while we were out of reach ({result.error})"
+                )
+
+        self.agent.send({"claim": [target]}, done)
+
+    def _preempted(self, ctx: ActionContext, why: str) -> None:
+        ctx.preempted = True
+        self.log.warning(f"rule {ctx.rule.name}: claim {why}")
+        if ctx.on_preempted is not None:
+            ctx.on_preempted()

@@ -1,0 +1,49 @@
+"""Which agents the server can hear right now (pure; the server feeds it DDS liveliness).
+
+An agent's request publisher offers a short DDS liveliness lease (``PRESENCE_LEASE``, asserted
+by the middleware itself, not by the agent's Python), and the server watches each
+``dsr/transactions/<node name>`` with that lease. A node still listed in the ROS graph whose
+publisher is matched but no longer alive is *out of reach*: a network cut, or a frozen process.
+That is told within the lease, long before DDS drops the participant (its own lease: 2 s on one
+machine, 10 s across hosts in scripts/two_hosts.sh), and it ends as soon as the link is back.
+A node whose participant is dropped altogether is *gone* (the server's agent_grace handles it).
+
+The server ends the claims of an agent out of reach (reason ``unreachable``; the agent takes
+them again when it hears of it) and lists such agents in its heartbeat, so agents on the other
+side of a cut can tell that what the patient said may still be on its way (PELEA).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+PRESENCE_LEASE = 1.0  # seconds: offered by agents' request publishers, requested by the server
+
+
+@dataclass
+class Presence:
+    """Liveliness counts per request topic, and since when each agent has been out of reach."""
+
+    # topic -> (its agent, publishers alive, publishers matched but not alive)
+    _counts: dict[str, tuple[str, int, int]] = field(default_factory=dict)
+    _away_since: dict[str, float] = field(default_factory=dict)  # agent -> when first seen away
+
+    def observe(self, topic: str, agent: str, alive: int, not_alive: int) -> None:
+        """DDS reported the counts of ``topic``'s publishers (``agent``: its owner's name)."""
+        self._counts[topic] = (agent, alive, not_alive)
+
+    def update(self, now: float) -> tuple[list[str], list[tuple[str, float]]]:
+        """(agents newly out of reach, [(agent back in reach, seconds it was away)])."""
+        away = {a for a, alive, not_alive in self._counts.values() if not_alive and not alive}
+        lost = sorted(away - set(self._away_since))
+        back = sorted((a, now - t) for a, t in self._away_since.items() if a not in away)
+        for agent in lost:
+            self._away_since[agent] = now
+        for agent, _ in back:
+            del self._away_since[agent]
+        return lost, back
+
+    @property
+    def away(self) -> list[str]:
+        """Agents out of reach at the last ``update``."""
+        return sorted(self._away_since)

@@ -1,0 +1,63 @@
+"""Reach across a network cut: who the server can hear (protocol/presence.py, from DDS
+liveliness), and an answer given in a cut kept until the link is back (early_answer.py)."""
+
+from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
+from dsr_graph.protocol.presence import Presence
+
+
+def test_an_agent_matched_but_not_alive_is_out_of_reach_until_alive_again():
+    presence = Presence()
+    presence.observe("/dsr/transactions/speech", "/speech", alive=1, not_alive=0)
+    assert presence.update(10.0) == ([], []) and presence.away == []
+    presence.observe("/dsr/transactions/speech", "/speech", alive=0, not_alive=1)
+    assert presence.update(11.0) == (["/speech"], [])
+    assert presence.update(12.0) == ([], [])  # told once
+    assert presence.away == ["/speech"]
+    presence.observe("/dsr/transactions/speech", "/speech", alive=1, not_alive=0)
+    assert presence.update(16.5) == ([], [("/speech", 5.5)])
+    assert presence.away == []
+
+
+def test_a_publisher_no_longer_matched_is_gone_not_out_of_reach():
+    # DDS dropped the participant (its lease ran out, or it exited): the agent_grace of the
+    # server's ROS graph check handles it
+    presence = Presence()
+    presence.observe("/dsr/transactions/panel", "/panel", alive=0, not_alive=1)
+    presence.update(1.0)
+    presence.observe("/dsr/transactions/panel", "/panel", alive=0, not_alive=0)
+    assert presence.update(3.0) == ([], [("/panel", 2.0)])
+    assert presence.away == []
+
+
+def test_a_restarted_agent_alive_next_to_its_lapsed_ghost_is_in_reach():
+    presence = Presence()
+    presence.observe("/dsr/transactions/speech", "/speech", alive=1, not_alive=1)
+    assert presence.update(1.0) == ([], []) and presence.away == []
+
+
+def test_an_answer_given_in_a_cut_waits_for_the_link_to_come_back():
+    # Speech and Panel keep an answer given before its window opened for PATIENCE seconds; in a
+    # network cut that moment counts from when the server is heard again.
+    clock = [0.0]
+    gap = [NO_GAP]
+    early = EarlyAnswer(lambda: clock[0], lambda: gap[0])
+    early.keep(10, "bathing")
+    clock[0] = 6.0  # the heartbeat was last heard at 0.5 and came back at 5.5
+    gap[0] = (0.5, 5.5)
+    assert early.take("bathing") == 10
+    early.keep(10, "bathing")
+    clock[0] = 9.0  # no cut since: 3 s is too late
+    assert early.take("bathing") is None
+
+
+def test_an_answer_stale_before_the_cut_stays_stale():
+    clock, early = [30.0], EarlyAnswer(lambda: 30.0, lambda: (20.0, 29.5))
+    early.keep(5, "stairs")  # kept at 30... after the gap: the usual patience
+    assert early.take("stairs") == 5
+    early = EarlyAnswer(lambda: clock[0], lambda: (20.0, 29.5))
+    clock[0] = 10.0
+    early.keep(5, "stairs")  # 10 s before the link went down
+    clock[0] = 30.0
+    assert early.take("stairs") is None
+    early.keep(5, "feeding")
+    assert early.take("stairs") is None  # another item's answer is never taken
