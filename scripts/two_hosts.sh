@@ -156,7 +156,8 @@ if [ "$partition" != 0 ]; then
     echo "[two_hosts] link cut at $(awk -v s="$started" -v n="$(date +%s.%N)" 'BEGIN {printf "%.1f", n - s}') s after Start, for $partition s"
     sleep "$partition"
     mend
-    echo "[two_hosts] link back at $(awk -v s="$started" -v n="$(date +%s.%N)" 'BEGIN {printf "%.1f", n - s}') s after Start"
+    date +%s.%N > "$run/link_back"
+    echo "[two_hosts] link back at $(awk -v s="$started" -v n="$(cat "$run/link_back")" 'BEGIN {printf "%.1f", n - s}') s after Start"
   ) &
   pids+=($!)
 fi
@@ -174,6 +175,20 @@ if [ "$stored" -lt 1 ]; then
   echo "[two_hosts] no result stored in $db" >&2
   exit 1
 fi
-# How the agents on host B came back: their resynchronisations, from their logs.
-grep -h "resynchronised" "$run"/log/{speech,panel,person}.log 2>/dev/null | sed 's/^/[two_hosts] /' || true
+# How the two sides came back after the cut, from the logs' stamps: when the server heard each
+# agent on host B again, and when each of them had resynchronised its replica.
+if [ -f "$run/link_back" ]; then
+  awk -v back="$(cat "$run/link_back")" '
+    match($0, /\[[0-9]+\.[0-9]+\]/) {
+      t = substr($0, RSTART + 1, RLENGTH - 2) - back
+      if (t < 0) next
+      if ($0 ~ /is back in reach after/) {
+        split($0, w, "]: "); split(w[2], a, " ")
+        printf "[two_hosts] %.1f s after the link came back: the server hears %s again\n", t, a[1]
+      } else if ($0 ~ /resynchronised from a snapshot/ && !done[FILENAME]++) {
+        n = split(FILENAME, f, "/"); sub(/\.log$/, "", f[n])
+        printf "[two_hosts] %.1f s after the link came back: %s resynchronised\n", t, f[n]
+      }
+    }' "$run"/log/{dsr_server,speech,panel,person}.log | sort -t' ' -k2 -n || true
+fi
 echo "[two_hosts] test complete; stored in $db (clarc results --db $db)"

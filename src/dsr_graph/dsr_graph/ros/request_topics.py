@@ -81,7 +81,10 @@ class RequestTopics:
                 lambda msg: None,  # the requests come through the stream subscription
                 qos_presence(),
                 event_callbacks=SubscriptionEventCallbacks(
-                    liveliness=lambda info, t=topic: self._on_liveliness(t, info)
+                    liveliness=lambda info, t=topic: self._on_liveliness(t, info),
+                    # a foreign publisher offering no lease does not match the watch, and
+                    # needs not (its requests come through the stream): no warning for it
+                    incompatible_qos=lambda info: None,
                 ),
             )
 
