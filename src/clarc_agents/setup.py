@@ -23,6 +23,7 @@ setup(
             "speech = clarc_agents.nodes.speech_node:main",
             "panel = clarc_agents.nodes.panel_node:main",
             "person = clarc_agents.nodes.person_node:main",
+            "gait_analyser = clarc_agents.nodes.gait_analyser_node:main",
         ]
     },
     install_requires=["setuptools"],

@@ -8,9 +8,9 @@ ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text"}
 # Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
 PANEL_DISPLAY = "clarc/panel/display"
 PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}
-KINECT_PERSON = (
-    "clarc/kinect/person"  # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}
-)
+# Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}; a skeleton frame adds
+# "stamp" (epoch seconds) and "skeleton": {joint: {"p": [x, y, z] mm, "c": confidence}}
+KINECT_PERSON = "clarc/kinect/person"
 PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
 CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
 CGAMED_NOTIFICATIONS = (

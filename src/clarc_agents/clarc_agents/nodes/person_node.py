@@ -4,7 +4,9 @@
 A person counts as seen after ``seen_frames`` frames with a face and as lost after
 ``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
 written again only when the face moved more than ``move_mm``. Kinect frames give the face in
-millimetres; the DSR holds metres.
+millimetres; the DSR holds metres. A frame with a skeleton (Get Up & Go) places the person at
+the pelvis and every joint under it, in one transaction (``gug/skeleton.py``); one is in flight
+at a time, so when frames come faster than the DSR takes them the newest pose wins.
 
 ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0). Subscriptions:
 clarc/kinect/person. Plus the DSR topics.
@@ -16,6 +18,7 @@ import math
 from typing import Any
 
 from clarc_agents import topics
+from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
@@ -52,6 +55,8 @@ class PersonAgent(GrammarAgentNode):
         self._present_frames = 0
         self._absent_frames = 0
         self._last_face: list[float] | None = None
+        self._skeleton_in_flight = False
+        self.skeletons_skipped = 0
 
     def processes(self) -> dict[str, Process]:
         return {}
@@ -69,6 +74,7 @@ class PersonAgent(GrammarAgentNode):
         present = frame["present"]
         if not isinstance(present, bool):
             raise ValueError(f"present must be true or false, got {present!r}")
+        joints = parse_skeleton(frame["skeleton"]) if present and "skeleton" in frame else None
         face = [float(v) for v in frame["face"]] if present else None
         if face is not None and (len(face) != 3 or not all(math.isfinite(v) for v in face)):
             raise ValueError(f"face must be 3 finite numbers (mm), got {frame['face']!r}")
@@ -76,8 +82,12 @@ class PersonAgent(GrammarAgentNode):
             self._present_frames, self._absent_frames = self._present_frames + 1, 0
             # the Kinect speaks millimetres (its SDK's unit), the DSR metres: converted here, once
             metres = [v / PER_METRE[DEVICE_UNIT] for v in face]
+            if joints is not None:  # the person is where the pelvis is
+                metres = joints["pelvis"][0].tolist()
             pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
-            if not self._with_robot():
+            if self._with_robot() and joints is not None:
+                self._write_skeleton(joints, float(frame.get("stamp", 0.0)))
+            elif not self._with_robot():
                 if self._present_frames >= param(self, "seen_frames"):
                     self.runner.signal("seen", pose=pose)
                     self._last_face = face
@@ -92,6 +102,19 @@ class PersonAgent(GrammarAgentNode):
                 self.runner.signal(
                     "lost"
                 )  # a repeat before the replica catches up is refused (CAS)
+
+    def _write_skeleton(self, joints, stamp: float) -> None:
+        if self._skeleton_in_flight:
+            self.skeletons_skipped += 1
+            return
+        self._skeleton_in_flight = True
+
+        def done(result) -> None:
+            self._skeleton_in_flight = False
+            if not result.accepted:
+                self.get_logger().warning(f"skeleton frame refused: {result.error}")
+
+        self.dsr.send(skeleton_tx(self.dsr.graph, joints, stamp), done)
 
 
 main = main_for(PersonAgent)

@@ -1,23 +1,33 @@
 """The Kinect stand-in: a frame every 1/rate_hz seconds saying whether a person is in front of
 the robot and where their face is (mm, in the Kinect's frame, with a little jitter), following
-the simulated patient.
+the simulated patient. In a Get Up & Go trial (the patient says so on clarc/sim/patient/trial)
+it tracks the whole skeleton instead: skeleton_hz frames per second of the patient's time, each
+with every joint (mm, in the Kinect's frame) and its confidence, the scenario's noise and lost
+frames (``skeleton_frames.py``).
 
-ROS Parameters: rate_hz (50). Subscriptions: clarc/sim/patient/presence (latched).
+ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
+trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
+front of the Get Up & Go chair, facing the walk; default [4500, 0, -1200, pi], the CLARC room's
+gug_chair). Subscriptions: clarc/sim/patient/presence, clarc/sim/patient/trial (latched).
 Publishers: clarc/kinect/person.
 """
 
 from __future__ import annotations
 
+import math
 import random
+import time
 from typing import Any
 
 from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_sim import sim_topics
+from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
+from clarc_sim.patient.gait_motion import Motion
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param
+from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_sensor
 
 
@@ -27,16 +37,37 @@ class KinectStandIn(DsrNode):
     @classmethod
     def declare_node_parameters(cls, node) -> None:
         declare(node, "rate_hz", 50.0, "frames per second", read_only=True, minimum=0.1)
+        declare(
+            node,
+            "skeleton_hz",
+            30.0,
+            "skeleton frames per second of the patient's time",
+            read_only=True,
+            minimum=0.1,
+        )
+        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare(
+            node,
+            "trial_place",
+            [4500.0, 0.0, -1200.0, math.pi],
+            "the Get Up & Go trial's frame in the Kinect's: x, y, z (mm), yaw (rad)",
+            read_only=True,
+        )
 
     def __init__(self):
         super().__init__()
         self.presence: dict[str, Any] = {"present": False, "face": [0.0, 0.0, 0.0]}
+        self.trial: dict[str, Any] | None = None
         self._random = random.Random(7)
 
     def setup(self) -> None:
         self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_sensor())
         subscribe_json(self, sim_topics.PATIENT_PRESENCE, self.on_presence, qos_latched())
+        subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
+        self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
+        scale = float_param(self, "time_scale") or 1.0
+        self.create_timer(scale / float_param(self, "skeleton_hz"), self.on_skeleton_frame)
 
     def on_presence(self, doc: dict[str, Any]) -> None:
         self.presence = {
@@ -44,10 +75,33 @@ class KinectStandIn(DsrNode):
             "face": [float(v) for v in doc.get("face", [0, 0, 0])],
         }
 
+    def on_trial(self, doc: dict[str, Any]) -> None:
+        self.trial = {
+            "motion": Motion(**{k: float(v) for k, v in doc["motion"].items()}),
+            "go": None if doc.get("go") is None else float(doc["go"]),
+            "noise_mm": float(doc.get("noise_mm", 0.0)),
+            "drop_rate": float(doc.get("drop_rate", 0.0)),
+        }
+
     def on_frame(self) -> None:
+        if self.trial is not None and self.presence["present"]:
+            return  # the skeleton frames say it all
         frame: dict[str, Any] = {"present": self.presence["present"]}
         if frame["present"]:
             frame["face"] = [v + self._random.uniform(-5, 5) for v in self.presence["face"]]
+        publish_json(self._frames, frame)
+
+    def on_skeleton_frame(self) -> None:
+        trial = self.trial
+        if trial is None or not self.presence["present"]:
+            return
+        if dropped(self._random, trial["drop_rate"]):
+            return
+        now = time.time()
+        scale = float_param(self, "time_scale") or 1.0
+        t = -1.0 if trial["go"] is None else (now - trial["go"]) / scale
+        joints = skeleton(trial["motion"], t, self.place, self._random, trial["noise_mm"])
+        frame = {"present": True, "face": joints["head"]["p"], "stamp": now, "skeleton": joints}
         publish_json(self._frames, frame)
 
 

@@ -1,28 +1,35 @@
 """The simulated patient: sits in front of CLARC, listens to what it says and answers by voice
-or on the touch screen, stays silent, mumbles or walks away, as its scenario file says.
+or on the touch screen, stays silent, mumbles or walks away, as its scenario file says. In a
+Get Up & Go scenario it sits on the trial's chair and, when it hears "go", does the trial of its
+``motion:`` (the Kinect stand-in draws the body from clarc/sim/patient/trial), walking out of
+view once if the scenario says ``leave``.
 
 ROS Parameters: scenario (path, required), time_scale (1.0), reaction (1.0 s before answering),
 face (mm in the Kinect's frame, default [900, 0, -400]). Subscriptions: clarc/speaker/events.
 Publishers: clarc/sim/patient/voice, clarc/sim/patient/touch, clarc/sim/patient/presence
-(latched).
+(latched), clarc/sim/patient/trial (latched, Get Up & Go).
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from typing import Any
 
 from std_msgs.msg import String
 
 from clarc_agents import topics
+from clarc_agents.gug import sentences as gug
 from clarc_sim import sim_topics
-from clarc_sim.patient.scenario import load
+from clarc_sim.patient.scenario import MOTION_KEYS, load
 from clarc_sim.patient.script import Action, PatientScript
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_graph.ros.timers import OneShot
+
+LEAVE_AWAY = 3.0  # seconds (of the patient's time) out of view when leaving a trial
 
 
 class SimulatedPatient(DsrNode):
@@ -47,6 +54,11 @@ class SimulatedPatient(DsrNode):
         self._voice = self.create_publisher(String, sim_topics.PATIENT_VOICE, qos_stream())
         self._touch = self.create_publisher(String, sim_topics.PATIENT_TOUCH, qos_stream())
         self._presence = self.create_publisher(String, sim_topics.PATIENT_PRESENCE, qos_latched())
+        self.scenario = scenario
+        self._left = False
+        if scenario.test == "get_up_and_go":
+            self._trial = self.create_publisher(String, sim_topics.PATIENT_TRIAL, qos_latched())
+            self._publish_trial(None)
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self._set_present(True)
         self.get_logger().info(f"{scenario.patient} sits in front of the robot ({scenario.source})")
@@ -58,7 +70,36 @@ class SimulatedPatient(DsrNode):
         self.script.present = present
         publish_json(self._presence, {"present": present, "face": list(param(self, "face"))})
 
+    def _publish_trial(self, go: float | None) -> None:
+        s = self.scenario
+        motion = {k: getattr(s.motion, k) for k in MOTION_KEYS}
+        trial = {"motion": motion, "go": go, "noise_mm": s.noise_mm, "drop_rate": s.drop_rate}
+        publish_json(self._trial, trial)
+
+    def _on_gug_speaker(self, event: dict[str, Any]) -> None:
+        if event["event"] != "end" or event["text"] != gug.GO or not self.script.present:
+            return
+        self.get_logger().info(f"hears go: gets up ({self.scenario.motion.total:.1f} s trial)")
+        self._publish_trial(time.time())
+        if self.scenario.leave is not None and not self._left:
+            self._left = True
+            self._later(self.scenario.leave, self._leave_trial)
+
+    def _leave_trial(self) -> None:
+        self.get_logger().info(f"walks out of view for {LEAVE_AWAY} s, then sits down again")
+        self._set_present(False)
+        self._publish_trial(None)  # back on the chair when seen again
+
+        def back() -> None:
+            self.get_logger().info("is back on the chair")
+            self._set_present(True)
+
+        self._later(LEAVE_AWAY, back)
+
     def on_speaker(self, event: dict[str, Any]) -> None:
+        if self.scenario.test == "get_up_and_go":
+            self._on_gug_speaker(event)
+            return
         for action in self.script.heard(str(event["text"]), str(event["event"])):
             self._later(action.delay, lambda a=action: self._do(a))
 

@@ -13,6 +13,18 @@ that names the line (pure; no ROS).
 ``answer`` is the points of the chosen option; ``via`` is voice, touch or silence; ``first`` (what
 happens on the first try) is garbled or silence; ``leave`` is how many seconds (scaled with every
 other time) the patient is away after walking off when the item is introduced.
+
+A Get Up & Go scenario says ``test: get_up_and_go`` (a Barthel one may say ``test: barthel``):
+
+    test: get_up_and_go
+    patient: Carlos
+    motion: {reaction: 1.0, rise: 2.0, walk_out: 4.0, turn: 2.0, walk_back: 4.0, sit: 3.0}
+    noise_mm: 10      # optional: joint noise (standard deviation, mm)
+    drop_rate: 0.1    # optional: share of Kinect frames lost
+    leave: 6.0        # optional: walks out of view this long after "go", once
+
+``motion`` gives the seconds of each part of the trial in the patient's time (all six, each
+positive); their sum is the truth a measured ``tug_seconds`` is checked against.
 """
 
 from __future__ import annotations
@@ -24,6 +36,11 @@ import yaml
 
 from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.exceptions import ScenarioError
+from clarc_sim.patient.gait_motion import Motion
+
+TESTS = ("barthel", "get_up_and_go")
+MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")
+GUG_KEYS = ("test", "patient", "motion", "noise_mm", "drop_rate", "leave")
 
 VIAS = ("voice", "touch", "silence")
 FIRSTS = ("garbled", "silence")
@@ -44,6 +61,11 @@ class Scenario:
     patient: str
     items: dict[str, ItemPlan] = field(default_factory=dict)
     source: str = ""
+    test: str = "barthel"
+    motion: Motion | None = None  # get_up_and_go
+    noise_mm: float = 0.0
+    drop_rate: float = 0.0
+    leave: float | None = None  # seconds after "go" the patient walks out of view
 
     def plan(self, item: str) -> ItemPlan:
         return self.items[item]
@@ -73,8 +95,16 @@ def parse(text: str, source: str = "scenario") -> Scenario:
     if not isinstance(root, yaml.MappingNode):
         raise _err(source, root, 'a scenario is a mapping with "patient" and "items"')
     patient, items_node = None, None
+    test = next((_scalar(v) for k, v in root.value if _scalar(k) == "test"), "barthel")
+    if test not in TESTS:
+        node = next(v for k, v in root.value if _scalar(k) == "test")
+        raise _err(source, node, f"test must be one of {', '.join(TESTS)}, got {test!r}")
+    if test == "get_up_and_go":
+        return _get_up_and_go(source, root)
     for key_node, value_node in root.value:
         key = _scalar(key_node)
+        if key == "test":
+            continue
         if key == "patient":
             patient = _scalar(value_node)
             if not isinstance(patient, str) or not patient.strip():
@@ -154,6 +184,62 @@ def _item(source: str, item: str, node: Any) -> ItemPlan:
     ):
         raise _err(source, leave_node, f"{item}: leave is a number of seconds, got {leave!r}")
     return ItemPlan(item, answer, via, first, None if leave is None else float(leave))
+
+
+def _get_up_and_go(source: str, root: Any) -> Scenario:
+    values = {}
+    for key_node, value_node in root.value:
+        key = _scalar(key_node)
+        if key not in GUG_KEYS:
+            raise _err(
+                source,
+                key_node,
+                f"unknown key {key!r} (a get_up_and_go scenario has {', '.join(GUG_KEYS)})",
+            )
+        values[key] = value_node
+    patient = _scalar(values.get("patient"))
+    if not isinstance(patient, str) or not patient.strip():
+        raise _err(source, values.get("patient", root), '"patient" must be a name')
+    motion_node = values.get("motion")
+    if not isinstance(motion_node, yaml.MappingNode):
+        raise _err(
+            source,
+            motion_node or root,
+            f'"motion" maps {", ".join(MOTION_KEYS)} to seconds of the patient\'s time',
+        )
+    seconds: dict[str, float] = {}
+    for key_node, value_node in motion_node.value:
+        key = _scalar(key_node)
+        if key not in MOTION_KEYS:
+            raise _err(
+                source,
+                key_node,
+                f"motion: unknown key {key!r}; the keys are {', '.join(MOTION_KEYS)}",
+            )
+        seconds[key] = _number(source, value_node, f"motion: {key}", positive=True)
+    missing = [k for k in MOTION_KEYS if k not in seconds]
+    if missing:
+        raise _err(source, motion_node, f"motion: missing {', '.join(missing)}")
+    scenario = Scenario(patient.strip(), source=source, test="get_up_and_go")
+    scenario.motion = Motion(**seconds)
+    if "noise_mm" in values:
+        scenario.noise_mm = _number(source, values["noise_mm"], "noise_mm")
+    if "drop_rate" in values:
+        scenario.drop_rate = _number(source, values["drop_rate"], "drop_rate")
+        if scenario.drop_rate >= 1.0:
+            raise _err(source, values["drop_rate"], "drop_rate is a share of frames below 1")
+    if "leave" in values:
+        scenario.leave = _number(source, values["leave"], "leave")
+    return scenario
+
+
+def _number(source: str, node: Any, what: str, positive: bool = False) -> float:
+    value = _scalar(node)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or value != value:
+        raise _err(source, node, f"{what} must be a number, got {value!r}")
+    if value < 0 or (positive and value == 0):
+        raise _err(source, node, f"{what} must be {'above' if positive else 'at least'} 0")
+    return float(value)
 
 
 def load(path: str) -> Scenario:

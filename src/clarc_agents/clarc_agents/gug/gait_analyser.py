@@ -1,0 +1,136 @@
+"""The gait analyser's logic (pure): it sees only the DSR. While PELEA's ``gait`` node says a
+trial is being timed (``status: timing``, ``go_at``, ``trial``), every new skeleton frame of the
+person becomes a sample in the Get Up & Go chair's frame (kinematic chains ``gug_chair`` ->
+``person_<joint>``); the phase in progress is written as it changes, and once the patient has
+walked and is seated again the whole trial is timed (``phases.time_trial``) and written back:
+``tug_seconds``, ``phase_seconds`` (in ``PHASES`` order), ``band``, ``fall_risk``, ``status:
+timed``. Times are the frames' (``frame_time``, epoch seconds) turned into the patient's time
+with ``scale`` (the session's pace), so a result is the same at any pace.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from clarc_agents.gug.phases import PHASES, NotATrial, Sample, band, fall_risk, sample, time_trial
+from clarc_agents.gug.skeleton import joint_node
+from dsr_graph.exceptions import DsrError
+from dsr_graph.model.graph import Graph
+
+CHAIR = "gug_chair"
+WATCHED = ("pelvis", "hip_left", "hip_right", "shoulder_left", "shoulder_right")
+SEATED_FOR = 1.0  # s of the patient's time seated again before the trial is timed
+ORDER = ("waiting", *PHASES, "done")
+FAR = 1.5  # m from the chair: the patient walked
+
+
+class GaitAnalyser:
+    def __init__(self, scale: float = 1.0):
+        self.scale = scale or 1.0
+        self.trial: Any = None
+        self.go = 0.0
+        self.samples: list[Sample] = []
+        self.phase = ""
+        self._last_frame = None
+        self._written: tuple[Any, str] | None = None  # (trial, phase) last sent
+
+    def on_graph(self, graph: Graph) -> dict[str, Any] | None:
+        """The transaction to send for this state of the graph, if any."""
+        gait = graph.find("gait")
+        if gait is None or gait.attrs.get("status") != "timing":
+            self.trial = None
+            return None
+        if gait.attrs.get("trial") != self.trial:
+            self.trial, self.go = gait.attrs.get("trial"), float(gait.attrs.get("go_at", 0.0))
+            self.samples, self.phase, self._last_frame = [], "waiting", None
+        new = self._take_frame(graph)
+        if new is None:
+            return None
+        timed = self._time_if_seated()
+        if timed is not None:
+            return self._result_tx(timed)
+        phase = self._phase_now()
+        # the phase in progress only moves on (noise must not make it flicker back)
+        if ORDER.index(phase) > ORDER.index(self.phase):
+            self.phase = phase
+            return self._tx({"phase": phase})
+        return None
+
+    # ------------------------------------------------------------------ samples
+    def _take_frame(self, graph: Graph) -> Sample | None:
+        person = graph.find("person")
+        if person is None or graph.find(CHAIR) is None:
+            return None
+        frame = person.attrs.get("frame_time")
+        if frame is None or frame == self._last_frame:
+            return None
+        self._last_frame = frame
+        joints = {}
+        for joint in WATCHED:
+            if graph.find(joint_node(joint)) is None:
+                continue
+            try:
+                joints[joint] = graph.transform(CHAIR, joint_node(joint))[:3, 3]
+            except DsrError:  # not in one tree (yet): no sample from this frame
+                return None
+        s = sample((float(frame) - self.go) / self.scale, joints)
+        if s is not None and s.t >= 0.0:
+            self.samples.append(s)
+            return s
+        return None
+
+    # ------------------------------------------------------------------ the trial
+    def _seated_height(self) -> float:
+        first = [s.height for s in self.samples[:15]]
+        return min(first) if first else 0.0
+
+    def _phase_now(self) -> str:
+        last, seated = self.samples[-1], self._seated_height()
+        walked = any(s.distance > FAR for s in self.samples)
+        turned = abs(last.heading - self.samples[0].heading)
+        turned = min(turned, 2 * 3.141592653589793 - turned)
+        if not walked:
+            return "rise" if last.height > seated + 0.1 else "waiting"
+        if last.distance > FAR and turned < 0.8:
+            return "walk_out"
+        if last.distance > FAR and turned < 2.4:
+            return "turn"
+        if last.distance > 0.5:
+            return "walk_back"
+        return "sit"
+
+    def _time_if_seated(self):
+        if len(self.samples) < 30 or not any(s.distance > FAR for s in self.samples):
+            return None
+        seated, last = self._seated_height(), self.samples[-1]
+        since = [s for s in self.samples if s.t >= last.t - SEATED_FOR]
+        if since[0].t > last.t - SEATED_FOR * 0.9 or any(s.height > seated + 0.05 for s in since):
+            return None
+        try:
+            return time_trial(self.samples, 0.0)
+        except NotATrial:
+            return None
+
+    def _result_tx(self, timed) -> dict[str, Any]:
+        tug = round(timed.tug_seconds, 2)
+        self.phase = "done"
+        return self._tx(
+            {
+                "status": "timed",
+                "phase": "done",
+                "tug_seconds": tug,
+                "phase_seconds": [round(timed.phases[p], 2) for p in PHASES],
+                "band": band(tug),
+                "fall_risk": fall_risk(tug),
+            }
+        )
+
+    def _tx(self, attrs: dict[str, Any]) -> dict[str, Any]:
+        """Written only to the trial it is about, still being timed (compare-and-set)."""
+        return {
+            "preconditions": [
+                {"check": "attr_equals", "node": "gait", "attr": "trial", "value": self.trial},
+                {"check": "attr_equals", "node": "gait", "attr": "status", "value": "timing"},
+            ],
+            "ops": [{"op": "set_node_attrs", "node": "gait", "attrs": attrs}],
+        }

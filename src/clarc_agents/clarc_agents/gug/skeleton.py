@@ -1,0 +1,110 @@
+"""A Kinect skeleton frame as one DSR transaction (pure): the person's pose (the pelvis, turned
+as the body faces) under the Kinect, and each joint as a geometric child of the person, so a
+joint anywhere in the room is one kinematic chain away (``Graph.transform``). The joints'
+confidences go on the person as one vector, and the frame's time as ``frame_time``.
+
+Node names: ``person_<joint>`` (``person_pelvis``, ``person_knee_left``), type ``joint``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from dsr_graph.model.graph import Graph
+
+JOINTS = (
+    "head",
+    "neck",
+    "spine",
+    "pelvis",
+    "shoulder_left",
+    "shoulder_right",
+    "hip_left",
+    "hip_right",
+    "knee_left",
+    "knee_right",
+    "ankle_left",
+    "ankle_right",
+    "foot_left",
+    "foot_right",
+)
+SIDES = (("hip_left", "hip_right"), ("shoulder_left", "shoulder_right"))
+MM = 1000.0
+
+
+def joint_node(joint: str) -> str:
+    return f"person_{joint}"
+
+
+def parse_skeleton(raw: Any) -> dict[str, tuple[np.ndarray, float]]:
+    """{joint: (position in m, confidence)} from a frame's "skeleton" (mm); ValueError naming
+    what is wrong. Unknown joints are an error; missing ones are allowed (not tracked)."""
+    if not isinstance(raw, Mapping):
+        raise ValueError(f"skeleton must map joints to {{p, c}}, got {type(raw).__name__}")
+    out = {}
+    for joint, value in raw.items():
+        if joint not in JOINTS:
+            raise ValueError(f"unknown joint {joint!r}; the joints are {', '.join(JOINTS)}")
+        p = value.get("p") if isinstance(value, Mapping) else None
+        c = value.get("c", 1.0) if isinstance(value, Mapping) else None
+        if (
+            not isinstance(p, list)
+            or len(p) != 3
+            or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in p)
+        ):
+            raise ValueError(f"{joint}: p must be 3 finite numbers (mm), got {p!r}")
+        if isinstance(c, bool) or not isinstance(c, (int, float)) or not 0.0 <= c <= 1.0:
+            raise ValueError(f"{joint}: c must be a confidence from 0 to 1, got {c!r}")
+        out[joint] = (np.array(p, dtype=float) / MM, float(c))
+    if "pelvis" not in out:
+        raise ValueError("a skeleton without its pelvis cannot be placed")
+    return out
+
+
+def heading(joints: Mapping[str, tuple[np.ndarray, float]]) -> float:
+    """Where the body faces (yaw about the vertical, rad) from its hips and shoulders."""
+    lefts = [joints[a][0] - joints[b][0] for a, b in SIDES if a in joints and b in joints]
+    if not lefts:
+        return 0.0
+    left = np.mean(lefts, axis=0)
+    return math.atan2(-left[0], left[1])
+
+
+def skeleton_tx(
+    graph: Graph, joints: Mapping[str, tuple[np.ndarray, float]], stamp: float
+) -> dict[str, Any]:
+    """The transaction writing one frame: person pose under the Kinect, joints under it."""
+    pelvis = joints["pelvis"][0]
+    yaw = heading(joints)
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    ops: list[dict[str, Any]] = [
+        {
+            "op": "set_rt",
+            "from": "kinect",
+            "to": "person",
+            "rt": {"translation": pelvis.round(4).tolist(), "rotation_euler_xyz": [0.0, 0.0, yaw]},
+        },
+        {
+            "op": "set_node_attrs",
+            "node": "person",
+            "attrs": {
+                "frame_time": stamp,
+                "joint_confidence": [joints[j][1] if j in joints else 0.0 for j in JOINTS],
+            },
+        },
+    ]
+    for joint, (p, _) in joints.items():
+        d = p - pelvis  # in the person's frame: turned back by the body's yaw
+        local = [round(c * d[0] - s * d[1], 4), round(s * d[0] + c * d[1], 4), round(d[2], 4)]
+        rt = {"translation": local, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+        name = joint_node(joint)
+        if graph.find(name) is None:
+            ops.append({"op": "insert_node", "name": name, "type": "joint"})
+            ops.append({"op": "insert_edge", "from": "person", "to": name, "type": "RT", "rt": rt})
+        else:
+            ops.append({"op": "set_rt", "from": "person", "to": name, "rt": rt})
+    return {"ops": ops}

@@ -1,0 +1,220 @@
+"""The Get Up & Go test's sensing, without ROS: the patient's body (gait_motion), the Kinect's
+skeleton frames (skeleton_frames), Person's transaction per frame (gug/skeleton.py) on a DSR, and
+the gait analyser timing the trial from the DSR alone (gug/gait_analyser.py, gug/phases.py),
+checked against the scenario's truth with the issue's tolerances: tug_seconds within 0.3 s,
+each phase within 0.4 s, at the default 30 Hz and at any pace."""
+
+import math
+import random
+
+import pytest
+
+from clarc_agents.exceptions import ScenarioError
+from clarc_agents.gug.gait_analyser import GaitAnalyser
+from clarc_agents.gug.phases import PHASES, NotATrial, band, fall_risk, sample, time_trial
+from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
+from clarc_sim.patient.gait_motion import Motion, body_at, joints
+from clarc_sim.patient.scenario import parse
+from dsr_graph.formats.world_files import read_world
+from dsr_graph.protocol.local_bus import LocalBus
+
+from local_clarc import ROOM
+
+NORMAL = Motion(reaction=1.0, rise=1.5, walk_out=3.0, turn=1.5, walk_back=3.0, sit=2.0)
+SLOW = Motion(reaction=2.5, rise=4.0, walk_out=9.0, turn=4.0, walk_back=9.5, sit=5.0)
+BRISK = Motion(reaction=0.4, rise=0.8, walk_out=2.0, turn=0.9, walk_back=2.0, sit=1.1)
+PLACE = TrialPlace(4500.0, 0.0, -1200.0, math.pi)  # the CLARC room's gug_chair, seen by the Kinect
+
+
+def frames(motion, hz=30.0, noise_mm=0.0, drop_rate=0.0, seed=3, after=3.0):
+    """(t, Kinect skeleton) from 1 s before go until ``after`` s after seated again."""
+    rng = random.Random(seed)
+    t = -1.0
+    while t < motion.total + after:
+        if not dropped(rng, drop_rate):
+            yield t, skeleton(motion, t, PLACE, rng, noise_mm)
+        t += 1.0 / hz
+
+
+def within_tolerance(motion, tug, phases):
+    assert abs(tug - motion.total) <= 0.3, (tug, motion.total)
+    for p in PHASES:
+        assert abs(phases[p] - getattr(motion, p)) <= 0.4, (p, phases[p], getattr(motion, p))
+
+
+@pytest.mark.parametrize("motion", [NORMAL, SLOW, BRISK])
+@pytest.mark.parametrize("noise_mm, drop_rate", [(0, 0), (10, 0), (20, 0.2), (30, 0.3)])
+def test_the_phases_from_the_joints_are_within_the_tolerances(motion, noise_mm, drop_rate):
+    samples = []
+    for t, raw in frames(motion, noise_mm=noise_mm, drop_rate=drop_rate):
+        # the analyser sees the joints in the chair's frame: undo the Kinect's placing
+        c, s = math.cos(-PLACE.yaw), math.sin(-PLACE.yaw)
+        chair = {}
+        for name, (p, _) in parse_skeleton(raw).items():
+            x, y, z = p[0] - PLACE.x / 1000, p[1] - PLACE.y / 1000, p[2] - PLACE.z / 1000
+            chair[name] = (c * x - s * y, s * x + c * y, z)
+        samples.append(sample(t, chair))
+    timed = time_trial(samples, 0.0)
+    within_tolerance(motion, timed.tug_seconds, timed.phases)
+    assert abs(timed.reaction - motion.reaction) <= 0.4
+
+
+def test_the_body_rises_walks_turns_and_sits_as_scripted():
+    s = NORMAL.starts()
+    seated, up = body_at(NORMAL, -1.0), body_at(NORMAL, s["walk_out"])
+    assert up.pelvis[2] - seated.pelvis[2] > 0.4 and up.pelvis[0] > seated.pelvis[0]  # up, forward
+    far = body_at(NORMAL, s["turn"])
+    assert far.pelvis[0] - up.pelvis[0] == pytest.approx(3.0)
+    assert body_at(NORMAL, s["walk_back"]).heading == pytest.approx(math.pi)
+    assert body_at(NORMAL, NORMAL.total + 1).pelvis == seated.pelvis
+    # the legs swing in turn while walking: one ankle ahead when the other is behind
+    mid = joints(body_at(NORMAL, s["walk_out"] + 0.3))
+    assert (mid["ankle_left"][0] - mid["pelvis"][0]) * (
+        mid["ankle_right"][0] - mid["pelvis"][0]
+    ) < 0
+
+
+def test_an_unfinished_or_absent_trial_is_not_timed():
+    samples = [
+        sample(t, {k: tuple(v) for k, v in joints(body_at(NORMAL, t)).items()})
+        for t in [i / 30 for i in range(int(30 * 6))]
+    ]  # still walking out at 6 s
+    with pytest.raises(NotATrial):
+        time_trial(samples, 0.0)
+    still = [
+        sample(i / 30, {k: tuple(v) for k, v in joints(body_at(NORMAL, -1)).items()})
+        for i in range(300)
+    ]
+    with pytest.raises(NotATrial, match="did not stand up"):
+        time_trial(still, 0.0)
+
+
+def test_bands_and_fall_risk_follow_the_literature():
+    assert [band(t) for t in (9.9, 10.0, 19.9, 20.0, 29.9, 30.0)] == [
+        "normal",
+        "mostly independent",
+        "mostly independent",
+        "variable mobility",
+        "variable mobility",
+        "impaired mobility",
+    ]
+    assert (fall_risk(13.4), fall_risk(13.5)) == (False, True)
+
+
+# ------------------------------------------------------------------ through the DSR
+def dsr_with_a_seated_person():
+    bus = LocalBus(read_world(ROOM).graph)
+    person = bus.agent("/person")
+    person.send(
+        {
+            "ops": [
+                {
+                    "op": "insert_node",
+                    "name": "person",
+                    "type": "person",
+                    "attrs": {"detected": True},
+                },
+                {
+                    "op": "insert_edge",
+                    "from": "kinect",
+                    "to": "person",
+                    "type": "RT",
+                    "rt": {"translation": [4.35, 0, -0.73], "rotation_euler_xyz": [0, 0, 0]},
+                },
+            ]
+        }
+    )
+    pelea = bus.agent("/pelea")
+    pelea.send(
+        {
+            "ops": [
+                {
+                    "op": "insert_node",
+                    "name": "gait",
+                    "type": "gait",
+                    "attrs": {"status": "timing", "trial": 1, "go_at": 1000.0},
+                }
+            ]
+        }
+    )
+    bus.deliver()
+    return bus, person
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.1])
+@pytest.mark.parametrize("motion, noise_mm, drop_rate", [(NORMAL, 10, 0.1), (SLOW, 20, 0.3)])
+def test_the_gait_analyser_times_the_trial_from_the_dsr_alone(scale, motion, noise_mm, drop_rate):
+    bus, person = dsr_with_a_seated_person()
+    analyser_link = bus.agent("/gait_analyser")
+    analyser = GaitAnalyser(scale=scale)
+    phases_seen = []
+
+    def look(deltas, resynced):
+        tx = analyser.on_graph(analyser_link.graph)
+        if tx is not None:
+            phases_seen.append(tx["ops"][0]["attrs"]["phase"])
+            analyser_link.send(tx)
+
+    analyser_link.add_listener(look)
+    for t, raw in frames(motion, noise_mm=noise_mm, drop_rate=drop_rate):
+        stamp = 1000.0 + t * scale  # the frames' wall time, at this pace
+        person.send(skeleton_tx(person.graph, parse_skeleton(raw), stamp))
+        bus.deliver()
+    gait = bus.core.graph.node("gait").attrs
+    assert gait["status"] == "timed" and gait["phase"] == "done"
+    within_tolerance(
+        motion, gait["tug_seconds"], dict(zip(PHASES, gait["phase_seconds"], strict=True))
+    )
+    assert gait["band"] == band(gait["tug_seconds"])
+    assert gait["fall_risk"] == (gait["tug_seconds"] >= 13.5)
+    assert phases_seen == [*PHASES, "done"]  # each phase written once, in order, as it came
+    # every joint is a geometric child of the person, one chain away from any frame
+    graph = bus.core.graph
+    assert graph.edge("person", "person_knee_left", "RT") is not None
+    assert graph.transform("gug_chair", "person_pelvis")[2, 3] == pytest.approx(0.47, abs=0.1)
+
+
+def test_a_bad_skeleton_is_refused_naming_what_is_wrong():
+    with pytest.raises(ValueError, match="unknown joint 'tail'"):
+        parse_skeleton({"tail": {"p": [0, 0, 0], "c": 1}})
+    with pytest.raises(ValueError, match="knee_left: p must be 3 finite numbers"):
+        parse_skeleton({"pelvis": {"p": [0, 0, 0]}, "knee_left": {"p": [0, float("nan"), 0]}})
+    with pytest.raises(ValueError, match="without its pelvis"):
+        parse_skeleton({"head": {"p": [0, 0, 0], "c": 0.5}})
+    with pytest.raises(ValueError, match="confidence"):
+        parse_skeleton({"pelvis": {"p": [0, 0, 0], "c": 2}})
+
+
+# ------------------------------------------------------------------ scenarios
+GUG = """test: get_up_and_go
+patient: Carlos
+motion: {reaction: 1.0, rise: 2.0, walk_out: 4.0, turn: 2.0, walk_back: 4.0, sit: 3.0}
+noise_mm: 10
+drop_rate: 0.1
+leave: 6.0
+"""
+
+
+def test_a_get_up_and_go_scenario_reads_its_motion():
+    s = parse(GUG)
+    assert s.test == "get_up_and_go" and s.patient == "Carlos"
+    assert s.motion.total == 16.0 and (s.noise_mm, s.drop_rate, s.leave) == (10.0, 0.1, 6.0)
+    assert parse("patient: Ana\n").test == "barthel"
+
+
+@pytest.mark.parametrize(
+    "text, error",
+    [
+        (GUG.replace("turn: 2.0, ", ""), "motion: missing turn"),
+        (GUG.replace("turn: 2.0", "turn: -1"), ":3: motion: turn must be above 0"),
+        (GUG.replace("turn: 2.0", "spin: 2.0"), "unknown key 'spin'"),
+        (GUG.replace("drop_rate: 0.1", "drop_rate: 1.5"), ":5: drop_rate is a share"),
+        (GUG.replace("test: get_up_and_go", "test: tug"), ":1: test must be one of"),
+        (GUG + "items: {}\n", "unknown key 'items'"),
+        (GUG.replace("noise_mm: 10", "noise_mm: loud"), "noise_mm must be a number"),
+    ],
+)
+def test_a_bad_get_up_and_go_scenario_names_the_line(text, error):
+    with pytest.raises(ScenarioError, match=error):
+        parse(text)
