@@ -1,6 +1,6 @@
 """``clarc``: the CLARC command line.
 
-clarc results [--db PATH] [--json]   the stored Barthel tests (CGAmed's results store)
+clarc results [--db PATH] [--json]   the stored tests (CGAmed's results store)
 clarc scenario FILE                  check a scenario file and show what the patient will do
 clarc start PATIENT                  press Start (a running CGAmed-less PELEA hears it)
 """
@@ -36,6 +36,15 @@ def results(args: argparse.Namespace) -> int:
     if not tests:
         print(f"no tests stored in {args.db}")
     for t in tests:
+        if t["test"] == "get_up_and_go":
+            phases = ", ".join(f"{p} {s:.1f} s" for p, s in t["phases"].items())
+            risk = "  [fall risk]" if t["fall_risk"] else ""
+            print(
+                f"#{t['id']} {t['patient']}  {t['started']}  Get Up & Go {t['tug_seconds']:.1f} s"
+                f" ({t['band']}){risk}"
+            )
+            print(f"    {phases}  ({t['trials']} trial{'s' if t['trials'] != 1 else ''})")
+            continue
         flags = [
             f
             for f, on in (

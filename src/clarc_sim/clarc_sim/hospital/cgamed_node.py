@@ -138,10 +138,17 @@ class CgamedStandIn(DsrNode):
             return response
         if self.store.notified("result_stored", response.test_id):
             return response  # the same test sent again (PELEA or CGAmed restarted): stored once
+        if result.get("test") == "get_up_and_go":
+            score = f"{result['tug_seconds']:.1f} s, {result['band']}" + (
+                ", fall risk" if result["fall_risk"] else ""
+            )
+            name = "Get Up & Go"
+        else:
+            score, name = f"{result['total']}/100, {result['band']} dependency", "Barthel"
         self._tell(
             "result_stored",
-            f"The Barthel test of {result['patient']} is stored (test {response.test_id}: "
-            f"{result['total']}/100, {result['band']} dependency); please validate it.",
+            f"The {name} test of {result['patient']} is stored (test {response.test_id}: "
+            f"{score}); please validate it.",
             test_id=response.test_id,
             result=result,
         )

@@ -5,8 +5,13 @@ Default path: $XDG_DATA_HOME/clarc/cgamed.sqlite (usually ~/.local/share/clarc/c
 ``synchronous=FULL`` before it is acknowledged, so an acknowledged result survives any crash.
 Storing the same test again (same patient and start time) returns the id it already has.
 
-Tables: tests (one row per test, with its whole result as JSON), items (one row per item, in
-test order) and notifications (what the clinician was told).
+Tables: tests (one row per test: which test, with its whole result as JSON), items (one row
+per item of a questionnaire, in test order) and notifications (what the clinician was told).
+
+The schema is versioned (SQLite's ``user_version``): a store written by an older version is
+migrated when it is opened, in one transaction, keeping every row (``MIGRATIONS``). Version 0 is
+the store before versions (Barthel only); 1 adds ``tests.test`` and lets a test have no total
+(a timed test, the Get Up & Go, has a time instead).
 """
 
 from __future__ import annotations
@@ -19,15 +24,20 @@ from typing import Any
 
 from clarc_agents.barthel.items import BY_KEY, ORDER, band
 from clarc_agents.exceptions import InvalidResult
+from clarc_agents.gug.phases import PHASES, fall_risk
+from clarc_agents.gug.phases import band as gug_band
 from dsr_graph.formats.default_paths import data_path
 
+VERSION = 1
+TESTS = ("barthel", "get_up_and_go")
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS tests (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
+    test TEXT NOT NULL DEFAULT 'barthel',
     patient TEXT NOT NULL,
     started TEXT NOT NULL,
     finished TEXT,
-    total INTEGER NOT NULL,
+    total INTEGER,
     band TEXT NOT NULL,
     clinician_called INTEGER NOT NULL,
     person_lost INTEGER NOT NULL,
@@ -54,6 +64,32 @@ CREATE TABLE IF NOT EXISTS notifications (
 """
 
 
+# version reached -> the statements that reach it from the one before (run in one transaction)
+MIGRATIONS = {
+    1: [
+        """CREATE TABLE tests_v1 (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            test TEXT NOT NULL DEFAULT 'barthel',
+            patient TEXT NOT NULL,
+            started TEXT NOT NULL,
+            finished TEXT,
+            total INTEGER,
+            band TEXT NOT NULL,
+            clinician_called INTEGER NOT NULL,
+            person_lost INTEGER NOT NULL,
+            result_json TEXT NOT NULL,
+            stored TEXT NOT NULL,
+            UNIQUE (patient, started))""",
+        """INSERT INTO tests_v1 (id, test, patient, started, finished, total, band,
+            clinician_called, person_lost, result_json, stored)
+            SELECT id, 'barthel', patient, started, finished, total, band, clinician_called,
+            person_lost, result_json, stored FROM tests""",
+        "DROP TABLE tests",
+        "ALTER TABLE tests_v1 RENAME TO tests",
+    ],
+}
+
+
 def default_db() -> str:
     """$XDG_DATA_HOME/clarc/cgamed.sqlite"""
     return data_path("clarc", "cgamed.sqlite")
@@ -63,6 +99,11 @@ def check_result(result: Any) -> dict[str, Any]:
     """Refuse a result whose numbers do not add up, before it reaches the clinician."""
     if not isinstance(result, dict):
         raise InvalidResult("a result is a JSON object")
+    test = result.get("test", "barthel")
+    if test not in TESTS:
+        raise InvalidResult(f"unknown test {test!r}; the tests are {', '.join(TESTS)}")
+    if test == "get_up_and_go":
+        return check_timed_result(result)
     for key in ("patient", "started", "items", "total", "band"):
         if key not in result:
             raise InvalidResult(f"missing {key!r}")
@@ -85,6 +126,49 @@ def check_result(result: Any) -> dict[str, Any]:
     return result
 
 
+def check_timed_result(result: dict[str, Any]) -> dict[str, Any]:
+    """A Get Up & Go result: its time, its phases, and the band and fall risk of that time."""
+    for key in ("patient", "started", "tug_seconds", "phases", "band", "fall_risk"):
+        if key not in result:
+            raise InvalidResult(f"missing {key!r}")
+    tug, phases = result["tug_seconds"], result["phases"]
+    if isinstance(tug, bool) or not isinstance(tug, (int, float)) or not 0 < tug < 3600:
+        raise InvalidResult(f"tug_seconds must be a positive number of seconds, got {tug!r}")
+    if not isinstance(phases, dict) or list(phases) != list(PHASES):
+        raise InvalidResult(f"phases must give {', '.join(PHASES)} in that order")
+    if any(
+        isinstance(v, bool) or not isinstance(v, (int, float)) or v < 0 for v in phases.values()
+    ):
+        raise InvalidResult("each phase is a number of seconds")
+    if result["band"] != gug_band(tug) or result["fall_risk"] != fall_risk(tug):
+        raise InvalidResult(
+            f"band/fall_risk {result['band']}/{result['fall_risk']} do not match {tug} s "
+            f"({gug_band(tug)}/{fall_risk(tug)})"
+        )
+    return result
+
+
+def migrate(db: sqlite3.Connection) -> int:
+    """Bring the store to ``VERSION``; the version it had."""
+    had = db.execute("PRAGMA user_version").fetchone()[0]
+    if had > VERSION:
+        raise InvalidResult(f"store schema version {had} is newer than this CLARC's ({VERSION})")
+    fresh = db.execute("SELECT 1 FROM sqlite_master WHERE name = 'tests'").fetchone() is None
+    steps = [] if fresh else [m for v in range(had + 1, VERSION + 1) for m in MIGRATIONS[v]]
+    steps += [stmt for stmt in SCHEMA.split(";") if stmt.strip()]  # and tables a version added
+    # one transaction, DDL included (Python's sqlite3 would commit DDL on its own)
+    db.execute("BEGIN IMMEDIATE")
+    try:
+        for statement in steps:
+            db.execute(statement)
+        db.execute(f"PRAGMA user_version = {VERSION}")
+        db.execute("COMMIT")
+    except BaseException:
+        db.execute("ROLLBACK")
+        raise
+    return had
+
+
 class ResultsStore:
     def __init__(self, path: str, shared: bool = False):
         """``shared``: the connection is made in one thread and used in another (CGAmed makes it
@@ -94,11 +178,11 @@ class ResultsStore:
         self.db = sqlite3.connect(self.path, timeout=10, check_same_thread=not shared)
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=FULL")
-        self.db.executescript(SCHEMA)
         columns = [row[1] for row in self.db.execute("PRAGMA table_info(notifications)")]
-        if "test_id" not in columns:  # a store written before notifications named their test
+        if columns and "test_id" not in columns:  # written before notifications named a test
             with self.db:
                 self.db.execute("ALTER TABLE notifications ADD COLUMN test_id INTEGER")
+        self.migrated_from = migrate(self.db)
 
     def close(self) -> None:
         self.db.close()
@@ -114,13 +198,15 @@ class ResultsStore:
             if row is not None:
                 return row[0]
             cur = self.db.execute(
-                "INSERT INTO tests (patient, started, finished, total, band, clinician_called,"
-                " person_lost, result_json, stored) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                "INSERT INTO tests (test, patient, started, finished, total, band,"
+                " clinician_called, person_lost, result_json, stored)"
+                " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                 (
+                    result.get("test", "barthel"),
                     result["patient"],
                     result["started"],
                     result.get("finished"),
-                    result["total"],
+                    result.get("total"),
                     result["band"],
                     int(bool(result.get("clinician_called"))),
                     int(bool(result.get("person_lost"))),
@@ -129,12 +215,12 @@ class ResultsStore:
                 ),
             )
             test_id = cur.lastrowid
-            self.db.executemany(
+            self.db.executemany(  # none for a timed test
                 "INSERT INTO items (test_id, position, item, points, via, attempts)"
                 " VALUES (?, ?, ?, ?, ?, ?)",
                 [
                     (test_id, n, i["item"], i["points"], i["via"], i["attempts"])
-                    for n, i in enumerate(result["items"], 1)
+                    for n, i in enumerate(result.get("items", []), 1)
                 ],
             )
         return test_id
@@ -156,13 +242,32 @@ class ResultsStore:
     def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
         out = []
-        for test_id, result_json in self.db.execute(
-            "SELECT id, result_json FROM tests ORDER BY id"
+        for test_id, test, result_json in self.db.execute(
+            "SELECT id, test, result_json FROM tests ORDER BY id"
         ):
             result = json.loads(result_json)
+            if test == "get_up_and_go":
+                out.append(
+                    {
+                        "id": test_id,
+                        "test": test,
+                        "patient": result["patient"],
+                        "started": result["started"],
+                        "finished": result.get("finished"),
+                        "tug_seconds": result["tug_seconds"],
+                        "phases": result["phases"],
+                        "band": result["band"],
+                        "fall_risk": result["fall_risk"],
+                        "trials": int(result.get("trials", 1)),
+                        "person_lost": bool(result.get("person_lost")),
+                        "person_lost_count": int(result.get("person_lost_count", 0)),
+                    }
+                )
+                continue
             out.append(
                 {
                     "id": test_id,
+                    "test": test,
                     "patient": result["patient"],
                     "started": result["started"],
                     "finished": result.get("finished"),

@@ -33,7 +33,7 @@ const DESCRIBE = {
   person_lost: () => "the patient left",
   person_back: () => "the patient is back",
   clinician_called: (e) => `you are called (${e.unanswered.join(", ")} unanswered)`,
-  finished: (e) => `finished: ${e.result.total}/100 (${e.result.band})`,
+  finished: (e) => `finished: ${score(e.result)} (${e.result.band})`,
   error: (e) => `error: ${e.message}`,
 };
 const ALERTS = new Set(["person_lost", "clinician_called", "error"]);
@@ -50,23 +50,33 @@ function onStep(e) {
 
 function cell(tr, text) { tr.insertCell().textContent = text; }
 
+const TIMED = "get_up_and_go";
+function score(t) { return t.test === TIMED ? `${t.tug_seconds.toFixed(1)} s` : `${t.total}/100`; }
+function testName(t) { return t.test === TIMED ? "Get Up & Go" : "Barthel"; }
+
 function showResult(t) {
   const div = $("result-detail");
   div.innerHTML = "";
   const h = document.createElement("h3");
-  h.textContent = `Test ${t.id}: ${t.patient}, Barthel ${t.total}/100 (${t.band})`;
+  h.textContent = `Test ${t.id}: ${t.patient}, ${testName(t)} ${score(t)} (${t.band})` +
+    (t.test === TIMED && t.fall_risk ? ", fall risk" : "");
   const table = document.createElement("table");
   table.id = "items";
-  for (const i of t.items) {
+  for (const [phase, seconds] of Object.entries(t.test === TIMED ? t.phases : {})) {
+    const tr = table.insertRow();
+    cell(tr, phase);
+    cell(tr, `${seconds.toFixed(1)} s`);
+  }
+  for (const i of t.items || []) {
     const tr = table.insertRow();
     cell(tr, i.item);
     cell(tr, i.points === null ? "unanswered" : `${i.points} points`);
     cell(tr, i.via || "–");
     cell(tr, `${i.attempts} ${i.attempts === 1 ? "try" : "tries"}`);
   }
-  const history = results.filter((r) => r.patient === t.patient);
+  const history = results.filter((r) => r.patient === t.patient && r.test === t.test);
   const p = document.createElement("p");
-  p.textContent = `History of ${t.patient}: ` + history.map((r) => `${r.started.slice(0, 10)} ${r.total}`).join(", ");
+  p.textContent = `History of ${t.patient} (${testName(t)}): ` + history.map((r) => `${r.started.slice(0, 10)} ${score(r)}`).join(", ");
   div.append(h, table, p);
 }
 
@@ -80,10 +90,11 @@ async function loadResults() {
     cell(tr, String(t.id));
     cell(tr, t.patient);
     cell(tr, t.started.replace("T", " ").slice(0, 19));
-    cell(tr, `${t.total}/100`);
+    cell(tr, `${testName(t)} ${score(t)}`);
     cell(tr, t.band);
     const notes = [];
-    if (t.unanswered.length) notes.push(`${t.unanswered.length} unanswered`);
+    if (t.test === TIMED && t.fall_risk) notes.push("fall risk");
+    if ((t.unanswered || []).length) notes.push(`${t.unanswered.length} unanswered`);
     if (t.clinician_called) notes.push("clinician called");
     if (t.person_lost) notes.push("patient left");
     cell(tr, notes.join(", "));

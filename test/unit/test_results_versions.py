@@ -1,0 +1,108 @@
+"""CGAmed's results store across versions and tests: a store written before schema versions
+(kept as a fixture, written by that code) opens, migrates and loses nothing; Get Up & Go results
+are stored with their time and phases and refused when they do not add up."""
+
+import shutil
+import sqlite3
+from pathlib import Path
+
+import pytest
+
+from clarc_agents.exceptions import InvalidResult
+from clarc_sim.hospital import results_store
+from clarc_sim.hospital.results_store import VERSION, ResultsStore
+
+BEFORE_VERSIONS = Path(__file__).resolve().parents[1] / "fixtures" / "cgamed_before_versions.sqlite"
+
+
+def rows(path):
+    db = sqlite3.connect(path)
+    try:
+        return {
+            table: db.execute(f"SELECT * FROM {table} ORDER BY 1, 2").fetchall()
+            for table in ("items", "notifications")
+        } | {"tests": db.execute("SELECT id, result_json, stored FROM tests").fetchall()}
+    finally:
+        db.close()
+
+
+def test_a_store_written_before_versions_migrates_and_keeps_everything(tmp_path):
+    path = tmp_path / "cgamed.sqlite"
+    shutil.copy(BEFORE_VERSIONS, path)
+    before = rows(path)
+    store = ResultsStore(path)
+    assert store.migrated_from == 0
+    tests = store.tests()
+    assert [t["test"] for t in tests] == ["barthel", "barthel"]
+    assert [(t["patient"], t["total"], t["band"]) for t in tests] == [
+        ("Carlos", 85, "moderate"),
+        ("Ana", 100, "independent"),
+    ]
+    assert tests[0]["unanswered"] == ["grooming"] and tests[0]["person_lost"]
+    store.close()
+    assert rows(path) == before  # every row as it was
+    assert sqlite3.connect(path).execute("PRAGMA user_version").fetchone() == (VERSION,)
+    assert ResultsStore(path).migrated_from == VERSION  # once
+
+
+def test_a_migration_that_fails_leaves_the_store_as_it_was(tmp_path, monkeypatch):
+    path = tmp_path / "cgamed.sqlite"
+    shutil.copy(BEFORE_VERSIONS, path)
+    before = rows(path)
+    broken = {1: [*results_store.MIGRATIONS[1][:3], "THIS IS NOT SQL"]}
+    monkeypatch.setattr(results_store, "MIGRATIONS", broken)
+    with pytest.raises(sqlite3.OperationalError):
+        ResultsStore(path)
+    assert rows(path) == before
+    assert sqlite3.connect(path).execute("PRAGMA user_version").fetchone() == (0,)
+
+
+def test_a_store_from_a_newer_clarc_is_refused(tmp_path):
+    path = tmp_path / "cgamed.sqlite"
+    ResultsStore(path).close()
+    db = sqlite3.connect(path)
+    db.execute(f"PRAGMA user_version = {VERSION + 1}")
+    db.close()
+    with pytest.raises(InvalidResult, match="newer"):
+        ResultsStore(path)
+
+
+def gug(**changes):
+    doc = {
+        "test": "get_up_and_go",
+        "patient": "Carlos",
+        "started": "2026-11-24T10:00:00+00:00",
+        "tug_seconds": 14.2,
+        "phases": {"rise": 1.6, "walk_out": 4.0, "turn": 2.1, "walk_back": 4.0, "sit": 1.5},
+        "band": "mostly independent",
+        "fall_risk": True,
+    }
+    doc.update(changes)
+    return doc
+
+
+def test_a_get_up_and_go_result_is_stored_with_its_time_and_phases(tmp_path):
+    store = ResultsStore(tmp_path / "cgamed.sqlite")
+    first = store.store(gug())
+    assert store.store(gug()) == first
+    [stored] = store.tests()
+    assert stored["test"] == "get_up_and_go" and stored["tug_seconds"] == 14.2
+    assert list(stored["phases"]) == ["rise", "walk_out", "turn", "walk_back", "sit"]
+    assert stored["band"] == "mostly independent" and stored["fall_risk"] is True
+
+
+@pytest.mark.parametrize(
+    "changes, error",
+    [
+        ({"band": "normal"}, "do not match"),
+        ({"fall_risk": False}, "do not match"),
+        ({"tug_seconds": -3}, "positive number"),
+        ({"phases": {"rise": 1.0}}, "rise, walk_out, turn, walk_back, sit"),
+        ({"test": "tug"}, "unknown test 'tug'"),
+    ],
+)
+def test_a_get_up_and_go_result_that_does_not_add_up_is_refused(tmp_path, changes, error):
+    store = ResultsStore(tmp_path / "cgamed.sqlite")
+    with pytest.raises(InvalidResult, match=error):
+        store.store(gug(**changes))
+    assert store.tests() == []
