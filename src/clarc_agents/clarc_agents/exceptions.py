@@ -16,4 +16,10 @@ class ScenarioError(DsrError, ValueError):
 
 
 class InvalidResult(DsrError, ValueError):
-    """A result that does not describe a Barthel test; the message says what is wrong."""
+    """A result that does not describe a test (Barthel or Get Up & Go); the message says what is
+    wrong."""
+
+
+class NotATrial(DsrError, ValueError):
+    """Skeleton samples that do not hold a whole Get Up & Go trial (no rise, no walk, no turn,
+    not seated again); the message says which."""

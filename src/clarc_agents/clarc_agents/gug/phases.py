@@ -21,16 +21,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from clarc_agents.exceptions import NotATrial
+
 PHASES = ("rise", "walk_out", "turn", "walk_back", "sit")
 HIPS = ("pelvis", "hip_left", "hip_right")
 SIDES = (("hip_left", "hip_right"), ("shoulder_left", "shoulder_right"))
 COARSE = 0.1  # s, the first grid of a fit
 FINE = 1.0 / 60.0  # s, the grid it is refined on
 MIN_MOVE = 0.2  # s: no movement of a trial is shorter
-
-
-class NotATrial(ValueError):
-    """The samples do not hold a whole trial (no rise, no walk, no turn, not seated again)."""
 
 
 @dataclass(frozen=True)

@@ -114,10 +114,24 @@ def item_node(item: str) -> str:
     return f"item_{item}"
 
 
-def request_start(patient: str, requested: str) -> dict[str, Any]:
-    """The clinician pressed Start: the request waits on the test node until PELEA takes it."""
-    attrs = {"requested_patient": patient, "requested": requested}
+REQUEST = ("requested_patient", "requested", "requested_test")
+
+
+def request_start(patient: str, requested: str, test: str = "barthel") -> dict[str, Any]:
+    """The clinician pressed Start for a test (``barthel``, ``get_up_and_go``): the request waits
+    on the test node until PELEA takes it."""
+    attrs = {"requested_patient": patient, "requested": requested, "requested_test": test}
     return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
+
+
+def take_request(graph: Graph, patient: str) -> tuple[list[dict], list[dict]]:
+    """(preconditions, ops) taking the Start request for ``patient`` (CAS on it), if any."""
+    test = graph.node("test")
+    if "requested_patient" not in test.attrs:
+        return [], []
+    check = {"check": "attr_equals", "node": "test", "attr": "requested_patient", "value": patient}
+    names = [n for n in REQUEST if n in test.attrs]
+    return [check], [{"op": "remove_node_attrs", "node": "test", "names": names}]
 
 
 def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
@@ -125,15 +139,7 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
     resume after a restart (flags of the steps done, the clinician called, how often the person
     left); one node per item for its answer. A Start request for this patient is taken (CAS)."""
     test = graph.node("test")
-    checks: list[dict[str, Any]] = []
-    ops: list[dict[str, Any]] = []
-    if "requested_patient" in test.attrs:
-        checks.append(
-            {"check": "attr_equals", "node": "test", "attr": "requested_patient", "value": patient}
-        )
-        ops.append(
-            {"op": "remove_node_attrs", "node": "test", "names": ["requested_patient", "requested"]}
-        )
+    checks, ops = take_request(graph, patient)
     stale = [k for k in ("finished",) if k in test.attrs]
     if stale:
         ops.append({"op": "remove_node_attrs", "node": "test", "names": stale})
@@ -143,6 +149,7 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
             "node": "test",
             "attrs": {
                 "patient": patient,
+                "kind": "barthel",
                 "status": "running",
                 "started": started,
                 "item": ORDER[0],
@@ -170,16 +177,10 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
     return {"preconditions": checks, "ops": ops}
 
 
-def refuse_start(patient: str) -> dict[str, Any]:
+def refuse_start(graph: Graph, patient: str) -> dict[str, Any]:
     """A Start while a test runs: the request is dropped (CAS on the same request)."""
-    return {
-        "preconditions": [
-            {"check": "attr_equals", "node": "test", "attr": "requested_patient", "value": patient}
-        ],
-        "ops": [
-            {"op": "remove_node_attrs", "node": "test", "names": ["requested_patient", "requested"]}
-        ],
-    }
+    checks, ops = take_request(graph, patient)
+    return {"preconditions": checks, "ops": ops}
 
 
 def record_item(result: ItemResult) -> dict[str, Any]:

@@ -121,6 +121,8 @@ class Port(Protocol):
 
 
 class HighLevelExecutive:
+    KIND = "barthel"  # the test this executive runs (the Start request's requested_test)
+
     def __init__(self, port: Port, times: Times, log):
         self.port = port
         self.times = times
@@ -187,16 +189,24 @@ class HighLevelExecutive:
         if requested is not None and request in self._handled:
             requested = None
         if not self.running:
-            if low_to_high.test_running(graph) and not self._stuck:
+            # one executive per test: each takes the Starts of its own test, and the one running
+            # a test refuses every other Start
+            running = low_to_high.test_running(graph)
+            ours = low_to_high.running_test(graph) == self.KIND
+            if running and ours and not self._stuck:
                 self.resume(graph)
-            elif requested is not None:
+            elif (
+                requested is not None
+                and low_to_high.requested_test(graph) == self.KIND
+                and not (running and not ours)
+            ):
                 self._handled.add(request)
                 self.start(graph, requested)
             return
         if requested is not None:
             self._handled.add(request)
             self.log.warning(f"Start for {requested} while a test runs: refused")
-            self.port.send(high_to_low.refuse_start(requested))
+            self.port.send(high_to_low.refuse_start(graph, requested))
         self._watch_person(graph)
         if (
             self._pending_say is not None
@@ -210,7 +220,7 @@ class HighLevelExecutive:
     def _replan(self, reason: str) -> None:
         self._cancel_step()
         try:
-            self.plan = decision_support.plan(self.state)
+            self.plan = self._plan(self.state)
         except decision_support.NoPlan as e:
             self.log.error(str(e))
             self.port.event(event="error", message=str(e))
@@ -224,6 +234,13 @@ class HighLevelExecutive:
             first=str(self.plan[0]) if self.plan else "",
         )
         self._next()
+
+    def _plan(self, state: frozenset[str]) -> list[Step]:
+        return decision_support.plan(state)
+
+    def _person_lost_state(self) -> frozenset[str]:
+        """The facts after the person left in the middle of the plan."""
+        return monitoring.person_lost(self.state, self._current_item())
 
     def _next(self) -> None:
         if not self.plan:
@@ -299,7 +316,6 @@ class HighLevelExecutive:
             self.record.person_lost_count += 1
             self.port.send(high_to_low.record_test(person_lost_count=self.record.person_lost_count))
             self.port.event(event="person_lost")
-            item = self._current_item()
             if self.current is not None and self.current.name in CLOSING:
                 self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
                 return
@@ -307,7 +323,7 @@ class HighLevelExecutive:
                 close = high_to_low.close_answer(graph)
                 if close is not None:
                     self.port.send(close)
-            self.state = monitoring.person_lost(self.state, item)
+            self.state = self._person_lost_state()
             self._replan("the person left")
         elif "(person-absent)" in self.state and present:
             if self.current is not None and self.current.name in ("ask-to-sit", "wait-for-person"):

@@ -101,6 +101,16 @@ def start_request(graph: Graph) -> str | None:
     return None if test is None else test.attrs.get("requested_patient")
 
 
+def requested_test(graph: Graph) -> str:
+    """Which test the pending Start is for (a request without one is for the Barthel test)."""
+    return str(graph.node("test").attrs.get("requested_test", "barthel"))
+
+
+def running_test(graph: Graph) -> str:
+    """Which test the test node holds (written before tests had kinds: the Barthel test)."""
+    return str(graph.node("test").attrs.get("kind", "barthel"))
+
+
 def test_running(graph: Graph) -> bool:
     test = graph.find("test")
     return test is not None and test.attrs.get("status") == "running"
