@@ -98,7 +98,10 @@ class Port:
         return self.robot.bus.reach_losses
 
     def now(self):
-        return datetime.fromtimestamp(1_790_000_000 + self.robot.bus.now, UTC).isoformat()
+        return datetime.fromtimestamp(self.epoch(), UTC).isoformat()
+
+    def epoch(self):
+        return 1_790_000_000 + self.robot.bus.now
 
 
 class Robot:

@@ -15,6 +15,7 @@ Clients: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topi
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Callable
 from datetime import UTC, datetime
 from pathlib import Path
@@ -23,6 +24,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
+from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.world_files import write_json_atomically
@@ -74,7 +76,8 @@ class PeleaNode(DsrNode):
             scale=float_param(self, "time_scale"),
             answer_timeout=float_param(self, "answer_timeout"),
         )
-        self.hle = HighLevelExecutive(self, times, self.get_logger())
+        self.hle = HighLevelExecutive(self, times, self.get_logger())  # the Barthel test
+        self.gug = GugExecutive(self, times, self.get_logger())  # the Get Up & Go test
         self.outbox = Path(param(self, "outbox_dir"))
 
     def setup(self) -> None:
@@ -89,7 +92,9 @@ class PeleaNode(DsrNode):
 
     def _on_graph(self, deltas, resynced) -> None:
         # A Start request, a test to resume after a restart, and the test's course: all in the DSR.
-        self.hle.on_graph(self.dsr.graph)
+        # Each executive takes the Starts of its own test; the one running refuses the others.
+        for executive in (self.hle, self.gug):
+            executive.on_graph(self.dsr.graph)
 
     # ------------------------------------------------------------------ the HLE's port
     def send(self, tx: dict[str, Any], on_done=None) -> None:
@@ -112,6 +117,9 @@ class PeleaNode(DsrNode):
 
     def reach_losses(self) -> int:
         return self.dsr.reach_losses
+
+    def epoch(self) -> float:
+        return time.time()
 
     def now(self) -> str:
         return datetime.now(UTC).isoformat(timespec="milliseconds")
@@ -159,7 +167,7 @@ class PeleaNode(DsrNode):
 
     def _flush_outbox(self) -> None:
         """Results left by an earlier run (crash before CGAmed answered) are sent again."""
-        if self.hle.running:
+        if self.hle.running or self.gug.running:
             return
         for path in sorted(self.outbox.glob("*.json")):
             try:

@@ -36,8 +36,8 @@ class Step:
         return (state - self.delete) | self.add
 
 
-def domain_path() -> str:
-    return str(resources.files("clarc_agents").joinpath("data/barthel_domain.pddl"))
+def domain_path(name: str = "barthel") -> str:
+    return str(resources.files("clarc_agents").joinpath(f"data/{name}_domain.pddl"))
 
 
 def problem_pddl(
@@ -58,11 +58,16 @@ def problem_pddl(
 
 def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> list[Step]:
     """The planner's plan from ``state``; ``NoPlan`` if there is none."""
-    fd, problem_file = tempfile.mkstemp(suffix=".pddl", prefix="barthel-problem-")
+    return solve(domain_path(), problem_pddl(state, goal), state, goal)
+
+
+def solve(domain: str, problem: str, state: Iterable[Fact], goal: Iterable[Fact]) -> list[Step]:
+    """The plan pyperplan finds for ``problem`` (PDDL text) in the ``domain`` file."""
+    fd, problem_file = tempfile.mkstemp(suffix=".pddl", prefix="pelea-problem-")
     try:
         with os.fdopen(fd, "w") as f:
-            f.write(problem_pddl(state, goal))
-        parser = Parser(domain_path(), problem_file)
+            f.write(problem)
+        parser = Parser(domain, problem_file)
         problem = parser.parse_problem(parser.parse_domain())
     finally:
         os.unlink(problem_file)

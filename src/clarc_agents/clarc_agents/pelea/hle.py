@@ -115,6 +115,7 @@ class Port(Protocol):
         self, result: dict[str, Any], on_done: Callable[[bool, str], None]
     ) -> None: ...
     def now(self) -> str: ...
+    def epoch(self) -> float: ...  # seconds since the epoch, as the DSR's stamps
     def dsr_boot(self) -> str: ...
     def out_of_reach(self) -> frozenset[str]: ...  # agents the DSR server cannot hear now
     def reach_losses(self) -> int: ...  # how often an agent has gone out of its reach
@@ -122,6 +123,7 @@ class Port(Protocol):
 
 class HighLevelExecutive:
     KIND = "barthel"  # the test this executive runs (the Start request's requested_test)
+    CLOSING = CLOSING
 
     def __init__(self, port: Port, times: Times, log):
         self.port = port
@@ -316,7 +318,7 @@ class HighLevelExecutive:
             self.record.person_lost_count += 1
             self.port.send(high_to_low.record_test(person_lost_count=self.record.person_lost_count))
             self.port.event(event="person_lost")
-            if self.current is not None and self.current.name in CLOSING:
+            if self.current is not None and self.current.name in self.CLOSING:
                 self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
                 return
             if isinstance(self._wait, AnswerWait):

@@ -1,0 +1,337 @@
+"""PELEA's executive for the Get Up & Go test (Timed Up and Go), on the same loop as the
+Barthel test's (``hle.py``: plan -> act -> watch the DSR -> replan on a deviation), with its own
+planning domain (``data/gug_domain.pddl``).
+
+It explains the test, says "go", and waits for the gait analyser's timed result in the DSR's
+``gait`` node; it never sees the skeleton itself. The DSR holds everything a restarted PELEA
+needs: the test node (patient, kind, progress flags) and the gait node (``trial``, ``status``:
+idle, timing, timed or void, ``go_at``; and the analyser's ``phase``, ``tug_seconds``,
+``phase_seconds``, ``band``, ``fall_risk``).
+
+Deviations: the patient leaves during a trial (it is void: they are asked to sit again and the
+trial is repeated), no timed result comes in time (void too), the patient does not come back, or
+no trial is left after ``MAX_TRIALS``: the clinician is called and the test ends untimed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from clarc_agents.barthel.sentences import Sentence
+from clarc_agents.gug import sentences
+from clarc_agents.gug.phases import PHASES
+from clarc_agents.pelea import decision_support, high_to_low, low_to_high
+from clarc_agents.pelea.decision_support import Step
+from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
+from dsr_graph.model.graph import Graph
+
+MAX_TRIALS = 3
+TRIAL_TIMEOUT = 90.0  # s of a session from "go" until a timed result, at most
+ABSENT_TIMEOUT = 60.0  # s of a session the patient may stay away before the clinician is called
+GOAL = ("(said-goodbye)",)
+
+
+@dataclass
+class GugRecord:
+    """What the executive keeps of the test (the rest is on the gait node)."""
+
+    patient: str
+    started: str
+    person_lost_count: int = 0
+    clinician_called: bool = False
+    finished: str | None = None
+
+
+@dataclass(frozen=True)
+class GaitWait:
+    """The gait analyser's timed result of trial ``trial``."""
+
+    trial: int
+    token: int
+
+
+def problem_pddl(state: frozenset[str]) -> str:
+    return (
+        "(define (problem gug-run) (:domain get-up-and-go)\n"
+        f"  (:init {' '.join(sorted(state))})\n"
+        f"  (:goal (and {' '.join(GOAL)})))\n"
+    )
+
+
+def initial_state(person_present: bool) -> frozenset[str]:
+    present = "(person-present)" if person_present else "(person-absent)"
+    return frozenset({"(started)", "(unexplained)", "(trials-left)", present})
+
+
+# ------------------------------------------------------------------ HighToLow for the trial
+def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
+    """The test node says a Get Up & Go test runs; a fresh gait node (a previous test's result
+    goes). Takes the Start request for ``patient`` (CAS)."""
+    checks, ops = high_to_low.take_request(graph, patient)
+    if "finished" in graph.node("test").attrs:
+        ops.append({"op": "remove_node_attrs", "node": "test", "names": ["finished"]})
+    attrs = {
+        "patient": patient,
+        "kind": GugExecutive.KIND,
+        "status": "running",
+        "started": started,
+        "explained": False,
+        "said_goodbye": False,
+        "clinician_called": False,
+        "person_lost_count": 0,
+    }
+    ops.append({"op": "set_node_attrs", "node": "test", "attrs": attrs})
+    if "gait" in graph:
+        ops.append({"op": "delete_node", "node": "gait"})
+    gait = {"status": "idle", "trial": 0, "phase": ""}
+    ops.append({"op": "insert_node", "name": "gait", "type": "gait", "attrs": gait})
+    ops.append({"op": "insert_edge", "from": "test", "to": "gait", "type": "has"})
+    return {"preconditions": checks, "ops": ops}
+
+
+def time_trial(trial: int, go_at: float) -> dict[str, Any]:
+    """Trial ``trial`` begins: the gait analyser times it from ``go_at`` (epoch seconds)."""
+    attrs = {"status": "timing", "trial": trial, "go_at": go_at, "phase": "waiting"}
+    return {"ops": [{"op": "set_node_attrs", "node": "gait", "attrs": attrs}]}
+
+
+def void_trial(trial: int) -> dict[str, Any]:
+    """Trial ``trial`` is abandoned, unless the analyser timed it first (CAS)."""
+    return {
+        "preconditions": [
+            {"check": "attr_equals", "node": "gait", "attr": "trial", "value": trial},
+            {"check": "attr_equals", "node": "gait", "attr": "status", "value": "timing"},
+        ],
+        "ops": [{"op": "set_node_attrs", "node": "gait", "attrs": {"status": "void"}}],
+    }
+
+
+# ------------------------------------------------------------------ LowToHigh for the trial
+def gait(graph: Graph) -> dict[str, Any]:
+    node = graph.find("gait")
+    return {} if node is None else dict(node.attrs)
+
+
+def result(graph: Graph, record: GugRecord) -> dict[str, Any]:
+    """The stored result, read from the DSR (the test node and the analyser's gait node)."""
+    g, t = gait(graph), graph.node("test").attrs
+    lost = int(t.get("person_lost_count", 0))
+    return {
+        "test": GugExecutive.KIND,
+        "patient": str(t.get("patient", record.patient)),
+        "started": str(t.get("started", record.started)),
+        "finished": t.get("finished"),
+        "tug_seconds": float(g["tug_seconds"]),
+        "phases": dict(zip(PHASES, (float(s) for s in g["phase_seconds"]), strict=True)),
+        "band": str(g["band"]),
+        "fall_risk": bool(g["fall_risk"]),
+        "trials": int(g.get("trial", 1)),
+        "person_lost": lost > 0,
+        "person_lost_count": lost,
+    }
+
+
+class GugExecutive(HighLevelExecutive):
+    KIND = "get_up_and_go"
+    CLOSING = ("store-result", "say-goodbye", "call-clinician", "end-untimed")
+
+    def __init__(self, port, times, log):
+        super().__init__(port, times, log)
+        self.trials = 0
+
+    # ------------------------------------------------------------------ inputs
+    def start(self, graph: Graph, patient: str) -> bool:
+        if self.running:
+            self.log.warning(f"a test is already running ({self.record.patient}); start ignored")
+            return False
+        self.graph, self.running, self._stuck, self.trials = graph, True, False, 0
+        self.record = GugRecord(patient, self.port.now())
+        self.state = initial_state(low_to_high.person_present(graph))
+        self.port.event(event="started", patient=patient, test=self.KIND)
+        self.port.send(start_test(graph, patient, self.record.started))
+        self._replan("start")
+        return True
+
+    def resume(self, graph: Graph) -> None:
+        """A restarted PELEA goes on from the DSR: a trial being timed is waited for again."""
+        t, g = graph.node("test").attrs, gait(graph)
+        self.graph, self.running = graph, True
+        self.record = GugRecord(
+            str(t.get("patient", "")),
+            str(t.get("started", "")),
+            int(t.get("person_lost_count", 0)),
+            bool(t.get("clinician_called", False)),
+        )
+        self.trials = int(g.get("trial", 0))
+        facts = {"(started)"}
+        facts.add("(person-present)" if low_to_high.person_present(graph) else "(person-absent)")
+        if not t.get("explained"):
+            facts.add("(unexplained)")
+        status = g.get("status")
+        if status == "timing":
+            facts.add("(go-said)")
+        elif status == "timed":
+            facts.add("(trial-timed)")
+        elif status == "void" or (t.get("explained") and status == "idle"):
+            facts.add("(trial-void)")
+        facts |= self._trials_facts()
+        if self.record.clinician_called:
+            facts = (facts - {"(trials-left)"}) | {"(trials-exhausted)", "(clinician-called)"}
+        self.state = frozenset(facts)
+        self.port.event(event="resumed", patient=self.record.patient, test=self.KIND)
+        self._replan("resumed after a restart")
+
+    # ------------------------------------------------------------------ the loop's hooks
+    def _plan(self, state: frozenset[str]) -> list[Step]:
+        return decision_support.solve(
+            decision_support.domain_path("gug"), problem_pddl(state), state, GOAL
+        )
+
+    def _monitor(self) -> bool:
+        return False  # no deviation is visible only at the high level here
+
+    def _trials_facts(self) -> set[str]:
+        return {"(trials-left)"} if self.trials < MAX_TRIALS else {"(trials-exhausted)"}
+
+    def _void(self, state: frozenset[str]) -> frozenset[str]:
+        """The trial in progress is abandoned: another one, or none left."""
+        if self.trials:
+            self.port.send(void_trial(self.trials))
+        state = state - {"(go-said)", "(trials-left)", "(ready)"}
+        facts = self._trials_facts()
+        if "(trials-left)" in facts:
+            facts.add("(trial-void)")
+        self.port.event(event="trial_void", trial=self.trials)
+        return frozenset(state | facts)
+
+    def _person_lost_state(self) -> frozenset[str]:
+        state = (self.state - {"(person-present)", "(sit-requested)"}) | {"(person-absent)"}
+        if "(go-said)" in state or (self.current is not None and self.current.name == "say-go"):
+            state = self._void(state)
+        return state
+
+    def _check_wait(self, graph: Graph) -> None:
+        wait = self._wait
+        if isinstance(wait, GaitWait):
+            g = gait(graph)
+            if g.get("trial") == wait.trial and g.get("status") == "timed":
+                self.port.event(
+                    event="timed",
+                    trial=wait.trial,
+                    tug_seconds=g.get("tug_seconds"),
+                    band=g.get("band"),
+                )
+                self._complete(wait.token)
+            elif g.get("trial") == wait.trial and g.get("phase"):
+                self._phase_seen(g["phase"])
+            return
+        super()._check_wait(graph)
+
+    def _phase_seen(self, phase: str) -> None:
+        if phase != getattr(self, "_last_phase", None):
+            self._last_phase = phase
+            self.port.event(event="phase", trial=self.trials, phase=phase)
+
+    # ------------------------------------------------------------------ the plan's actions
+    def _ask_to_sit(self, step: Step) -> None:
+        self._say(Sentence(sentences.SIT, needs_person=False))
+
+    def _wait_for_person(self, step: Step) -> None:
+        token = self._token
+        self._wait = PersonWait(token)
+        self._timer = self.port.after(self.times(ABSENT_TIMEOUT), lambda: self._stayed_away(token))
+        self._check_wait(self.graph)
+
+    def _stayed_away(self, token: int) -> None:
+        if token != self._token:
+            return
+        self.log.warning("the patient did not come back: calling the clinician")
+        self.trials = MAX_TRIALS
+        state = self.state - {"(trials-left)", "(trial-void)", "(sit-requested)"}
+        self._complete(token, frozenset(state | {"(trials-exhausted)"}))
+
+    def _explain(self, step: Step) -> None:
+        self._say(Sentence(sentences.EXPLAIN))
+
+    def _repeat_trial(self, step: Step) -> None:
+        self._say(Sentence(sentences.AGAIN))
+
+    def _say_go(self, step: Step) -> None:
+        self._say(Sentence(sentences.GO))
+
+    def _await_result(self, step: Step) -> None:
+        """ "Go" was just said: the trial is timed from now (the analyser counts from go_at)."""
+        self.trials += 1
+        token, trial = self._token, self.trials
+        self.port.send(time_trial(trial, self.port.epoch()))
+        self.port.event(event="trial", trial=trial)
+        self._wait = GaitWait(trial, token)
+        self._timer = self.port.after(
+            self.times(TRIAL_TIMEOUT), lambda: self._trial_timed_out(token, trial)
+        )
+
+    def _trial_timed_out(self, token: int, trial: int) -> None:
+        if token != self._token:
+            return
+        self.log.warning(f"trial {trial} was not timed in time: it is void")
+        self._complete(token, self._void(self.state))
+
+    def _store_result(self, step: Step) -> None:
+        token = self._token
+        finished = self.port.now()
+
+        def stored(doc: dict[str, Any], ok: bool, error: str) -> None:
+            if token != self._token:
+                return
+            if not ok:  # the hospital server is down or refused: keep it and try again
+                self.log.warning(f"result not stored yet ({error}); retrying")
+                self._timer = self.port.after(
+                    self.times.store_retry,
+                    lambda: self.port.store_result(doc, lambda ok, e: stored(doc, ok, e)),
+                )
+                return
+            self.port.send(high_to_low.finish_test(self.graph))
+            self.port.event(event="finished", result=doc)
+            self._complete(token)
+
+        def written(r) -> None:
+            if token != self._token:
+                return
+            doc = result(self.graph, self.record)
+            self.port.store_result(doc, lambda ok, error: stored(doc, ok, error))
+
+        self.record.finished = finished
+        self.port.send(high_to_low.record_test(finished=finished), written)
+
+    def _say_goodbye(self, step: Step) -> None:
+        self._say(Sentence(sentences.DONE, needs_person=False))
+
+    def _call_clinician(self, step: Step) -> None:
+        self.record.clinician_called = True
+        message = (
+            f"{self.record.patient} could not be timed in the Get Up & Go test "
+            f"({self.trials} trial{'s' if self.trials != 1 else ''}): please come and attend."
+        )
+        self.port.notify_clinician(message)
+        self.port.event(event="clinician_called", unanswered=[])
+        self.port.send(high_to_low.call_clinician(self.graph))
+        self._complete(self._token)
+
+    def _end_untimed(self, step: Step) -> None:
+        self.port.send(high_to_low.finish_test(self.graph))
+        self.port.event(event="finished_untimed", patient=self.record.patient)
+        self._say(Sentence(sentences.DONE, needs_person=False))
+
+    ACTIONS = {
+        "ask-to-sit": _ask_to_sit,
+        "wait-for-person": _wait_for_person,
+        "explain": _explain,
+        "repeat-trial": _repeat_trial,
+        "say-go": _say_go,
+        "await-result": _await_result,
+        "store-result": _store_result,
+        "say-goodbye": _say_goodbye,
+        "call-clinician": _call_clinician,
+        "end-untimed": _end_untimed,
+    }

@@ -1,0 +1,113 @@
+"""The CLARC robot running a Get Up & Go test in one process, on virtual time (no ROS): PELEA's
+GugExecutive, Speech, Panel and Person on a LocalBus, the gait analyser reading only the DSR,
+and a patient whose body the Kinect sees (gait_motion, skeleton_frames): on the end of "go" it
+does its trial, 30 frames a second, each written by Person as one transaction."""
+
+from __future__ import annotations
+
+import math
+import random
+
+from clarc_agents.gug import sentences
+from clarc_agents.gug.gait_analyser import GaitAnalyser
+from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+from clarc_agents.pelea.gug_executive import GugExecutive
+from clarc_agents.pelea.hle import Times
+from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
+from clarc_sim.patient.gait_motion import Motion
+
+from local_clarc import FACE, Robot, log
+
+PLACE = TrialPlace(4500.0, 0.0, -1200.0, math.pi)  # the CLARC room's gug_chair
+LEAVE_AWAY = 3.0
+HZ = 30.0
+
+
+class GugRobot(Robot):
+    def __init__(
+        self,
+        motion: Motion,
+        noise_mm: float = 0.0,
+        drop_rate: float = 0.0,
+        leave: float | None = None,
+        rises: bool = True,
+    ):
+        super().__init__()
+        self.motion, self.noise_mm, self.drop_rate = motion, noise_mm, drop_rate
+        self.leave, self.rises, self.left_trial = leave, rises, False
+        self.gug = GugExecutive(self.port, Times(), log)
+        self.pelea_link.add_listener(lambda d, r: self.gug.on_graph(self.pelea_link.graph))
+        self.analyser_link = self.bus.agent("/gait_analyser")
+        self.analyser = GaitAnalyser()
+        self.analyser_link.add_listener(lambda d, r: self._analyse())
+        self.rng = random.Random(11)
+        self.trial = 0
+        self.present = True
+        self._texts: dict[int, str] = {}
+
+    def run_gug(self, patient: str = "Carlos", limit: float = 3600.0):
+        self.gug.start(self.pelea_link.graph, patient)
+        self.bus.run(until=self.over, limit=limit)
+        return self.port.stored[-1] if self.port.stored else None
+
+    def over(self) -> bool:
+        return self.bus.core.graph.node("test").attrs.get("status") == "finished" and not (
+            self.gug.running
+        )
+
+    def restart_pelea(self) -> None:
+        super().restart_pelea()
+        self.gug = GugExecutive(self.port, Times(), log)
+        self.pelea_link.add_listener(lambda d, r: self.gug.on_graph(self.pelea_link.graph))
+        self.gug.on_graph(self.pelea_link.graph)
+
+    # ------------------------------------------------------------------ the analyser
+    def _analyse(self) -> None:
+        tx = self.analyser.on_graph(self.analyser_link.graph)
+        if tx is not None:
+            self.analyser_link.send(tx)
+
+    # ------------------------------------------------------------------ the patient's body
+    def say(self, sid: int, text: str) -> None:
+        self._texts[sid] = text
+        super().say(sid, text)
+
+    def _spoken(self, sid: int, event: str) -> None:
+        super()._spoken(sid, event)
+        if event == "end" and self._texts.get(sid) == sentences.GO and self.present:
+            self._start_trial()
+
+    def _start_trial(self) -> None:
+        self.trial += 1
+        trial, go = self.trial, self.bus.now
+        if self.leave is not None and not self.left_trial:
+            self.left_trial = True
+            self.bus.after(self.leave, self._walk_away)
+
+        def frame() -> None:
+            if trial != self.trial or not self.present:
+                return
+            t = self.bus.now - go
+            if not self.rises:
+                t = min(t, -0.1)  # stays seated
+            if not dropped(self.rng, self.drop_rate):
+                raw = skeleton(self.motion, t, PLACE, self.rng, self.noise_mm)
+                stamp = self.port.epoch()
+                self.person_link.send(
+                    skeleton_tx(self.person_link.graph, parse_skeleton(raw), stamp)
+                )
+            if self.bus.now - go < self.motion.total + 3.0:
+                self.bus.after(1.0 / HZ, frame)
+
+        frame()
+
+    def _walk_away(self) -> None:
+        self.present = False
+        self.trial += 1  # the frames of the trial in progress stop
+        self.person.signal("lost")
+
+        def back() -> None:
+            self.present = True
+            self.person.signal("seen", pose=FACE)
+
+        self.bus.after(LEAVE_AWAY, back)

@@ -1,0 +1,73 @@
+"""PELEA running a whole Get Up & Go test through the DSR (no ROS, virtual time): it explains,
+says go, waits for the gait analyser's timed result and stores it; a patient who walks out of
+view has the trial repeated; one who never rises is given up on and the clinician called; a
+PELEA restarted mid-trial goes on from the DSR (test/local_gug.py)."""
+
+import pytest
+from local_gug import GugRobot
+from pyperplan.pddl.parser import Parser
+
+from clarc_agents.gug import sentences
+from clarc_agents.gug.phases import PHASES
+from clarc_agents.pelea import decision_support
+from clarc_agents.pelea.gug_executive import MAX_TRIALS, GugExecutive
+from clarc_sim.patient.gait_motion import Motion
+
+MOTION = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
+
+
+def within_tolerance(result, motion=MOTION):
+    assert abs(result["tug_seconds"] - motion.total) <= 0.3
+    for phase in PHASES:
+        assert abs(result["phases"][phase] - getattr(motion, phase)) <= 0.4, phase
+
+
+def test_every_action_of_the_domain_has_a_handler():
+    parser = Parser(decision_support.domain_path("gug"))
+    domain = parser.parse_domain()
+    assert set(GugExecutive.ACTIONS) == set(domain.actions)
+
+
+def test_a_whole_test_is_run_timed_and_stored():
+    robot = GugRobot(MOTION, noise_mm=10, drop_rate=0.1)
+    result = robot.run_gug()
+    assert result["test"] == "get_up_and_go" and result["patient"] == "Carlos"
+    within_tolerance(result)
+    assert result["trials"] == 1 and not result["person_lost"]
+    assert result["band"] == "mostly independent" and result["fall_risk"] is True  # 16 s
+    assert [s for s in robot.said if s in (sentences.EXPLAIN, sentences.GO, sentences.DONE)] == [
+        sentences.EXPLAIN,
+        sentences.GO,
+        sentences.DONE,
+    ]
+    phases = [e["phase"] for e in robot.port.events if e["event"] == "phase"]
+    assert phases[-1] in ("sit", "done") and "walk_out" in phases
+    assert robot.bus.core.graph.node("test").attrs["kind"] == "get_up_and_go"
+
+
+def test_a_patient_who_walks_away_mid_trial_is_asked_to_sit_and_the_trial_repeated():
+    robot = GugRobot(MOTION, leave=6.0)
+    result = robot.run_gug()
+    within_tolerance(result)
+    assert result["trials"] == 2 and result["person_lost"] and result["person_lost_count"] == 1
+    assert sentences.SIT in robot.said and sentences.AGAIN in robot.said
+    assert robot.said.count(sentences.GO) == 2
+    assert ("trial_void", 1) in [(e["event"], e.get("trial")) for e in robot.port.events]
+
+
+def test_a_patient_who_never_rises_is_given_up_on_and_the_clinician_called():
+    robot = GugRobot(MOTION, rises=False)
+    assert robot.run_gug() is None  # nothing stored: there is no time
+    assert robot.said.count(sentences.GO) == MAX_TRIALS
+    assert robot.port.notifications and "could not be timed" in robot.port.notifications[0]
+    test = robot.bus.core.graph.node("test").attrs
+    assert test["status"] == "finished" and test["clinician_called"] is True
+
+
+@pytest.mark.parametrize("moment", [2.0, 12.0, 20.0, 30.0])
+def test_pelea_restarted_during_the_test_goes_on_from_the_dsr(moment):
+    robot = GugRobot(MOTION)
+    robot.bus.after(moment, robot.restart_pelea)
+    result = robot.run_gug()
+    within_tolerance(result)
+    assert len(robot.port.stored) == 1 and robot.pelea_restarts == 1
