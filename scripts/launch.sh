@@ -74,6 +74,8 @@ source "$root/scripts/env.sh"
 
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2
+test_kind=$(clarc scenario --test "$scenario") || exit 2
+case "$test_kind" in get_up_and_go) test_name="Get Up & Go" ;; *) test_name="Barthel" ;; esac
 [ -n "$db" ] || db=$(python -c 'from clarc_sim.hospital.results_store import default_db; print(default_db())')
 
 # Results CGAmed has not acknowledged wait in an outbox of their own store, sent again next time.
@@ -186,7 +188,7 @@ start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run
   nodes+=("$name")
 }
 
-echo "[launch] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
+echo "[launch] $test_name test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
 echo "[launch] logs: $run/log; results store: $db"
 # The policy says who may write what (and with which claim priority); see docs/FORMAT.md.
 start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state" \
@@ -204,8 +206,9 @@ scaled=(--ros-args -p time_scale:="$scale")
 start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
 start microphone microphone "${scaled[@]}"
 start touchscreen touchscreen
-start kinect kinect
+start kinect kinect "${scaled[@]}"
 start person person "${scaled[@]}"
+start gait_analyser gait_analyser "${scaled[@]}"
 start speech speech "${scaled[@]}"
 start panel panel "${scaled[@]}"
 start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
@@ -218,7 +221,7 @@ since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
 if [ "$wait_start" = 1 ]; then
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
-  clarc start "$patient" --timeout 60 >> "$run/log/start.log" 2>&1 ||
+  clarc start "$patient" --test "$test_kind" --timeout 60 >> "$run/log/start.log" 2>&1 ||
     { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 fi
 echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"

@@ -101,7 +101,7 @@ class Port:
         return datetime.fromtimestamp(self.epoch(), UTC).isoformat()
 
     def epoch(self):
-        return 1_790_000_000 + self.robot.bus.now
+        return self.robot.epoch()
 
 
 class Robot:
@@ -118,7 +118,7 @@ class Robot:
         self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
         self.speech_link = self.bus.agent("/speech")
         self.speech = SpeechBehaviour(
-            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now
+            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now, epoch=self.epoch
         )
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
@@ -148,6 +148,10 @@ class Robot:
         assert self.port.stored, f"no result stored; events: {self.port.events[-5:]}"
         return self.port.stored[-1]
 
+    def epoch(self) -> float:
+        """The bus's time as epoch seconds (the Port's and Speech's clock)."""
+        return 1_790_000_000 + self.bus.now
+
     def kinds(self) -> list[str]:
         return [e["event"] for e in self.port.events]
 
@@ -162,7 +166,7 @@ class Robot:
         self.speech_link.close()
         self.speech_link = self.bus.agent("/speech")
         self.speech = SpeechBehaviour(
-            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now
+            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now, epoch=self.epoch
         )
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)

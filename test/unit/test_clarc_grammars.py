@@ -74,7 +74,7 @@ def test_speech_says_a_new_sentence_once_and_stops_when_the_person_leaves(room):
     run(room, f2.during_tx())
     fire(speech, room, "stop_speaking")
     assert room.edge("robot", "speaking", "is_not")
-    after = f.after_tx("done")  # the interrupted sentence's "finish" is refused
+    after = f.after_tx("done", {"ended_at": 1.0})  # the interrupted sentence's "finish" is refused
     with pytest.raises(TransactionRejected):
         run(room, after)
 
@@ -110,7 +110,7 @@ def test_panel_shows_each_sentence_and_clears_when_the_person_leaves(room):
         "I need help on stairs",
         "I use stairs by myself",
     ]
-    run(room, f.after_tx("done"))
+    run(room, f.after_tx("done", {"ended_at": 1.0}))
     [lost] = engine("person").signal(room, "lost", {})
     run(room, lost.during_tx())
     fire(panel, room, "clear_panel")

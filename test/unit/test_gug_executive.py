@@ -71,3 +71,30 @@ def test_pelea_restarted_during_the_test_goes_on_from_the_dsr(moment):
     result = robot.run_gug()
     within_tolerance(result)
     assert len(robot.port.stored) == 1 and robot.pelea_restarts == 1
+
+
+def test_observers_read_the_whole_test_from_the_dsr():
+    # what the launch's monitor and the clinician's dashboard print (clarc_agents/course.py)
+    from datetime import UTC, datetime
+
+    from clarc_agents.course import Course
+
+    robot = GugRobot(MOTION, leave=6.0)
+    since = datetime.fromtimestamp(robot.port.epoch(), UTC)  # the observer's own test
+    link, course, events = robot.bus.agent("/observer"), Course(since), []
+    link.add_listener(lambda d, r: events.extend(course.follow(link.graph)))
+    result = robot.run_gug()
+    kinds = [(e["event"], e.get("trial")) for e in events if e["event"] != "phase"]
+    assert kinds == [
+        ("started", None),
+        ("trial", 1),
+        ("person_lost", None),
+        ("trial_void", 1),
+        ("person_back", None),
+        ("trial", 2),
+        ("timed", 2),
+        ("finished", None),
+    ]
+    assert events[0]["test"] == "get_up_and_go" and events[-1]["result"] == result
+    phases = [e["phase"] for e in events if e["event"] == "phase" and e["trial"] == 2]
+    assert phases == ["rise", "walk_out", "turn", "walk_back", "sit"]

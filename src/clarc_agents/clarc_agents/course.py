@@ -16,6 +16,9 @@ when the observer started), start_requested (patient), started (patient), item (
 listening (item, attempt), answer (item, points, via), no_answer (item, attempt),
 not_understood (item, heard, attempt), skip (item), window_interrupted (item, attempt),
 unanswered (item), person_lost, person_back, clinician_called (unanswered), finished (result).
+A Get Up & Go test (``started`` says ``test``) has instead: trial (trial), phase (trial, phase),
+timed (trial, tug_seconds, band), trial_void (trial), and finished (result: the stored result, or
+``{"test", "patient", "timed": false}`` when no trial could be timed).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ from typing import Any
 
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.barthel.record import ItemResult
+from clarc_agents.gug.record import GugRecord, result
 from clarc_agents.pelea.low_to_high import person_present, record
 from dsr_graph.model.graph import Graph
 
@@ -40,6 +44,8 @@ class TestView:
     items: tuple[tuple[str, ItemResult], ...] = ()  # as PELEA's record reads them
     person_present: bool = False
     clinician_called: bool = False
+    kind: str = "barthel"
+    gait: tuple[tuple[str, Any], ...] = ()  # the gait node's trial, status, phase, ... (GUG)
 
     @property
     def running(self) -> bool:
@@ -65,7 +71,47 @@ def view(graph: Graph) -> TestView:
         items=tuple(rec.items.items()),
         person_present=person_present(graph),
         clinician_called=rec.clinician_called,
+        kind=str(t.get("kind", "barthel")),
+        gait=tuple(sorted(_gait(graph).items())),
     )
+
+
+def _gait(graph: Graph) -> dict[str, Any]:
+    node = graph.find("gait")
+    return {} if node is None else dict(node.attrs)
+
+
+def _gait_changes(before: TestView, after: TestView) -> list[dict[str, Any]]:
+    """A Get Up & Go trial as the gait node tells it."""
+    was, now = dict(before.gait), dict(after.gait)
+    trial, status = now.get("trial", 0), now.get("status")
+    new_trial = trial != was.get("trial") and status == "timing"
+    events: list[dict[str, Any]] = []
+    if new_trial:
+        events.append({"event": "trial", "trial": trial})
+    if status == "timing" and now.get("phase") not in ("", "waiting", was.get("phase"), None):
+        events.append({"event": "phase", "trial": trial, "phase": now["phase"]})
+    if status != was.get("status") or new_trial:
+        if status == "timed":
+            events.append(
+                {
+                    "event": "timed",
+                    "trial": trial,
+                    "tug_seconds": now.get("tug_seconds"),
+                    "band": now.get("band"),
+                }
+            )
+        elif status == "void":
+            events.append({"event": "trial_void", "trial": trial})
+    return events
+
+
+def _result(graph: Graph, after: TestView) -> dict[str, Any]:
+    if after.kind != "get_up_and_go":
+        return record(graph).to_json()
+    if dict(after.gait).get("status") != "timed":
+        return {"test": after.kind, "patient": after.patient, "timed": False}
+    return result(graph, GugRecord(after.patient, after.started))
 
 
 def position(item: str) -> int:
@@ -104,14 +150,16 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
     began = after.status in ("running", "finished") and after.started != before.started
     new_test = bool(after.started) and began
     if new_test:
-        events.append({"event": "started", "patient": after.patient})
+        events.append({"event": "started", "patient": after.patient, "test": after.kind})
         before = TestView(person_present=before.person_present)
     ending = after.status == "finished" and (before.running or new_test)
     if not (after.running or ending):
         return events
-    if after.item != before.item:
+    if after.kind == "get_up_and_go":
+        events.extend(_gait_changes(before, after))
+    elif after.item != before.item:
         events.append({"event": "item", "item": after.item, "position": position(after.item)})
-    for key, item in after.items:
+    for key, item in after.items if after.kind != "get_up_and_go" else ():
         events.extend(_item_changes(key, before.of(key), item))
     if after.running and before.person_present != after.person_present and not new_test:
         events.append({"event": "person_back" if after.person_present else "person_lost"})
@@ -119,7 +167,7 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
         unanswered = [k for k, i in after.items if i.status == "unanswered"]
         events.append({"event": "clinician_called", "unanswered": unanswered})
     if ending:
-        events.append({"event": "finished", "result": record(graph).to_json()})
+        events.append({"event": "finished", "result": _result(graph, after)})
     return events
 
 

@@ -42,11 +42,13 @@ def supervised(package: str, executable: str, **parameters) -> Node:
 
 
 def press_start(context):
-    """Start for the scenario's patient (read from the scenario file, as launch.sh does)."""
+    """Start for the scenario's patient and test (read from the scenario file, as launch.sh
+    does)."""
     from clarc_sim.patient.scenario import load
 
-    patient = load(LaunchConfiguration("scenario").perform(context)).patient
-    return [Node(package="clarc_sim", executable="clarc", arguments=["start", patient])]
+    scenario = load(LaunchConfiguration("scenario").perform(context))
+    arguments = ["start", scenario.patient, "--test", scenario.test]
+    return [Node(package="clarc_sim", executable="clarc", arguments=arguments)]
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -94,8 +96,9 @@ def generate_launch_description() -> LaunchDescription:
         supervised("clarc_sim", "tts", time_scale=scale),
         supervised("clarc_sim", "microphone", time_scale=scale),
         supervised("clarc_sim", "touchscreen"),
-        supervised("clarc_sim", "kinect"),
+        supervised("clarc_sim", "kinect", time_scale=scale),
         supervised("clarc_agents", "person", time_scale=scale),
+        supervised("clarc_agents", "gait_analyser", time_scale=scale),
         supervised("clarc_agents", "speech", time_scale=scale),
         supervised("clarc_agents", "panel", time_scale=scale),
         supervised("clarc_agents", "pelea", time_scale=scale),

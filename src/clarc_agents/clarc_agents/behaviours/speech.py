@@ -46,6 +46,7 @@ class SpeechBehaviour:
         scale: float = 1.0,
         start_patience: float = 1.0,
         now: Callable[[], float] = time.monotonic,
+        epoch: Callable[[], float] = time.time,
         server_gap: Callable[[], tuple[float, float]] = lambda: NO_GAP,
     ):
         self.speaker = speaker
@@ -53,6 +54,7 @@ class SpeechBehaviour:
         self.log = log
         self.scale = scale
         self.start_patience = start_patience  # seconds of wall time: a matter of processes
+        self.epoch = epoch  # when a sentence ended, as the DSR's stamps (a Get Up & Go's "go")
         self.speaking: dict[int, ActionContext] = {}  # sentence id -> the say process
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
@@ -99,7 +101,7 @@ class SpeechBehaviour:
         watchdog = self._watchdogs.pop(sid, None)
         if watchdog is not None:
             watchdog.cancel()
-        ctx.finish(outcome)
+        ctx.finish(outcome, ended_at=round(self.epoch(), 4))
 
     def stop(self, ctx: ActionContext) -> str:
         for sid in list(self.speaking):

@@ -20,7 +20,7 @@ from typing import Any
 
 from clarc_agents.barthel.sentences import Sentence
 from clarc_agents.gug import sentences
-from clarc_agents.gug.phases import PHASES
+from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
@@ -30,17 +30,6 @@ MAX_TRIALS = 3
 TRIAL_TIMEOUT = 90.0  # s of a session from "go" until a timed result, at most
 ABSENT_TIMEOUT = 60.0  # s of a session the patient may stay away before the clinician is called
 GOAL = ("(said-goodbye)",)
-
-
-@dataclass
-class GugRecord:
-    """What the executive keeps of the test (the rest is on the gait node)."""
-
-    patient: str
-    started: str
-    person_lost_count: int = 0
-    clinician_called: bool = False
-    finished: str | None = None
 
 
 @dataclass(frozen=True)
@@ -104,31 +93,6 @@ def void_trial(trial: int) -> dict[str, Any]:
             {"check": "attr_equals", "node": "gait", "attr": "status", "value": "timing"},
         ],
         "ops": [{"op": "set_node_attrs", "node": "gait", "attrs": {"status": "void"}}],
-    }
-
-
-# ------------------------------------------------------------------ LowToHigh for the trial
-def gait(graph: Graph) -> dict[str, Any]:
-    node = graph.find("gait")
-    return {} if node is None else dict(node.attrs)
-
-
-def result(graph: Graph, record: GugRecord) -> dict[str, Any]:
-    """The stored result, read from the DSR (the test node and the analyser's gait node)."""
-    g, t = gait(graph), graph.node("test").attrs
-    lost = int(t.get("person_lost_count", 0))
-    return {
-        "test": GugExecutive.KIND,
-        "patient": str(t.get("patient", record.patient)),
-        "started": str(t.get("started", record.started)),
-        "finished": t.get("finished"),
-        "tug_seconds": float(g["tug_seconds"]),
-        "phases": dict(zip(PHASES, (float(s) for s in g["phase_seconds"]), strict=True)),
-        "band": str(g["band"]),
-        "fall_risk": bool(g["fall_risk"]),
-        "trials": int(g.get("trial", 1)),
-        "person_lost": lost > 0,
-        "person_lost_count": lost,
     }
 
 
@@ -261,10 +225,12 @@ class GugExecutive(HighLevelExecutive):
         self._say(Sentence(sentences.GO))
 
     def _await_result(self, step: Step) -> None:
-        """ "Go" was just said: the trial is timed from now (the analyser counts from go_at)."""
+        """Go was just said: the trial is timed from when the speaker ended it, as Speech wrote
+        (the patient starts then), else from now (the analyser counts from go_at)."""
         self.trials += 1
         token, trial = self._token, self.trials
-        self.port.send(time_trial(trial, self.port.epoch()))
+        ended = low_to_high.speech_ended_at(self.graph, low_to_high.last_sentence_id(self.graph))
+        self.port.send(time_trial(trial, ended if ended is not None else self.port.epoch()))
         self.port.event(event="trial", trial=trial)
         self._wait = GaitWait(trial, token)
         self._timer = self.port.after(

@@ -71,6 +71,14 @@ def sentence_done(graph: Graph, sid: int) -> bool:
     return bool(spoken and shown and spoken["$sid"] == sid and shown["$sid"] == sid)
 
 
+def speech_ended_at(graph: Graph, sid: int) -> float | None:
+    """When the speaker finished sentence ``sid`` (epoch seconds), if Speech said so."""
+    edge = graph.edge("robot", "speaking", "finish")
+    if edge is None or edge.attrs.get("sentence_id") != sid or "ended_at" not in edge.attrs:
+        return None
+    return float(edge.attrs["ended_at"])
+
+
 def sentence_taken(graph: Graph, sid: int) -> bool:
     """Speech or Panel started sentence ``sid`` (or already finished it): an agent that can
     reach the DSR took it."""

@@ -1,8 +1,8 @@
 """``clarc``: the CLARC command line.
 
 clarc results [--db PATH] [--json]   the stored tests (CGAmed's results store)
-clarc scenario FILE                  check a scenario file and show what the patient will do
-clarc start PATIENT                  press Start (a running CGAmed-less PELEA hears it)
+clarc scenario FILE [--patient|--test]  check a scenario file and show what the patient will do
+clarc start PATIENT [--test TEST]    press Start for a test (barthel, get_up_and_go)
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from datetime import UTC, datetime
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.exceptions import ScenarioError
 from clarc_sim.hospital.results_store import ResultsStore, default_db
-from clarc_sim.patient.scenario import load
+from clarc_sim.patient.scenario import TESTS, load
 from dsr_graph.cli.api import split_ros_args
 
 
@@ -72,7 +72,20 @@ def scenario(args: argparse.Namespace) -> int:
     if args.patient:
         print(s.patient)
         return 0
+    if args.test:
+        print(s.test)
+        return 0
     print(f"patient: {s.patient}")
+    if s.test == "get_up_and_go":
+        m = s.motion
+        print(f"test: get_up_and_go, {m.total:.1f} s from go until seated again")
+        for phase in ("reaction", "rise", "walk_out", "turn", "walk_back", "sit"):
+            print(f"  {phase:<10} {getattr(m, phase):.1f} s")
+        extras = [f"noise {s.noise_mm:g} mm", f"{s.drop_rate:.0%} of frames lost"]
+        if s.leave is not None:
+            extras.append(f"walks out of view {s.leave:g} s after go")
+        print(f"  ({', '.join(extras)})")
+        return 0
     for item in ORDER:
         p = s.plan(item)
         what = "silent" if p.via == "silence" else f"{p.answer} points by {p.via}"
@@ -98,7 +111,7 @@ def start(args: argparse.Namespace) -> int:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
-            agent.send(request_start(args.patient, now()), verdicts.append)
+            agent.send(request_start(args.patient, now(), args.test), verdicts.append)
             ros.spin_until(lambda: bool(verdicts), args.timeout, "the DSR server's verdict")
     except DsrError as e:
         print(f"clarc: error: {e}", file=sys.stderr)
@@ -106,7 +119,7 @@ def start(args: argparse.Namespace) -> int:
     if not verdicts[0].accepted:
         print(f"clarc: error: Start refused: {verdicts[0].error}", file=sys.stderr)
         return 1
-    print(f"Start pressed for {args.patient}")
+    print(f"Start pressed for {args.patient} ({args.test})")
     return 0
 
 
@@ -122,9 +135,11 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("scenario", help="check a scenario file")
     p.add_argument("file")
     p.add_argument("--patient", action="store_true", help="print only the patient's name")
+    p.add_argument("--test", action="store_true", help="print only the test it is for")
     p.set_defaults(run=scenario)
     p = sub.add_parser("start", help="press Start for a patient")
     p.add_argument("patient")
+    p.add_argument("--test", default="barthel", choices=TESTS, help="which test (barthel)")
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)

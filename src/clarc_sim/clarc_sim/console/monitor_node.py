@@ -36,7 +36,16 @@ def describe_step(event: dict) -> str | None:
     if kind == "start_requested":
         return f"Start pressed for {event['patient']}"
     if kind == "started":
-        return f"Barthel test started for {event['patient']}"
+        name = "Get Up & Go" if event.get("test") == "get_up_and_go" else "Barthel"
+        return f"{name} test started for {event['patient']}"
+    if kind == "trial":
+        return f"--- trial {event['trial']}: go!"
+    if kind == "phase":
+        return f"the patient is in the {event['phase'].replace('_', ' ')} phase"
+    if kind == "timed":
+        return f"trial {event['trial']} timed: {event['tug_seconds']} s ({event['band']})"
+    if kind == "trial_void":
+        return f"trial {event['trial']} is void: it will be repeated if trials are left"
     if kind == "following":
         return (
             f"following the Barthel test of {event['patient']} under way "
@@ -80,6 +89,17 @@ def describe_pelea(event: dict) -> str | None:
 
 
 def describe_result(result: dict) -> list[str]:
+    if result.get("test") == "get_up_and_go":
+        if not result.get("tug_seconds"):
+            return [f"RESULT {result['patient']}: Get Up & Go not timed (the clinician is called)"]
+        risk = ", fall risk" if result["fall_risk"] else ""
+        phases = ", ".join(f"{p.replace('_', ' ')} {s:.1f} s" for p, s in result["phases"].items())
+        return [
+            f"RESULT {result['patient']}: Get Up & Go {result['tug_seconds']:.1f} s "
+            f"({result['band']}{risk})",
+            f"  {phases}",
+            f"  trials: {result['trials']}; person left: {result['person_lost_count']} time(s)",
+        ]
     lines = [
         f"RESULT {result['patient']}: Barthel index {result['total']}/100 "
         f"({result['band']} dependency)"
