@@ -1,0 +1,79 @@
+"""The Get Up & Go test through the README's main job (scripts/launch.sh, every node its own
+process): each shipped GUG scenario's stored result against the scenario's own truth, with the
+issue's tolerances (tug_seconds within 0.3 s of the six scripted parts, each phase within 0.4 s),
+the band (Podsiadlo & Richardson 1991) and the fall risk (Shumway-Cook 2000); one of them also
+at another pace."""
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from clarc_agents.gug.phases import PHASES, band, fall_risk
+from clarc_sim.patient.scenario import load
+
+REPO = Path(__file__).resolve().parents[2]
+SCENARIOS = sorted(p.name for p in (REPO / "scenarios").glob("gug_*.yaml"))
+
+
+def run_gug(scenario: str, tmp_path, *extra):
+    from ros_processes import fresh_domain_id, run_robot
+
+    db = tmp_path / "cgamed.sqlite"
+    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    run = run_robot(
+        "launch.sh",
+        "--scenario",
+        REPO / "scenarios" / scenario,
+        "--db",
+        db,
+        "--timeout",
+        "150",
+        *extra,
+        run_dir=tmp_path / "run",
+        env=env,
+    )
+    listed = subprocess.run(
+        ["clarc", "results", "--db", str(db), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
+    )
+    [stored] = json.loads(listed.stdout)
+    return run, stored
+
+
+def check(stored, scenario: str, log: str) -> None:
+    truth = load(str(REPO / "scenarios" / scenario))
+    motion = truth.motion
+    assert stored["test"] == "get_up_and_go" and stored["patient"] == truth.patient
+    assert abs(stored["tug_seconds"] - motion.total) <= 0.3, (stored, log[-3000:])
+    assert list(stored["phases"]) == list(PHASES)
+    for phase in PHASES:
+        assert abs(stored["phases"][phase] - getattr(motion, phase)) <= 0.4, (phase, stored)
+    assert stored["band"] == band(stored["tug_seconds"])
+    assert stored["fall_risk"] == fall_risk(stored["tug_seconds"])
+    assert stored["trials"] == (2 if truth.leave is not None else 1)
+    assert stored["person_lost"] == (truth.leave is not None)
+
+
+def test_the_shipped_suite_covers_the_issue_s_cases():
+    loaded = [load(str(REPO / "scenarios" / s)) for s in SCENARIOS]
+    assert any(s.leave is not None for s in loaded)  # leaves mid-trial
+    assert any(s.noise_mm >= 20 for s in loaded) and any(s.drop_rate >= 0.3 for s in loaded)
+    assert {band(s.motion.total) for s in loaded} >= {"normal", "variable mobility"}  # and slow
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS)
+def test_a_get_up_and_go_scenario_through_the_launch(scenario, tmp_path):
+    run, stored = run_gug(scenario, tmp_path)
+    assert "RESULT" in run.stdout and "Get Up & Go" in run.stdout
+    check(stored, scenario, run.stdout)
+
+
+def test_the_time_is_the_patient_s_at_another_pace(tmp_path):
+    run, stored = run_gug("gug_normal.yaml", tmp_path, "--scale", "0.3")
+    check(stored, "gug_normal.yaml", run.stdout)
