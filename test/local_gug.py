@@ -10,6 +10,7 @@ import random
 
 from clarc_agents.gug import sentences
 from clarc_agents.gug.gait_analyser import GaitAnalyser
+from clarc_agents.gug.posture import PostureTracker
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import Times
@@ -44,6 +45,9 @@ class GugRobot(Robot):
         self.trial = 0
         self.present = True
         self._texts: dict[int, str] = {}
+        self.posture = PostureTracker()
+        self.postures: list[str] = []  # as the person node says, in order
+        self.bus.agent("/posture_watch").add_listener(lambda d, r: self._note_posture())
 
     def run_gug(self, patient: str = "Carlos", limit: float = 3600.0):
         self.gug.start(self.pelea_link.graph, patient)
@@ -92,14 +96,25 @@ class GugRobot(Robot):
                 t = min(t, -0.1)  # stays seated
             if not dropped(self.rng, self.drop_rate):
                 raw = skeleton(self.motion, t, PLACE, self.rng, self.noise_mm)
-                stamp = self.port.epoch()
-                self.person_link.send(
-                    skeleton_tx(self.person_link.graph, parse_skeleton(raw), stamp)
+                stamp, joints = self.port.epoch(), parse_skeleton(raw)
+                self.person_link.send(skeleton_tx(self.person_link.graph, joints, stamp))
+                # what Person does with the frame's geometry: the posture percept
+                room = self.person_link.graph.transform("room", "kinect")
+                posture = self.posture.update(
+                    stamp, room[:3, :3] @ joints["pelvis"][0] + room[:3, 3]
                 )
+                if posture is not None:
+                    self.person.signal("posture", posture=posture)
             if self.bus.now - go < self.motion.total + 3.0:
                 self.bus.after(1.0 / HZ, frame)
 
         frame()
+
+    def _note_posture(self) -> None:
+        person = self.bus.core.graph.find("person")
+        posture = None if person is None else person.attrs.get("posture")
+        if posture and (not self.postures or self.postures[-1] != posture):
+            self.postures.append(posture)
 
     def _walk_away(self) -> None:
         self.present = False

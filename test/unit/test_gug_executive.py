@@ -98,3 +98,19 @@ def test_observers_read_the_whole_test_from_the_dsr():
     assert events[0]["test"] == "get_up_and_go" and events[-1]["result"] == result
     phases = [e["phase"] for e in events if e["event"] == "phase" and e["trial"] == 2]
     assert phases == ["rise", "walk_out", "turn", "walk_back", "sit"]
+
+
+@pytest.mark.parametrize("noise_mm", [0, 25])
+def test_the_person_s_posture_follows_the_skeleton_as_a_rule_writes_it(noise_mm):
+    robot = GugRobot(MOTION, noise_mm=noise_mm)
+    robot.run_gug()
+    # up, out, the turn on the spot, back, and down again
+    assert robot.postures == [
+        "sitting",
+        "standing",
+        "walking",
+        "standing",
+        "walking",
+        "standing",
+        "sitting",
+    ]

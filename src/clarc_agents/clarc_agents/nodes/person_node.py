@@ -18,6 +18,7 @@ import math
 from typing import Any
 
 from clarc_agents import topics
+from clarc_agents.gug.posture import PostureTracker
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.formats.units import PER_METRE
@@ -57,6 +58,7 @@ class PersonAgent(GrammarAgentNode):
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self.skeletons_skipped = 0
+        self._posture: PostureTracker | None = None
 
     def processes(self) -> dict[str, Process]:
         return {}
@@ -87,6 +89,7 @@ class PersonAgent(GrammarAgentNode):
             pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
             if self._with_robot() and joints is not None:
                 self._write_skeleton(joints, float(frame.get("stamp", 0.0)))
+                self._follow_posture(joints, float(frame.get("stamp", 0.0)))
             elif not self._with_robot():
                 if self._present_frames >= param(self, "seen_frames"):
                     self.runner.signal("seen", pose=pose)
@@ -102,6 +105,17 @@ class PersonAgent(GrammarAgentNode):
                 self.runner.signal(
                     "lost"
                 )  # a repeat before the replica catches up is refused (CAS)
+
+    def _follow_posture(self, joints, stamp: float) -> None:
+        """Sitting, standing or walking, from the pelvis in the room (its height above the
+        floor): a change is the percept ``posture`` (grammars/person.yaml writes it)."""
+        if self._posture is None:
+            self._posture = PostureTracker(self.scale)
+        room_from_kinect = self.dsr.graph.transform("room", "kinect")
+        pelvis = room_from_kinect[:3, :3] @ joints["pelvis"][0] + room_from_kinect[:3, 3]
+        posture = self._posture.update(stamp, pelvis)
+        if posture is not None:
+            self.runner.signal("posture", posture=posture)
 
     def _write_skeleton(self, joints, stamp: float) -> None:
         if self._skeleton_in_flight:
