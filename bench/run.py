@@ -4,7 +4,10 @@ same run. Run through scripts/bench.sh; writes a JSON report and prints a table.
 Sections: latency (change-to-visible over two hops), throughput (1/4/8 subscribed agents, single
 ops and batches), scale (1k/10k/100k nodes: cost per op, snapshot to a late joiner, memory),
 kinematics (transform queries on trees of depth 2/10/50, cold and cached), barthel (a fast test:
-wall time and CPU seconds per process).
+wall time and CPU seconds per process), gug (a patient's skeleton streamed through the DSR at
+30 Hz, 14 joints, as Person writes it: the server's CPU, a Speech-sized change's latency and the
+journal's growth, each against the same without the stream; and a whole Get Up & Go run's CPU
+against the Barthel run's).
 """
 
 from __future__ import annotations
@@ -537,19 +540,22 @@ def bench_kinematics(depths: list[int], queries: int) -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- 5. the Barthel run
-def bench_barthel(work: Path, scale: float) -> dict[str, Any]:
+def bench_barthel(work: Path, scale: float, scenario: Path | None = None) -> dict[str, Any]:
+    """A whole run through launch.sh (the Barthel default, or ``scenario``): wall and CPU."""
     report = work / "cpu.txt"
+    report.unlink(missing_ok=True)
     env = dict(os.environ, CLARC_CPU_REPORT=str(report))
     t = time.perf_counter()
     run = subprocess.run(
         [
             str(ROOT / "scripts" / "launch.sh"),
+            *(["--scenario", str(scenario)] if scenario else []),
             "--db",
             str(work / "bench.sqlite"),
             "--scale",
             str(scale),
             "--run-dir",
-            str(work / "barthel_run"),
+            str(work / ("gug_run" if scenario else "barthel_run")),
             "--viewer-port",
             "0",
             "--dashboard-port",
@@ -578,6 +584,138 @@ def bench_barthel(work: Path, scale: float) -> dict[str, Any]:
         "cpu_s": cpu,
         "cpu_total_s": sum(cpu.values()),
     }
+
+
+# ---------------------------------------------------------------------------- 6. get up & go
+def cpu_seconds(pid: int) -> float:
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def _latency_samples(ros, writer, reader, arrived, n: int, step) -> list[float]:
+    samples = []
+    for i in range(n):
+        tx = {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": f"x{i}"}}]}
+        sent = time.perf_counter()
+        ident = writer.send(tx)
+        while ident not in arrived:  # the stream goes on while we wait
+            step()
+            ros.executor.spin_once(timeout_sec=0.0005)
+            if time.perf_counter() - sent > 10:
+                raise RuntimeError("a change was not seen within 10 s")
+        samples.append(arrived[ident] - sent)
+    return samples[n // 10 :]
+
+
+def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> dict[str, Any]:
+    """The skeleton stream's load on the DSR, each figure against the same without the stream."""
+    from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+    from clarc_sim.devices.skeleton_frames import TrialPlace, skeleton
+    from clarc_sim.patient.gait_motion import Motion
+
+    procs = Procs(work, domain)
+    state = work / "gug_state"
+    out: dict[str, Any] = {}
+    try:
+        server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
+        ros, person = session_with_agent(domain, "person")
+        reader_node = __import__("rclpy").create_node("bench_reader", context=ros.context)
+        ros.executor.add_node(reader_node)
+        reader = DsrAgent()
+        reader.setup(reader_node, timeout_sec=30)
+        ros.spin_until(lambda: reader.ready, 30, "the reader")
+        arrived: dict[str, float] = {}
+        reader.add_listener(
+            lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})
+        )
+        done: list = []
+        person.send(
+            {
+                "ops": [
+                    {"op": "insert_node", "name": "person", "type": "person", "attrs": {}},
+                    {
+                        "op": "insert_edge",
+                        "from": "kinect",
+                        "to": "person",
+                        "type": "RT",
+                        "rt": {"translation": [4.3, 0, -0.7], "rotation_euler_xyz": [0, 0, 0]},
+                    },
+                ]
+            },
+            done.append,
+        )
+        ros.spin_until(lambda: done, 10, "the person")
+        motion = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
+        place, rng = TrialPlace(4500.0, 0.0, -1200.0, 3.14159), random.Random(3)
+        stream = {"next": time.perf_counter(), "frames": 0, "written": 0, "in_flight": False}
+
+        def step() -> None:  # Person: a frame every 1/30 s, one transaction in flight
+            now = time.perf_counter()
+            if now < stream["next"]:
+                return
+            # a frame every 1/30 s from now on; frames not offered while we did not run are lost
+            stream["next"] = max(stream["next"], now - 1.0 / 30.0) + 1.0 / 30.0
+            stream["frames"] += 1
+            if stream["in_flight"]:
+                return
+            t = (stream["frames"] / 30.0) % (motion.total + 3.0) - 1.0
+            joints = parse_skeleton(skeleton(motion, t, place, rng, 10.0))
+            stream["in_flight"] = True
+
+            def written(r) -> None:
+                stream["in_flight"] = False
+                stream["written"] += 1 if r.accepted else 0
+
+            person.send(skeleton_tx(person.graph, joints, time.time()), written)
+
+        def idle() -> None:
+            return None
+
+        def cpu_over(run) -> float:
+            before, t0 = cpu_seconds(server.pid), time.perf_counter()
+            while time.perf_counter() - t0 < seconds:
+                run()
+                ros.executor.spin_once(timeout_sec=0.001)
+            return (cpu_seconds(server.pid) - before) / (time.perf_counter() - t0)
+
+        out["server_cpu_idle"] = cpu_over(idle)
+        stream["next"] = time.perf_counter()
+        journal = state / "journal.jsonl"
+        size0, t0 = journal.stat().st_size if journal.exists() else 0, time.perf_counter()
+        largest = [size0]
+
+        def streaming() -> None:
+            step()
+            if journal.exists():
+                largest[0] = max(largest[0], journal.stat().st_size)
+
+        out["server_cpu_streaming"] = cpu_over(streaming)
+        elapsed = time.perf_counter() - t0
+        out["frames_written_per_s"] = stream["written"] / elapsed
+        out["frames_offered_per_s"] = stream["frames"] / elapsed
+        out["delta_bytes"] = len(
+            json.dumps(
+                skeleton_tx(
+                    person.graph,
+                    parse_skeleton(skeleton(motion, 0.0, place, rng, 10.0)),
+                    time.time(),
+                )
+            )
+        )
+        out["journal_bytes_per_min_unbounded"] = (
+            out["delta_bytes"] * stream["written"] / elapsed * 60
+        )
+        out["journal_largest_bytes"] = largest[0]
+        out["compact_every"] = 1000
+        out["latency_quiet"] = percentiles(_latency_samples(ros, person, reader, arrived, n, idle))
+        out["latency_streaming"] = percentiles(
+            _latency_samples(ros, person, reader, arrived, n, step)
+        )
+        ros.close()
+    finally:
+        procs.stop_all()
+    out["robot"] = bench_barthel(work, scale, ROOT / "scenarios" / "gug_normal.yaml")
+    return out
 
 
 # ---------------------------------------------------------------------------- the report
@@ -651,6 +789,38 @@ def table(report: dict[str, Any]) -> str:
                 f"{k} {v:.1f}s" for k, v in sorted(b["cpu_s"].items(), key=lambda kv: -kv[1])
             )
         )
+    g = report.get("gug")
+    if g:
+        q, st = g["latency_quiet"], g["latency_streaming"]
+        lines.append(
+            f"get up & go: skeleton at 30 Hz, 14 joints ({g['frames_written_per_s']:.1f} frames/s "
+            f"written of {g['frames_offered_per_s']:.1f}, {g['delta_bytes']} B each)"
+        )
+        lines.append(
+            f"  server CPU {g['server_cpu_streaming']:.1%} streaming vs {g['server_cpu_idle']:.1%}"
+            " idle"
+        )
+        lines.append(
+            f"  a Speech change's latency p50/p99 {st['p50_ms']:.3f}/{st['p99_ms']:.3f} ms "
+            f"streaming vs {q['p50_ms']:.3f}/{q['p99_ms']:.3f} ms quiet"
+        )
+        lines.append(
+            f"  journal: {g['journal_bytes_per_min_unbounded'] / 1e6:.1f} MB/min of frames, "
+            f"kept under {g['journal_largest_bytes'] / 1e6:.1f} MB by compaction every "
+            f"{g['compact_every']} deltas"
+        )
+        r = g["robot"]
+        lines.append(
+            f"  whole robot over a GUG run (pace x{r['pace']}): completed {r['completed']}, CPU "
+            f"{r['cpu_total_s']:.1f} s in all, launch wall {r['wall_s']:.1f} s"
+            + (f" (Barthel run: {b['cpu_total_s']:.1f} s, {b['wall_s']:.1f} s)" if b else "")
+        )
+        lines.append(
+            "  "
+            + ", ".join(
+                f"{k} {v:.1f}s" for k, v in sorted(r["cpu_s"].items(), key=lambda kv: -kv[1])
+            )
+        )
     return "\n".join(lines)
 
 
@@ -666,7 +836,7 @@ def main() -> int:
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")
     args = parser.parse_args()
     quick = args.quick
-    sections = set(args.only or ["latency", "throughput", "scale", "kinematics", "barthel"])
+    sections = set(args.only or ["latency", "throughput", "scale", "kinematics", "barthel", "gug"])
     domain = 10 + os.getpid() % 90
     report: dict[str, Any] = {
         "machine": {
@@ -704,6 +874,10 @@ def main() -> int:
             )
         if "barthel" in sections:
             report["barthel"] = bench_barthel(work, 0.05 if quick else 0.1)
+        if "gug" in sections:
+            report["gug"] = bench_gug(
+                work, domain, 5.0 if quick else 20.0, 100 if quick else 500, 0.1
+            )
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(report, indent=2))
     print(table(report))

@@ -66,8 +66,7 @@ class KinectStandIn(DsrNode):
         subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
         self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
-        scale = float_param(self, "time_scale") or 1.0
-        self.create_timer(scale / float_param(self, "skeleton_hz"), self.on_skeleton_frame)
+        self._skeleton_timer = None  # made with the first trial: a Barthel test needs none
 
     def on_presence(self, doc: dict[str, Any]) -> None:
         self.presence = {
@@ -82,6 +81,10 @@ class KinectStandIn(DsrNode):
             "noise_mm": float(doc.get("noise_mm", 0.0)),
             "drop_rate": float(doc.get("drop_rate", 0.0)),
         }
+        if self._skeleton_timer is None:
+            scale = float_param(self, "time_scale") or 1.0
+            period = scale / float_param(self, "skeleton_hz")
+            self._skeleton_timer = self.create_timer(period, self.on_skeleton_frame)
 
     def on_frame(self) -> None:
         if self.trial is not None and self.presence["present"]:
