@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+from clarc_agents.gug.skeleton import JOINTS, parse_skeleton, skeleton_tx
+
 from browser import chromium_page, free_port
 from ros_processes import agent_in_session, fresh_domain_id, send_and_wait, snapshot_via, wait_for
 
@@ -55,9 +57,9 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
     agent = agent_in_session(ros)
     with chromium_page() as page:
         page.goto(viewer)
-        page.wait_for_function("Number(document.body.dataset.nodes) === 13", timeout=15000)
+        page.wait_for_function("Number(document.body.dataset.nodes) === 14", timeout=15000)
         assert (
-            page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 6
+            page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 7
         )  # the RT tree, drawn apart
         page.wait_for_timeout(500)  # the live stream is open
 
@@ -111,6 +113,7 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
             "JSON.parse(document.getElementById('pose').dataset.translation)[0] - 3.0) < 1e-9",
             timeout=3000,
         )
+        assert "] m\n" in page.inner_text("#pose")  # the DSR's unit, said
 
         # scrub back to seq 0: the visitor is not there yet; back to live: it is
         page.locator("#scrub").fill("0")
@@ -123,6 +126,43 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
         page.click("#live")
         page.wait_for_function(
             "document.body.dataset.live === 'true' && document.body.dataset.shownSeq === '2'",
+            timeout=3000,
+        )
+
+        # a skeleton frame (Get Up & Go): every joint a geometric node under the person
+        skeleton = {
+            joint: {"p": [900.0 + 10 * i, 20.0 * (i % 3), -400.0 + 50 * i], "c": 0.9}
+            for i, joint in enumerate(JOINTS)
+        }
+        person = {"translation": [0.9, 0, -0.4], "rotation_euler_xyz": [0, 0, 0]}
+        send_and_wait(
+            ros,
+            agent,
+            {
+                "ops": [
+                    {"op": "insert_node", "name": "person", "type": "person"},
+                    {
+                        "op": "insert_edge",
+                        "from": "kinect",
+                        "to": "person",
+                        "type": "RT",
+                        "rt": person,
+                    },
+                ]
+            },
+        )
+        send_and_wait(ros, agent, skeleton_tx(agent.graph, parse_skeleton(skeleton), 1.0))
+        page.wait_for_function(
+            "window.dsrViewer.cy.getElementById('n:person_knee_left').nonempty()", timeout=3000
+        )
+        rt_edges = page.evaluate("window.dsrViewer.cy.edges('.rt').length")
+        assert rt_edges == 9 + len(JOINTS)  # the room's, the visitor, the person, its joints
+        page.evaluate("window.dsrViewer.cy.getElementById('n:person_knee_left').emit('tap')")
+        page.wait_for_selector("#pose")
+        page.select_option("#frame", "kinect")
+        page.wait_for_function(  # the knee where the Kinect saw it, in metres (0.1 mm kept)
+            "document.getElementById('pose').dataset.translation && Math.abs("
+            "JSON.parse(document.getElementById('pose').dataset.translation)[0] - 0.98) < 1e-3",
             timeout=3000,
         )
 

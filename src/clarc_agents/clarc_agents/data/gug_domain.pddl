@@ -9,7 +9,7 @@
   (:requirements :strips)
   (:predicates
     (started) (person-present) (person-absent) (sit-requested)
-    (unexplained) (ready) (go-said) (trial-timed) (trial-void)
+    (unexplained) (to-seat) (ready) (go-said) (trial-timed) (trial-void)
     (trials-left) (trials-exhausted) (clinician-called)
     (result-stored) (said-goodbye))
 
@@ -27,11 +27,15 @@
   (:action explain
     :parameters ()
     :precondition (and (started) (unexplained) (person-present))
-    :effect (and (ready) (not (unexplained))))
+    :effect (and (to-seat) (not (unexplained))))
   (:action repeat-trial
     :parameters ()
     :precondition (and (trial-void) (trials-left) (person-present))
-    :effect (and (ready) (not (trial-void))))
+    :effect (and (to-seat) (not (trial-void))))
+  (:action seat-patient
+    :parameters ()
+    :precondition (and (to-seat) (person-present))
+    :effect (and (ready) (not (to-seat))))
   (:action say-go
     :parameters ()
     :precondition (and (ready) (person-present))

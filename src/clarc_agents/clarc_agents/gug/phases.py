@@ -114,7 +114,7 @@ def time_trial(samples: Sequence[Sample], go: float) -> TrialTimes:
         raise NotATrial(f"the patient went {far:.1f} m from the chair: no walk")
     out = np.flatnonzero(distance > far / 2)
     t_out, t_back = t[out[0]], t[out[-1]]
-    if t[-1] - t_down < 0.5:
+    if t[-1] - t_down < 0.5 or t[-1] <= t_back or t[0] >= t_out:
         raise NotATrial("not seated again yet")
     if abs(np.median(heading[t > t_back]) - np.median(heading[t < t_out])) < 0.5 * math.pi:
         raise NotATrial("the patient did not turn round")

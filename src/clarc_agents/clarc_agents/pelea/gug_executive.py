@@ -137,8 +137,10 @@ class GugExecutive(HighLevelExecutive):
             facts.add("(go-said)")
         elif status == "timed":
             facts.add("(trial-timed)")
-        elif status == "void" or (t.get("explained") and status == "idle"):
+        elif status == "void":
             facts.add("(trial-void)")
+        elif t.get("explained"):  # explained, no trial yet: seat the patient and say go
+            facts.add("(to-seat)")
         facts |= self._trials_facts()
         if self.record.clinician_called:
             facts = (facts - {"(trials-left)"}) | {"(trials-exhausted)", "(clinician-called)"}
@@ -162,7 +164,7 @@ class GugExecutive(HighLevelExecutive):
         """The trial in progress is abandoned: another one, or none left."""
         if self.trials:
             self.port.send(void_trial(self.trials))
-        state = state - {"(go-said)", "(trials-left)", "(ready)"}
+        state = state - {"(go-said)", "(trials-left)", "(ready)", "(to-seat)"}
         facts = self._trials_facts()
         if "(trials-left)" in facts:
             facts.add("(trial-void)")
@@ -220,6 +222,9 @@ class GugExecutive(HighLevelExecutive):
 
     def _repeat_trial(self, step: Step) -> None:
         self._say(Sentence(sentences.AGAIN))
+
+    def _seat_patient(self, step: Step) -> None:
+        self._say(Sentence(sentences.SIT))
 
     def _say_go(self, step: Step) -> None:
         self._say(Sentence(sentences.GO))
@@ -294,6 +299,7 @@ class GugExecutive(HighLevelExecutive):
         "wait-for-person": _wait_for_person,
         "explain": _explain,
         "repeat-trial": _repeat_trial,
+        "seat-patient": _seat_patient,
         "say-go": _say_go,
         "await-result": _await_result,
         "store-result": _store_result,

@@ -175,7 +175,7 @@ async function showPose(frame, name, pre) {
   if (!r.ok) { pre.textContent = await r.text(); return; }
   const t = await r.json();
   const f = (xs) => xs.map((x) => x.toFixed(3)).join(", ");
-  pre.textContent = `translation [${f(t.translation)}]\nquaternion wxyz [${f(t.quaternion_wxyz)}]\nchain ${t.chain.join(" → ")}`;
+  pre.textContent = `translation [${f(t.translation)}] m\nquaternion wxyz [${f(t.quaternion_wxyz)}]\nchain ${t.chain.join(" → ")}`;
   pre.dataset.translation = JSON.stringify(t.translation);
 }
 
