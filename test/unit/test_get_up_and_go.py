@@ -23,7 +23,7 @@ from local_clarc import ROOM
 
 NORMAL = Motion(reaction=1.0, rise=1.5, walk_out=3.0, turn=1.5, walk_back=3.0, sit=2.0)
 SLOW = Motion(reaction=2.5, rise=4.0, walk_out=9.0, turn=4.0, walk_back=9.5, sit=5.0)
-BRISK = Motion(reaction=0.4, rise=0.8, walk_out=2.0, turn=0.9, walk_back=2.0, sit=1.1)
+BRISK = Motion(reaction=0.0, rise=0.8, walk_out=2.0, turn=0.9, walk_back=2.0, sit=1.1)
 PLACE = TrialPlace(4500.0, 0.0, -1200.0, math.pi)  # the CLARC room's gug_chair, seen by the Kinect
 
 

@@ -24,7 +24,8 @@ A Get Up & Go scenario says ``test: get_up_and_go`` (a Barthel one may say ``tes
     leave: 6.0        # optional: walks out of view this long after "go", once
 
 ``motion`` gives the seconds of each part of the trial in the patient's time (all six, each
-positive); their sum is the truth a measured ``tug_seconds`` is checked against.
+positive but ``reaction``, which may be 0); their sum is the truth a measured ``tug_seconds`` is
+checked against.
 """
 
 from __future__ import annotations
@@ -216,7 +217,8 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
                 key_node,
                 f"motion: unknown key {key!r}; the keys are {', '.join(MOTION_KEYS)}",
             )
-        seconds[key] = _number(source, value_node, f"motion: {key}", positive=True)
+        # a patient may start to rise as "go" ends; every movement takes some time
+        seconds[key] = _number(source, value_node, f"motion: {key}", positive=key != "reaction")
     missing = [k for k in MOTION_KEYS if k not in seconds]
     if missing:
         raise _err(source, motion_node, f"motion: missing {', '.join(missing)}")
