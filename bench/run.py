@@ -119,21 +119,27 @@ def session_with_agent(domain: int, name: str):
     return ros, agent
 
 
+def timed_reader(ros):
+    """A second node in ``ros`` with a DSR replica: (node, agent, {delta id: when it arrived})."""
+    reader_node = __import__("rclpy").create_node("bench_reader", context=ros.context)
+    ros.executor.add_node(reader_node)
+    reader = DsrAgent()
+    reader.setup(reader_node, timeout_sec=30)
+    ros.spin_until(lambda: reader.ready, 30, "the reader")
+    arrived: dict[str, float] = {}
+    reader.add_listener(
+        lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})
+    )
+    return reader_node, reader, arrived
+
+
 # ---------------------------------------------------------------------------- 1. latency
 def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
     procs = Procs(work, domain)
     try:
         procs.server(work / "lat_state")
         ros, writer = session_with_agent(domain, "bench_writer")
-        reader_node = __import__("rclpy").create_node("bench_reader", context=ros.context)
-        ros.executor.add_node(reader_node)
-        reader = DsrAgent()
-        reader.setup(reader_node, timeout_sec=30)
-        ros.spin_until(lambda: reader.ready, 30, "the reader")
-        arrived: dict[str, float] = {}
-        reader.add_listener(
-            lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})
-        )
+        reader_node, reader, arrived = timed_reader(ros)
         done = []
         writer.send(
             {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, done.append
@@ -619,15 +625,7 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
     try:
         server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
         ros, person = session_with_agent(domain, "person")
-        reader_node = __import__("rclpy").create_node("bench_reader", context=ros.context)
-        ros.executor.add_node(reader_node)
-        reader = DsrAgent()
-        reader.setup(reader_node, timeout_sec=30)
-        ros.spin_until(lambda: reader.ready, 30, "the reader")
-        arrived: dict[str, float] = {}
-        reader.add_listener(
-            lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})
-        )
+        reader_node, reader, arrived = timed_reader(ros)
         done: list = []
         person.send(
             {

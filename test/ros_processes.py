@@ -164,3 +164,16 @@ def run_robot(script, *args, run_dir, timeout=240, env=None):
         )
         raise AssertionError(done.stdout[-4000:] + done.stderr[-2000:] + logs)
     return done
+
+
+def stored_tests(db, env=None) -> list[dict]:
+    """What ``clarc results --db DB --json`` lists: the tests CGAmed stored, oldest first."""
+    listed = subprocess.run(
+        ["clarc", "results", "--db", str(db), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env=env,
+        check=True,
+    )
+    return json.loads(listed.stdout)

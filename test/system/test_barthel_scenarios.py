@@ -1,7 +1,6 @@
 """The whole robot through the README's main job (scripts/launch.sh: every node its own process),
 one test per scenario, checking the stored result field by field."""
 
-import json
 import os
 import subprocess
 from pathlib import Path
@@ -122,7 +121,7 @@ EXPECTED = {
 
 @pytest.mark.parametrize("scenario", sorted(EXPECTED))
 def test_scenario_through_the_launch(scenario, tmp_path):
-    from ros_processes import fresh_domain_id, run_robot
+    from ros_processes import fresh_domain_id, run_robot, stored_tests
 
     db = tmp_path / "cgamed.sqlite"
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
@@ -139,14 +138,7 @@ def test_scenario_through_the_launch(scenario, tmp_path):
         env=env,
     )
     assert "RESULT" in run.stdout and "Barthel index" in run.stdout
-    listed = subprocess.run(
-        ["clarc", "results", "--db", str(db), "--json"],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        env=env,
-    )
-    [stored] = json.loads(listed.stdout)
+    [stored] = stored_tests(db, env)
     expected = EXPECTED[scenario]
     for key, value in expected.items():
         assert stored[key] == value, f"{key}: {stored[key]!r} != {value!r}\n{run.stdout[-4000:]}"

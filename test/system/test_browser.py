@@ -12,7 +12,14 @@ import pytest
 from clarc_agents.gug.skeleton import JOINTS, parse_skeleton, skeleton_tx
 
 from browser import chromium_page, free_port
-from ros_processes import agent_in_session, fresh_domain_id, send_and_wait, snapshot_via, wait_for
+from ros_processes import (
+    agent_in_session,
+    fresh_domain_id,
+    send_and_wait,
+    snapshot_via,
+    stored_tests,
+    wait_for,
+)
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
@@ -228,12 +235,5 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
         if launch.poll() is None:
             launch.terminate()
             launch.wait(timeout=30)
-    stored = json.loads(
-        subprocess.run(
-            ["clarc", "results", "--db", str(db), "--json"],
-            capture_output=True,
-            text=True,
-            timeout=60,
-        ).stdout
-    )
+    stored = stored_tests(db)
     assert [t["patient"] for t in stored] == ["Carlos"] and stored[0]["total"] == 80

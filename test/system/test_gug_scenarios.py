@@ -4,9 +4,7 @@ issue's tolerances (tug_seconds within 0.3 s of the six scripted parts, each pha
 the band (Podsiadlo & Richardson 1991) and the fall risk (Shumway-Cook 2000); one of them also
 at another pace."""
 
-import json
 import os
-import subprocess
 from pathlib import Path
 
 import pytest
@@ -19,7 +17,7 @@ SCENARIOS = sorted(p.name for p in (REPO / "scenarios").glob("gug_*.yaml"))
 
 
 def run_gug(scenario: str, tmp_path, *extra):
-    from ros_processes import fresh_domain_id, run_robot
+    from ros_processes import fresh_domain_id, run_robot, stored_tests
 
     db = tmp_path / "cgamed.sqlite"
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
@@ -35,14 +33,7 @@ def run_gug(scenario: str, tmp_path, *extra):
         run_dir=tmp_path / "run",
         env=env,
     )
-    listed = subprocess.run(
-        ["clarc", "results", "--db", str(db), "--json"],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        env=env,
-    )
-    [stored] = json.loads(listed.stdout)
+    [stored] = stored_tests(db, env)
     return run, stored
 
 

@@ -3,14 +3,13 @@ DSR server, PELEA and CGAmed on one, the devices and their agents on the other; 
 for 5 s in the middle of the test, and the test still completes with the result of an
 undisturbed run, no answer lost or counted twice, and the monitor shows the cut."""
 
-import json
 import os
 import shutil
 import subprocess
 
 import pytest
 
-from ros_processes import fresh_domain_id, run_robot
+from ros_processes import fresh_domain_id, run_robot, stored_tests
 
 
 def namespaces_possible() -> str:
@@ -50,14 +49,7 @@ def test_a_cut_between_the_hosts_loses_no_answer(tmp_path):
         assert (
             f"{agent} is out of reach" in server_log and f"{agent} is back in reach" in server_log
         )
-    listed = subprocess.run(
-        ["clarc", "results", "--db", str(tmp_path / "run" / "cgamed.sqlite"), "--json"],
-        capture_output=True,
-        text=True,
-        timeout=60,
-        env=env,
-    )
-    [stored] = json.loads(listed.stdout)
+    [stored] = stored_tests(tmp_path / "run" / "cgamed.sqlite", env)
     # the default scenario's undisturbed result (test_barthel_scenarios.py)
     assert stored["total"] == 80 and stored["unanswered"] == ["grooming"]
     points = {i["item"]: (i["points"], i["via"]) for i in stored["items"]}

@@ -13,7 +13,7 @@ from __future__ import annotations
 from clarc_agents.gug.gait_analyser import GaitAnalyser
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
-from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param
+from dsr_graph.ros.parameters import declare_setup_timeout, declare_time_scale, float_param
 
 
 class GaitAnalyserNode(DsrNode):
@@ -21,13 +21,8 @@ class GaitAnalyserNode(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(
-            node,
-            "time_scale",
-            1.0,
-            "the session's pace: frame times are divided by it to give the patient's time",
-            read_only=True,
-            minimum=0.0,
+        declare_time_scale(
+            node, "the session's pace: frame times are divided by it to give the patient's time"
         )
         declare_setup_timeout(node, 20.0)
 

@@ -10,7 +10,7 @@ import abc
 from clarc_agents.grammar_files import load_grammar
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode
-from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param
+from dsr_graph.ros.parameters import declare_setup_timeout, declare_time_scale, float_param
 from dsr_graph.rules.runner import Process, RuleRunner
 
 
@@ -22,13 +22,8 @@ class GrammarAgentNode(DsrNode, abc.ABC):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(
-            node,
-            "time_scale",
-            1.0,
-            "multiplies every time of the flow (0.1: ten times faster than a real session)",
-            read_only=True,
-            minimum=0.0,
+        declare_time_scale(
+            node, "multiplies every time of the flow (0.1: ten times faster than a real session)"
         )
         declare_setup_timeout(node, 20.0)
 

@@ -31,7 +31,13 @@ from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json
-from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
+from dsr_graph.ros.parameters import (
+    declare,
+    declare_setup_timeout,
+    declare_time_scale,
+    float_param,
+    param,
+)
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 from dsr_msgs.srv import StoreResult
@@ -44,14 +50,7 @@ class PeleaNode(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(
-            node,
-            "time_scale",
-            1.0,
-            "multiplies every time of the flow",
-            read_only=True,
-            minimum=0.0,
-        )
+        declare_time_scale(node, "multiplies every time of the flow")
         declare(
             node,
             "answer_timeout",

@@ -27,7 +27,7 @@ from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
 from clarc_sim.patient.gait_motion import Motion
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_sensor
 
 
@@ -45,7 +45,7 @@ class KinectStandIn(DsrNode):
             read_only=True,
             minimum=0.1,
         )
-        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare_time_scale(node)
         declare(
             node,
             "trial_place",

@@ -16,7 +16,7 @@ from clarc_agents import topics
 from clarc_sim import sim_topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param
+from dsr_graph.ros.parameters import declare, declare_time_scale, float_param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 
@@ -26,7 +26,7 @@ class MicrophoneStandIn(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare_time_scale(node)
         declare(node, "latency", 0.4, "seconds speech recognition takes", minimum=0.0)
 
     def __init__(self):

@@ -19,7 +19,7 @@ from std_msgs.msg import String
 from clarc_agents import topics
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 
@@ -34,7 +34,7 @@ class TtsStandIn(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare_time_scale(node)
         declare(node, "words_per_second", 2.5, "speaking rate", minimum=0.1)
         declare(
             node, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True

@@ -15,23 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-JOINTS = (
-    "head",
-    "neck",
-    "spine",
-    "pelvis",
-    "shoulder_left",
-    "shoulder_right",
-    "hip_left",
-    "hip_right",
-    "knee_left",
-    "knee_right",
-    "ankle_left",
-    "ankle_right",
-    "foot_left",
-    "foot_right",
-)
-PHASES = ("rise", "walk_out", "turn", "walk_back", "sit")
+from clarc_agents.gug.phases import PHASES
 
 SEATED_PELVIS = 0.47  # m above the floor
 STANDING_PELVIS = 0.95

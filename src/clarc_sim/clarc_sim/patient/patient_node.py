@@ -25,7 +25,7 @@ from clarc_sim.patient.scenario import MOTION_KEYS, load
 from clarc_sim.patient.script import Action, PatientScript
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_graph.ros.timers import OneShot
 
@@ -38,7 +38,7 @@ class SimulatedPatient(DsrNode):
     @classmethod
     def declare_node_parameters(cls, node) -> None:
         declare(node, "scenario", "", "scenario YAML file", read_only=True, required=True)
-        declare(node, "time_scale", 1.0, "multiplies every time", read_only=True, minimum=0.0)
+        declare_time_scale(node)
         declare(
             node, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0
         )

@@ -75,6 +75,13 @@ def float_param(node: Node, name: str) -> float:
     return float(node.get_parameter(name).value)
 
 
+def declare_time_scale(
+    node: Node, description: str = "multiplies every time of the flow (0.1: ten times faster)"
+) -> None:
+    """``time_scale``: the session's pace, the same parameter on every CLARC node."""
+    declare(node, "time_scale", 1.0, description, read_only=True, minimum=0.0)
+
+
 def declare_setup_timeout(node: Node, default: float) -> None:
     """``setup_timeout``: how long ``setup()`` waits for the DSR server before failing."""
     declare(
