@@ -16,7 +16,7 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
     ],
-    package_data={PACKAGE: ["data/*.pddl", "grammars/*.yaml"]},
+    package_data={PACKAGE: ["data/*.pddl", "grammars/*.yaml", "definitions/*.yaml"]},
     entry_points={
         "console_scripts": [
             "pelea = clarc_agents.nodes.pelea_node:main",

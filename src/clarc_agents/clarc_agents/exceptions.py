@@ -15,6 +15,11 @@ class ScenarioError(DsrError, ValueError):
     """A scenario file is not usable; the message names the file, the line and what is wrong."""
 
 
+class DefinitionError(DsrError, ValueError):
+    """A test definition file is not usable; the message names the file, the line and what is
+    wrong."""
+
+
 class InvalidResult(DsrError, ValueError):
     """A result that does not describe a test (Barthel or Get Up & Go); the message says what is
     wrong."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents.barthel.items import BY_KEY, DEFINITION, ORDER
 
 
 @dataclass(frozen=True)
@@ -19,17 +19,11 @@ class Sentence:
 
 
 def greet(patient: str) -> Sentence:
-    return Sentence(
-        f"Hello {patient}, I am CLARC. I will ask you a few questions so that your doctor "
-        "knows how you are getting on."
-    )
+    return Sentence(DEFINITION.sentence("greet", patient=patient))
 
 
 def explain() -> Sentence:
-    return Sentence(
-        "I will ask you about ten everyday activities. For each one I will read some options: "
-        "choose one by saying it, or by touching it on the screen on my chest."
-    )
+    return Sentence(DEFINITION.sentence("explain"))
 
 
 def introduce(item: str) -> Sentence:
@@ -87,6 +81,4 @@ def call_clinician() -> Sentence:
 
 
 def goodbye(patient: str) -> Sentence:
-    return Sentence(
-        f"That was the last question. Thank you {patient}, goodbye!", needs_person=False
-    )
+    return Sentence(DEFINITION.sentence("goodbye", patient=patient), needs_person=False)

@@ -37,6 +37,9 @@ import yaml
 
 from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.exceptions import ScenarioError
+from clarc_agents.yaml_lines import compose
+from clarc_agents.yaml_lines import err as _err
+from clarc_agents.yaml_lines import scalar as _scalar
 from clarc_sim.patient.gait_motion import Motion
 
 TESTS = ("barthel", "get_up_and_go")
@@ -72,27 +75,8 @@ class Scenario:
         return self.items[item]
 
 
-def _err(source: str, node: Any, message: str) -> ScenarioError:
-    line = (
-        node.start_mark.line + 1 if node is not None and getattr(node, "start_mark", None) else "?"
-    )
-    return ScenarioError(f"{source}:{line}: {message}")
-
-
-def _scalar(node: Any) -> Any:
-    """A scalar node's value with YAML's own typing (int, float, bool, str)."""
-    return yaml.safe_load(yaml.serialize(node)) if node is not None else None
-
-
 def parse(text: str, source: str = "scenario") -> Scenario:
-    try:
-        root = yaml.compose(text)
-    except yaml.YAMLError as e:
-        mark = getattr(e, "problem_mark", None)
-        line = mark.line + 1 if mark else "?"
-        raise ScenarioError(
-            f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}"
-        ) from None
+    root = compose(text, source)
     if not isinstance(root, yaml.MappingNode):
         raise _err(source, root, 'a scenario is a mapping with "patient" and "items"')
     patient, items_node = None, None

@@ -1,0 +1,225 @@
+"""Test definitions: a questionnaire test as a data file (``<test>.yaml`` in this package), read
+strictly (pure). A mistake is a ``DefinitionError`` naming the file and the line.
+
+    definition = load("barthel")
+    definition.items[0].options[0].words, definition.band(85), definition.sentence("greet", ...)
+
+Format (docs/FORMAT.md "Test definitions"): ``format: clarc-test``, ``version: 1``, ``test``,
+``title``, ``scoring: sum``, ``sentences`` (greet, explain, goodbye; ``{patient}`` is filled
+in), ``bands`` (``{name, min, max}`` covering every total from 0 to the maximum once), ``items``
+in order (``key``, ``title``, ``question``, ``options``: ``{points, text, says, words}``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from clarc_agents.exceptions import DefinitionError
+from clarc_agents.yaml_lines import compose, err, mapping, scalar
+
+SENTENCES = ("greet", "explain", "goodbye")
+TOP = ("format", "version", "test", "title", "scoring", "sentences", "bands", "items")
+ITEM_KEYS = ("key", "title", "question", "options")
+OPTION_KEYS = ("points", "text", "says", "words")
+
+
+@dataclass(frozen=True)
+class Option:
+    points: int
+    text: str  # read out and shown on the touch screen
+    says: str  # what a patient says to choose it (the simulated patient, the tests)
+    keywords: tuple[str, ...]  # what recognises it in an utterance (lower case)
+
+
+@dataclass(frozen=True)
+class Item:
+    key: str
+    title: str
+    question: str
+    options: tuple[Option, ...]
+
+    @property
+    def points(self) -> tuple[int, ...]:
+        return tuple(o.points for o in self.options)
+
+    def option(self, points: int) -> Option | None:
+        return next((o for o in self.options if o.points == points), None)
+
+
+@dataclass(frozen=True)
+class Definition:
+    test: str
+    title: str
+    items: tuple[Item, ...]
+    bands: tuple[tuple[int, int, str], ...]  # (min, max, name), in order
+    sentences: dict[str, str]
+    source: str = ""
+
+    @property
+    def max_total(self) -> int:
+        return sum(max(i.points) for i in self.items)
+
+    def band(self, total: int) -> str:
+        for low, high, name in self.bands:
+            if low <= total <= high:
+                return name
+        raise ValueError(f"a {self.title} total is between 0 and {self.max_total}, got {total}")
+
+    def sentence(self, name: str, **values: str) -> str:
+        return self.sentences[name].format(**values)
+
+
+def path_of(test: str) -> Path:
+    return Path(str(resources.files("clarc_agents").joinpath(f"definitions/{test}.yaml")))
+
+
+def load(test: str) -> Definition:
+    """The definition of ``test`` shipped with the package."""
+    path = path_of(test)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as e:
+        raise DefinitionError(f"{path}: cannot read the definition of {test!r}: {e}") from None
+    return parse(text, str(path))
+
+
+def parse(text: str, source: str = "definition") -> Definition:
+    root = compose(text, source, DefinitionError)
+    if not isinstance(root, _Mapping):
+        raise _err(source, root, "a test definition is a mapping (format: clarc-test, ...)")
+    top = mapping(root)
+    for key, (node, _) in top.items():
+        if key not in TOP:
+            raise _err(source, node, f"unknown key {key!r}; the keys are {', '.join(TOP)}")
+    for key in TOP:
+        if key not in top:
+            raise _err(source, root, f"missing {key!r}")
+    if _value(top, "format") != "clarc-test" or _value(top, "version") != 1:
+        raise _err(source, top["format"][1], "this reads format clarc-test, version 1")
+    if _value(top, "scoring") != "sum":
+        raise _err(source, top["scoring"][1], "scoring: sum is the one scoring there is")
+    test, title = _text(source, top, "test"), _text(source, top, "title")
+    sentences = _sentences(source, top["sentences"][1])
+    items = _items(source, top["items"][1])
+    bands = _bands(source, top["bands"][1], sum(max(i.points) for i in items))
+    return Definition(test, title, items, bands, sentences, source)
+
+
+_Mapping, _Sequence = yaml.MappingNode, yaml.SequenceNode
+
+
+def _err(source: str, node: Any, message: str) -> DefinitionError:
+    return err(source, node, message, DefinitionError)
+
+
+def _value(fields: dict[str, tuple[Any, Any]], key: str) -> Any:
+    return scalar(fields[key][1])
+
+
+def _text(source: str, fields: dict[str, tuple[Any, Any]], key: str) -> str:
+    value = _value(fields, key)
+    if not isinstance(value, str) or not value.strip():
+        raise _err(source, fields[key][1], f"{key} must be a text")
+    return value.strip()
+
+
+def _sentences(source: str, node: Any) -> dict[str, str]:
+    if not isinstance(node, _Mapping):
+        raise _err(source, node, f"sentences maps {', '.join(SENTENCES)} to texts")
+    fields = mapping(node)
+    for key, (key_node, _) in fields.items():
+        if key not in SENTENCES:
+            raise _err(
+                source, key_node, f"unknown sentence {key!r}; they are {', '.join(SENTENCES)}"
+            )
+    missing = [k for k in SENTENCES if k not in fields]
+    if missing:
+        raise _err(source, node, f"sentences: missing {', '.join(missing)}")
+    return {k: _text(source, fields, k) for k in SENTENCES}
+
+
+def _items(source: str, node: Any) -> tuple[Item, ...]:
+    if not isinstance(node, _Sequence) or not node.value:
+        raise _err(source, node, "items is a list of the test's items, in order")
+    items: list[Item] = []
+    for item_node in node.value:
+        if not isinstance(item_node, _Mapping):
+            raise _err(source, item_node, "an item is a mapping with key, title, question, options")
+        fields = mapping(item_node)
+        for key, (key_node, _) in fields.items():
+            if key not in ITEM_KEYS:
+                raise _err(
+                    source, key_node, f"unknown key {key!r}; an item has {', '.join(ITEM_KEYS)}"
+                )
+        for key in ITEM_KEYS:
+            if key not in fields:
+                raise _err(source, item_node, f"an item needs {key!r}")
+        key = _text(source, fields, "key")
+        if not key.isidentifier() or key != key.lower():
+            raise _err(source, fields["key"][1], f"an item key is a lower-case name, got {key!r}")
+        if key in {i.key for i in items}:
+            raise _err(source, fields["key"][1], f"item {key!r} is listed twice")
+        options = _options(source, key, fields["options"][1])
+        items.append(
+            Item(key, _text(source, fields, "title"), _text(source, fields, "question"), options)
+        )
+    return tuple(items)
+
+
+def _options(source: str, item: str, node: Any) -> tuple[Option, ...]:
+    if not isinstance(node, _Sequence) or len(node.value) < 2:
+        raise _err(source, node, f"{item}: options is a list of at least two options")
+    options: list[Option] = []
+    for option_node in node.value:
+        if not isinstance(option_node, _Mapping):
+            raise _err(source, option_node, f"{item}: an option is {{points, text, says, words}}")
+        fields = mapping(option_node)
+        for key, (key_node, _) in fields.items():
+            if key not in OPTION_KEYS:
+                raise _err(source, key_node, f"{item}: unknown key {key!r} of an option")
+        for key in OPTION_KEYS:
+            if key not in fields:
+                raise _err(source, option_node, f"{item}: an option needs {key!r}")
+        points = _value(fields, "points")
+        if isinstance(points, bool) or not isinstance(points, int) or points < 0:
+            raise _err(source, fields["points"][1], f"{item}: points are a whole number >= 0")
+        if points in {o.points for o in options}:
+            raise _err(source, fields["points"][1], f"{item}: two options worth {points}")
+        words = scalar(fields["words"][1]) if isinstance(fields["words"][1], _Sequence) else None
+        if not words or not all(isinstance(w, str) and w.strip() for w in words):
+            raise _err(source, fields["words"][1], f"{item}: words is a list of phrases")
+        keywords = tuple(w.strip().lower() for w in words)
+        text, says = _text(source, fields, "text"), _text(source, fields, "says")
+        options.append(Option(points, text, says, keywords))
+    return tuple(options)
+
+
+def _bands(source: str, node: Any, max_total: int) -> tuple[tuple[int, int, str], ...]:
+    if not isinstance(node, _Sequence) or not node.value:
+        raise _err(source, node, "bands is a list of {name, min, max}")
+    bands = []
+    for band_node in node.value:
+        fields = mapping(band_node) if isinstance(band_node, _Mapping) else {}
+        if set(fields) != {"name", "min", "max"}:
+            raise _err(source, band_node, "a band is {name, min, max}")
+        low, high = _value(fields, "min"), _value(fields, "max")
+        if not all(isinstance(v, int) and not isinstance(v, bool) for v in (low, high)):
+            raise _err(source, band_node, "a band's min and max are whole numbers")
+        bands.append((low, high, _text(source, fields, "name"), band_node))
+    expected = 0
+    for low, high, name, band_node in bands:
+        if low != expected or high < low:
+            raise _err(
+                source, band_node, f"band {name!r}: bands cover 0 to {max_total} in order, once"
+            )
+        expected = high + 1
+    if expected != max_total + 1:
+        raise _err(
+            source, node, f"the bands end at {expected - 1}, the items' total at {max_total}"
+        )
+    return tuple((low, high, name) for low, high, name, _ in bands)

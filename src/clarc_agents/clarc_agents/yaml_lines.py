@@ -1,0 +1,38 @@
+"""Reading our YAML files strictly (pure): the nodes keep their line numbers, so every mistake
+in a scenario or a test definition is an error naming the file and the line."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import yaml
+
+from clarc_agents.exceptions import ScenarioError
+
+
+def compose(text: str, source: str, error: type[Exception] = ScenarioError) -> Any:
+    """The YAML node tree of ``text``; ``error`` naming the line if it is not YAML."""
+    try:
+        return yaml.compose(text)
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        line = mark.line + 1 if mark else "?"
+        raise error(f"{source}:{line}: not valid YAML: {getattr(e, 'problem', e)}") from None
+
+
+def err(source: str, node: Any, message: str, error: type[Exception] = ScenarioError) -> Exception:
+    """``error`` for ``message`` at ``node``'s line of ``source``."""
+    line = (
+        node.start_mark.line + 1 if node is not None and getattr(node, "start_mark", None) else "?"
+    )
+    return error(f"{source}:{line}: {message}")
+
+
+def scalar(node: Any) -> Any:
+    """A scalar node's value with YAML's own typing (int, float, bool, str)."""
+    return yaml.safe_load(yaml.serialize(node)) if node is not None else None
+
+
+def mapping(node: Any) -> dict[str, tuple[Any, Any]]:
+    """{key: (key node, value node)} of a mapping node."""
+    return {scalar(k): (k, v) for k, v in node.value}
