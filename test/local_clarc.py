@@ -117,9 +117,7 @@ class Robot:
         self.person_link = self.bus.agent("/person")
         self.person = RuleRunner(self.person_link, load_grammar("person"), {}, log)
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(
-            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now, epoch=self.epoch
-        )
+        self.speech = self._speech_behaviour()
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.panel_link = self.bus.agent("/panel")
@@ -148,6 +146,17 @@ class Robot:
         assert self.port.stored, f"no result stored; events: {self.port.events[-5:]}"
         return self.port.stored[-1]
 
+    def _speech_behaviour(self) -> SpeechBehaviour:
+        link = self.speech_link
+        return SpeechBehaviour(
+            self,
+            self._clock_of(link),
+            log,
+            now=lambda: self.bus.now,
+            epoch=self.epoch,
+            graph=lambda: link.graph,
+        )
+
     def epoch(self) -> float:
         """The bus's time as epoch seconds (the Port's and Speech's clock)."""
         return 1_790_000_000 + self.bus.now
@@ -165,9 +174,7 @@ class Robot:
         """Speech's process dies and a new one starts: a new replica, its grammar's recovery."""
         self.speech_link.close()
         self.speech_link = self.bus.agent("/speech")
-        self.speech = SpeechBehaviour(
-            self, self._clock_of(self.speech_link), log, now=lambda: self.bus.now, epoch=self.epoch
-        )
+        self.speech = self._speech_behaviour()
         processes = dict(self.speech.processes(), listen=self._listen)
         self.speech_runner = RuleRunner(self.speech_link, load_grammar("speech"), processes, log)
         self.speech_runner.setup()

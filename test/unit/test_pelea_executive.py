@@ -157,6 +157,10 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
         "status": "answered",
         "outcomes": ["answered"],
         "heard": "",
+        # its options, for the agents that hear and show answers (no copy of the table there)
+        "options": ["I cannot use stairs", "I need help on stairs", "I use stairs by myself"],
+        "option_points": [0.0, 5.0, 10.0],
+        "option_words": ["cannot|can't|unable", "need help", "by myself|on my own|independent"],
     }
     assert graph.node("item_feeding").attrs["answer"] == 10
 
@@ -428,3 +432,16 @@ def test_speech_and_panel_out_of_reach_for_a_while_lose_no_answer(moment):
     for n, item in enumerate(ORDER, 1):
         question = f"Question {n} of 10, {BY_KEY[item].title}. {BY_KEY[item].question}"
         assert question in robot.said, (moment, question)
+
+
+def test_speech_hears_by_the_options_the_dsr_carries_not_by_a_table_of_its_own():
+    # Change the words of feeding's options on its node: the patient's "I eat on my own" now
+    # recognises option 1 (0 points), so Speech read them from the DSR.
+    robot = Robot()
+    words = ["on my own", "cutting|spreading", "zzz"]
+    tx = {
+        "ops": [{"op": "set_node_attrs", "node": "item_feeding", "attrs": {"option_words": words}}]
+    }
+    robot.bus.after(0.01, lambda: robot.pelea_link.send(tx))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (0, "voice", 1)

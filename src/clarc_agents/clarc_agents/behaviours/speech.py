@@ -15,8 +15,8 @@ from collections.abc import Callable
 from typing import Protocol
 
 from clarc_agents.barthel.answers import understand
-from clarc_agents.barthel.items import BY_KEY
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
+from clarc_agents.behaviours.item_options import item_in
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
@@ -47,6 +47,7 @@ class SpeechBehaviour:
         start_patience: float = 1.0,
         now: Callable[[], float] = time.monotonic,
         epoch: Callable[[], float] = time.time,
+        graph: Callable[[], Graph | None] = lambda: None,
         server_gap: Callable[[], tuple[float, float]] = lambda: NO_GAP,
     ):
         self.speaker = speaker
@@ -55,6 +56,7 @@ class SpeechBehaviour:
         self.scale = scale
         self.start_patience = start_patience  # seconds of wall time: a matter of processes
         self.epoch = epoch  # when a sentence ended, as the DSR's stamps (a Get Up & Go's "go")
+        self.graph = graph  # the agent's replica: the item's options are read from it
         self.speaking: dict[int, ActionContext] = {}  # sentence id -> the say process
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
@@ -139,7 +141,12 @@ class SpeechBehaviour:
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
         self.listening = None
-        meaning = understand(BY_KEY[ctx["item"]], text)
+        item = item_in(self.graph(), ctx["item"]) if self.graph() is not None else None
+        if item is None:  # the DSR does not say what the options are: nothing to match
+            self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
+            ctx.finish("not_understood", heard=text)
+            return
+        meaning = understand(item, text)
         if meaning.kind == "answer":
             ctx.finish("answered", points=meaning.points, heard=text)
         else:

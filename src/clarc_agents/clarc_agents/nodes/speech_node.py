@@ -35,6 +35,7 @@ class SpeechAgent(GrammarAgentNode):
             self.get_logger(),
             scale=self.scale,
             server_gap=lambda: self.dsr.server_gap,
+            graph=lambda: self.dsr.graph,
         )
 
     def processes(self) -> dict[str, Process]:

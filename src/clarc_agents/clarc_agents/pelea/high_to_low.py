@@ -5,9 +5,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.barthel.record import ItemResult
 from clarc_agents.barthel.sentences import Sentence
+from clarc_agents.behaviours.item_options import item_node
 from dsr_graph.model.graph import Graph
 
 
@@ -110,10 +111,6 @@ def consume_answer() -> dict[str, Any]:
     }
 
 
-def item_node(item: str) -> str:
-    return f"item_{item}"
-
-
 REQUEST = ("requested_patient", "requested", "requested_test")
 
 
@@ -122,6 +119,16 @@ def request_start(patient: str, requested: str, test: str = "barthel") -> dict[s
     on the test node until PELEA takes it."""
     attrs = {"requested_patient": patient, "requested": requested, "requested_test": test}
     return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
+
+
+def option_attrs(item) -> dict[str, Any]:
+    """An item's options as its node carries them, for the agents that hear or show answers:
+    texts, points, and the words that recognise each ("|" between the phrases of one option)."""
+    return {
+        "options": [o.text for o in item.options],
+        "option_points": [float(o.points) for o in item.options],
+        "option_words": ["|".join(o.keywords) for o in item.options],
+    }
 
 
 def take_request(graph: Graph, patient: str) -> tuple[list[dict], list[dict]]:
@@ -170,7 +177,13 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
                 "op": "insert_node",
                 "name": name,
                 "type": "test_item",
-                "attrs": {"item": item, "position": position, "attempts": 0, "status": "asking"},
+                "attrs": {
+                    "item": item,
+                    "position": position,
+                    "attempts": 0,
+                    "status": "asking",
+                    **option_attrs(BY_KEY[item]),
+                },
             }
         )
         ops.append({"op": "insert_edge", "from": "test", "to": name, "type": "has"})

@@ -10,7 +10,7 @@ from typing import Any
 
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.barthel.record import BarthelRecord
-from clarc_agents.pelea.high_to_low import item_node
+from clarc_agents.behaviours.item_options import item_node
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match
 from dsr_graph.rules.syntax import Pattern
