@@ -66,6 +66,13 @@ class GugRobot(Robot):
         self.gug.on_graph(self.pelea_link.graph)
 
     # ------------------------------------------------------------------ the analyser
+    def restart_analyser(self) -> None:
+        """The gait analyser's process dies and a new one starts, knowing nothing."""
+        self.analyser_link.close()
+        self.analyser_link = self.bus.agent("/gait_analyser")
+        self.analyser = GaitAnalyser()
+        self.analyser_link.add_listener(lambda d, r: self._analyse())
+
     def _analyse(self) -> None:
         tx = self.analyser.on_graph(self.analyser_link.graph)
         if tx is not None:

@@ -47,7 +47,9 @@ def check(stored, scenario: str, log: str) -> None:
         assert abs(stored["phases"][phase] - getattr(motion, phase)) <= 0.4, (phase, stored)
     assert stored["band"] == band(stored["tug_seconds"])
     assert stored["fall_risk"] == fall_risk(stored["tug_seconds"])
-    assert stored["trials"] == (2 if truth.leave is not None else 1)
+    # a trial with a hole in its frames (a stall of the whole robot on a busy machine) is void
+    # and repeated rather than timed wrong: more trials than planned are allowed, never fewer
+    assert stored["trials"] >= (2 if truth.leave is not None else 1)
     assert stored["person_lost"] == (truth.leave is not None)
 
 

@@ -218,3 +218,40 @@ def test_a_get_up_and_go_scenario_reads_its_motion():
 def test_a_bad_get_up_and_go_scenario_names_the_line(text, error):
     with pytest.raises(ScenarioError, match=error):
         parse(text)
+
+
+def test_a_trial_with_a_hole_in_its_frames_is_void_not_timed_wrong():
+    # Person down for 2 s in the middle of the walk: the analyser says the trial is void
+    bus, person = dsr_with_a_seated_person()
+    analyser_link, analyser, written = bus.agent("/gait_analyser"), GaitAnalyser(), []
+
+    def look(deltas, resynced):
+        tx = analyser.on_graph(analyser_link.graph)
+        if tx is not None:
+            written.append(tx["ops"][0]["attrs"])
+            analyser_link.send(tx)
+
+    analyser_link.add_listener(look)
+    for t, raw in frames(NORMAL):
+        if 4.0 <= t < 6.0:
+            continue
+        person.send(skeleton_tx(person.graph, parse_skeleton(raw), 1000.0 + t))
+        bus.deliver()
+    gait = bus.core.graph.node("gait").attrs
+    assert gait["status"] == "void" and "no frames for 2.0 s" in gait["reason"]
+    assert "tug_seconds" not in gait
+
+
+def test_an_analyser_that_joins_a_trial_late_voids_it():
+    bus, person = dsr_with_a_seated_person()
+    for t, raw in frames(NORMAL):
+        if t > 3.0:
+            break
+        person.send(skeleton_tx(person.graph, parse_skeleton(raw), 1000.0 + t))
+    bus.deliver()
+    late = bus.agent("/gait_analyser")  # restarted at 3 s: it has seen nothing of the trial
+    raw = skeleton(NORMAL, 3.1, PLACE, random.Random(1))
+    person.send(skeleton_tx(person.graph, parse_skeleton(raw), 1003.1))
+    bus.deliver()
+    tx = GaitAnalyser().on_graph(late.graph)
+    assert tx["ops"][0]["attrs"]["status"] == "void"

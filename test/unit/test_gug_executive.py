@@ -111,3 +111,11 @@ def test_the_person_s_posture_follows_the_skeleton_as_a_rule_writes_it(noise_mm)
         "standing",
         "sitting",
     ]
+
+
+def test_a_gait_analyser_restarted_mid_trial_voids_it_and_the_trial_is_repeated():
+    robot = GugRobot(MOTION)
+    robot.bus.after(24.0, robot.restart_analyser)  # a few seconds into the first trial
+    result = robot.run_gug()
+    within_tolerance(result)
+    assert result["trials"] == 2 and robot.said.count(sentences.GO) == 2

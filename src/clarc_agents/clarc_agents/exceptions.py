@@ -28,3 +28,8 @@ class InvalidResult(DsrError, ValueError):
 class NotATrial(DsrError, ValueError):
     """Skeleton samples that do not hold a whole Get Up & Go trial (no rise, no walk, no turn,
     not seated again); the message says which."""
+
+
+class TrialGap(NotATrial):
+    """Frames are missing from a Get Up & Go trial for longer than a movement may hide in (the
+    Kinect or Person was down, the analyser joined late): it can never be timed."""

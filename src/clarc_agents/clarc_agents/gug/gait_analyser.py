@@ -12,7 +12,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from clarc_agents.gug.phases import PHASES, NotATrial, Sample, band, fall_risk, sample, time_trial
+from clarc_agents.gug.phases import (
+    MAX_GAP,
+    PHASES,
+    NotATrial,
+    Sample,
+    band,
+    fall_risk,
+    sample,
+    time_trial,
+)
 from clarc_agents.gug.skeleton import joint_node
 from dsr_graph.exceptions import DsrError
 from dsr_graph.model.graph import Graph
@@ -46,6 +55,14 @@ class GaitAnalyser:
         new = self._take_frame(graph)
         if new is None:
             return None
+        before = self.samples[-2].t if len(self.samples) > 1 else 0.0  # "go"
+        if new.t - before > MAX_GAP:  # a hole: Person or the Kinect was down, or we joined late
+            self.phase = "done"
+            reason = (
+                f"no frames for {new.t - before:.1f} s from {before:.1f} s after go: "
+                "the trial cannot be timed"
+            )
+            return self._tx({"status": "void", "phase": "done", "reason": reason})
         timed = self._time_if_seated()
         if timed is not None:
             return self._result_tx(timed)

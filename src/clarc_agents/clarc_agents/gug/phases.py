@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from clarc_agents.exceptions import NotATrial
+from clarc_agents.exceptions import NotATrial, TrialGap
 
 PHASES = ("rise", "walk_out", "turn", "walk_back", "sit")
 HIPS = ("pelvis", "hip_left", "hip_right")
@@ -29,6 +29,7 @@ SIDES = (("hip_left", "hip_right"), ("shoulder_left", "shoulder_right"))
 COARSE = 0.1  # s, the first grid of a fit
 FINE = 1.0 / 60.0  # s, the grid it is refined on
 MIN_MOVE = 0.2  # s: no movement of a trial is shorter
+MAX_GAP = 0.5  # s without a frame that a trial may have (lost frames leave 0.1 s or so)
 
 
 @dataclass(frozen=True)
@@ -99,6 +100,7 @@ def time_trial(samples: Sequence[Sample], go: float) -> TrialTimes:
     if len(samples) < 30:
         raise NotATrial(f"{len(samples)} frames after go: too few for a trial")
     t = np.array([s.t for s in samples])
+    check_gaps(t, go)
     height = np.array([s.height for s in samples])
     distance = np.array([s.distance for s in samples])
     heading = np.unwrap(np.array([s.heading for s in samples]))
@@ -127,6 +129,18 @@ def time_trial(samples: Sequence[Sample], go: float) -> TrialTimes:
     moves = (rise, walk_out, turn, walk_back, sit)
     meetings = tuple((a[1] + b[0]) / 2 for a, b in zip(moves, moves[1:], strict=False))
     return TrialTimes(go, (rise[0], *meetings, sit[1]))
+
+
+def check_gaps(t: np.ndarray, go: float) -> None:
+    """``TrialGap`` if the frames from ``go`` on leave a hole longer than ``MAX_GAP``."""
+    steps = np.diff(np.concatenate(([go], t)))
+    worst = int(np.argmax(steps))
+    if steps[worst] > MAX_GAP:
+        at = go if worst == 0 else t[worst - 1]
+        raise TrialGap(
+            f"no frames for {steps[worst]:.1f} s from {at - go:.1f} s after go: "
+            "the trial cannot be timed"
+        )
 
 
 def _fit_step(t: np.ndarray, y: np.ndarray, lo: float, hi: float) -> tuple[float, float]:

@@ -189,6 +189,10 @@ class GugExecutive(HighLevelExecutive):
                     band=g.get("band"),
                 )
                 self._complete(wait.token)
+            elif g.get("trial") == wait.trial and g.get("status") == "void":
+                # the analyser could not time it (frames missing): try again at once
+                self.log.warning(f"trial {wait.trial} is void: {g.get('reason', '')}")
+                self._complete(wait.token, self._void(self.state))
             elif g.get("trial") == wait.trial and g.get("phase"):
                 self._phase_seen(g["phase"])
             return
