@@ -92,13 +92,7 @@ def parse(text: str, source: str = "definition") -> Definition:
     root = compose(text, source, DefinitionError)
     if not isinstance(root, _Mapping):
         raise _err(source, root, "a test definition is a mapping (format: clarc-test, ...)")
-    top = mapping(root)
-    for key, (node, _) in top.items():
-        if key not in TOP:
-            raise _err(source, node, f"unknown key {key!r}; the keys are {', '.join(TOP)}")
-    for key in TOP:
-        if key not in top:
-            raise _err(source, root, f"missing {key!r}")
+    top = _fields(source, root, TOP, "")
     if _value(top, "format") != "clarc-test" or _value(top, "version") != 1:
         raise _err(source, top["format"][1], "this reads format clarc-test, version 1")
     if _value(top, "scoring") != "sum":
@@ -117,6 +111,20 @@ def _err(source: str, node: Any, message: str) -> DefinitionError:
     return err(source, node, message, DefinitionError)
 
 
+def _fields(source: str, node: Any, keys: tuple[str, ...], what: str) -> dict[str, tuple[Any, Any]]:
+    """A mapping's fields, refusing a key it may not have or one it lacks (``what``: where)."""
+    fields = mapping(node)
+    for key, (key_node, _) in fields.items():
+        if key not in keys:
+            raise _err(
+                source, key_node, f"{what}unknown key {key!r}; the keys are {', '.join(keys)}"
+            )
+    missing = [k for k in keys if k not in fields]
+    if missing:
+        raise _err(source, node, f"{what}missing {', '.join(missing)}")
+    return fields
+
+
 def _value(fields: dict[str, tuple[Any, Any]], key: str) -> Any:
     return scalar(fields[key][1])
 
@@ -131,15 +139,7 @@ def _text(source: str, fields: dict[str, tuple[Any, Any]], key: str) -> str:
 def _sentences(source: str, node: Any) -> dict[str, str]:
     if not isinstance(node, _Mapping):
         raise _err(source, node, f"sentences maps {', '.join(SENTENCES)} to texts")
-    fields = mapping(node)
-    for key, (key_node, _) in fields.items():
-        if key not in SENTENCES:
-            raise _err(
-                source, key_node, f"unknown sentence {key!r}; they are {', '.join(SENTENCES)}"
-            )
-    missing = [k for k in SENTENCES if k not in fields]
-    if missing:
-        raise _err(source, node, f"sentences: missing {', '.join(missing)}")
+    fields = _fields(source, node, SENTENCES, "sentences: ")
     return {k: _text(source, fields, k) for k in SENTENCES}
 
 
@@ -150,15 +150,7 @@ def _items(source: str, node: Any) -> tuple[Item, ...]:
     for item_node in node.value:
         if not isinstance(item_node, _Mapping):
             raise _err(source, item_node, "an item is a mapping with key, title, question, options")
-        fields = mapping(item_node)
-        for key, (key_node, _) in fields.items():
-            if key not in ITEM_KEYS:
-                raise _err(
-                    source, key_node, f"unknown key {key!r}; an item has {', '.join(ITEM_KEYS)}"
-                )
-        for key in ITEM_KEYS:
-            if key not in fields:
-                raise _err(source, item_node, f"an item needs {key!r}")
+        fields = _fields(source, item_node, ITEM_KEYS, "an item: ")
         key = _text(source, fields, "key")
         if not key.isidentifier() or key != key.lower():
             raise _err(source, fields["key"][1], f"an item key is a lower-case name, got {key!r}")
@@ -178,13 +170,7 @@ def _options(source: str, item: str, node: Any) -> tuple[Option, ...]:
     for option_node in node.value:
         if not isinstance(option_node, _Mapping):
             raise _err(source, option_node, f"{item}: an option is {{points, text, says, words}}")
-        fields = mapping(option_node)
-        for key, (key_node, _) in fields.items():
-            if key not in OPTION_KEYS:
-                raise _err(source, key_node, f"{item}: unknown key {key!r} of an option")
-        for key in OPTION_KEYS:
-            if key not in fields:
-                raise _err(source, option_node, f"{item}: an option needs {key!r}")
+        fields = _fields(source, option_node, OPTION_KEYS, f"{item}: an option: ")
         points = _value(fields, "points")
         if isinstance(points, bool) or not isinstance(points, int) or points < 0:
             raise _err(source, fields["points"][1], f"{item}: points are a whole number >= 0")
