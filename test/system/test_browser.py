@@ -5,6 +5,7 @@ import os
 import subprocess
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
@@ -237,3 +238,73 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
             launch.wait(timeout=30)
     stored = stored_tests(db)
     assert [t["patient"] for t in stored] == ["Carlos"] and stored[0]["total"] == 80
+
+
+@contextmanager
+def dashboard_serving(db):
+    """The clinician's dashboard (its aiohttp app, as CGAmed serves it) on ``db``, in a thread."""
+    import asyncio
+    import threading
+
+    from aiohttp import web
+
+    from clarc_sim.hospital.dashboard_app import TestStatus, make_app
+    from dsr_graph.web.events import Broadcaster
+
+    port, loop, ready = free_port(), asyncio.new_event_loop(), threading.Event()
+    runner = web.AppRunner(make_app(str(db), TestStatus(), Broadcaster(), lambda patient: None))
+
+    def serve() -> None:
+        asyncio.set_event_loop(loop)
+        loop.run_until_complete(runner.setup())
+        loop.run_until_complete(web.TCPSite(runner, "127.0.0.1", port).start())
+        ready.set()
+        loop.run_forever()
+        loop.run_until_complete(runner.cleanup())
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    assert ready.wait(20), "the dashboard did not start"
+    try:
+        yield f"http://127.0.0.1:{port}/"
+    finally:
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(timeout=20)
+
+
+def test_the_clinician_validates_a_result_once_and_sees_local_times(tmp_path):
+    import shutil
+
+    db = tmp_path / "cgamed.sqlite"  # two Barthel results, stored before versions
+    shutil.copy(REPO / "test" / "fixtures" / "cgamed_before_versions.sqlite", db)
+    with dashboard_serving(db) as url, chromium_page() as page:
+        page.goto(url)
+        page.wait_for_function("Number(document.body.dataset.results) === 2", timeout=10000)
+        page.click("#results tbody tr[data-id='1']")
+        page.wait_for_selector("#validation")
+        # times in the browser's local time, with the zone (this Chromium runs in UTC)
+        assert "Nov 20, 2026" in page.inner_text("#result-detail")
+        assert "UTC" in page.inner_text("#result-detail")
+        page.click("#validate")  # no name yet
+        page.wait_for_function(
+            "document.getElementById('validate-error').textContent.includes('name')"
+        )
+        page.fill("#clinician", "Dr. Ruiz")
+        page.click("#validate")
+        page.wait_for_function(
+            "document.getElementById('validation').textContent.includes('Validated by Dr. Ruiz')",
+            timeout=10000,
+        )
+        assert "validated by Dr. Ruiz" in page.inner_text("#results")
+        again = page.evaluate(
+            "fetch('/api/results/1/validate', {method: 'POST', headers: {'Content-Type': "
+            "'application/json'}, body: JSON.stringify({clinician: 'Dr. Gil'})})"
+            ".then(async (r) => [r.status, await r.text()])"
+        )
+        assert again[0] == 409 and "validated by Dr. Ruiz" in again[1]
+        page.reload()  # stored: the page says so when it is opened again
+        page.wait_for_function("Number(document.body.dataset.results) === 2", timeout=10000)
+        assert "validated by Dr. Ruiz" in page.inner_text("#results")
+    [first, second] = stored_tests(db)
+    assert first["validated_by"] == "Dr. Ruiz" and first["validated_at"]
+    assert second["validated_by"] is None

@@ -49,7 +49,7 @@ def test_a_migration_that_fails_leaves_the_store_as_it_was(tmp_path, monkeypatch
     path = tmp_path / "cgamed.sqlite"
     shutil.copy(BEFORE_VERSIONS, path)
     before = rows(path)
-    broken = {1: [*results_store.MIGRATIONS[1][:3], "THIS IS NOT SQL"]}
+    broken = {**results_store.MIGRATIONS, 1: [*results_store.MIGRATIONS[1][:3], "NOT SQL"]}
     monkeypatch.setattr(results_store, "MIGRATIONS", broken)
     with pytest.raises(sqlite3.OperationalError):
         ResultsStore(path)
@@ -106,3 +106,24 @@ def test_a_get_up_and_go_result_that_does_not_add_up_is_refused(tmp_path, change
     with pytest.raises(InvalidResult, match=error):
         store.store(gug(**changes))
     assert store.tests() == []
+
+
+def test_a_result_is_validated_once_with_the_clinician_s_name_and_time(tmp_path):
+    path = tmp_path / "cgamed.sqlite"
+    shutil.copy(BEFORE_VERSIONS, path)  # a store from before validation: it gains it
+    store = ResultsStore(path)
+    assert [t["validated_by"] for t in store.tests()] == [None, None]
+    done = store.validate(1, " Dr. Ruiz ", when="2026-11-24T18:00:00+00:00")
+    assert done == {"validated_by": "Dr. Ruiz", "validated_at": "2026-11-24T18:00:00+00:00"}
+    first = store.tests()[0]
+    assert (first["validated_by"], first["validated_at"]) == ("Dr. Ruiz", done["validated_at"])
+    with pytest.raises(InvalidResult, match="was validated by Dr. Ruiz at 2026-11-24T18:00"):
+        store.validate(1, "Dr. Gil")
+    with pytest.raises(InvalidResult, match="clinician's name"):
+        store.validate(2, "  ")
+    with pytest.raises(InvalidResult, match="no test 9"):
+        store.validate(9, "Dr. Gil")
+    assert store.tests()[1]["validated_by"] is None  # refusals change nothing
+    store.close()
+    reopened = ResultsStore(path)
+    assert reopened.tests()[0]["validated_by"] == "Dr. Ruiz"  # committed

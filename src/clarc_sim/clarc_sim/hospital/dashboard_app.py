@@ -5,6 +5,8 @@ press Start, follow the running test, see the results and the history from the r
     POST /api/start           {"patient": name}: press Start (409 while a test runs)
     GET  /api/status          {"running", "patient", "item", "position"}
     GET  /api/results         the stored tests, as `clarc results --json`
+    POST /api/results/{id}/validate  {"clinician": name}: validate a stored result, once
+                              (400 without a name, 404 no such test, 409 validated already)
     GET  /api/events          Server-Sent Events: "status" (the test node), "step" (a step of
                               the test read from the DSR, clarc_agents/course.py), "pelea"
                               (PELEA's errors), "speaker" (what CLARC says), "notification"
@@ -21,6 +23,7 @@ from typing import Any
 from aiohttp import web
 
 from clarc_agents.course import TestView, position
+from clarc_agents.exceptions import InvalidResult
 from clarc_sim.hospital.results_store import ResultsStore
 from dsr_graph.web.events import Broadcaster
 
@@ -91,6 +94,23 @@ def make_app(
     async def get_results(request: web.Request) -> web.Response:
         return web.json_response(results())
 
+    async def validate(request: web.Request) -> web.Response:
+        try:
+            test_id = int(request.match_info["id"])
+            clinician = str((await request.json())["clinician"])
+        except (ValueError, KeyError, TypeError):
+            raise web.HTTPBadRequest(text='send {"clinician": "<name>"}') from None
+        results()  # this thread's connection
+        try:
+            return web.json_response(store["db"].validate(test_id, clinician))
+        except InvalidResult as e:
+            text = str(e)
+            if text.startswith("no test"):
+                raise web.HTTPNotFound(text=text) from None
+            if "validated by" in text:
+                raise web.HTTPConflict(text=text) from None
+            raise web.HTTPBadRequest(text=text) from None
+
     async def stream(request: web.Request) -> web.StreamResponse:
         return await events.stream(request, first=lambda: [("status", status.to_json())])
 
@@ -104,6 +124,7 @@ def make_app(
     app.router.add_post("/api/start", start)
     app.router.add_get("/api/status", get_status)
     app.router.add_get("/api/results", get_results)
+    app.router.add_post("/api/results/{id}/validate", validate)
     app.router.add_get("/api/events", stream)
     app.on_cleanup.append(close)
     return app

@@ -11,7 +11,8 @@ per item of a questionnaire, in test order) and notifications (what the clinicia
 The schema is versioned (SQLite's ``user_version``): a store written by an older version is
 migrated when it is opened, in one transaction, keeping every row (``MIGRATIONS``). Version 0 is
 the store before versions (Barthel only); 1 adds ``tests.test`` and lets a test have no total
-(a timed test, the Get Up & Go, has a time instead).
+(a timed test, the Get Up & Go, has a time instead); 2 adds the clinician's validation
+(``validated_by``, ``validated_at``), after which a result cannot change.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ from clarc_agents.gug.phases import PHASES, fall_risk
 from clarc_agents.gug.phases import band as gug_band
 from dsr_graph.formats.default_paths import data_path
 
-VERSION = 1
+VERSION = 2
 TESTS = ("barthel", "get_up_and_go")
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS tests (
@@ -43,6 +44,8 @@ CREATE TABLE IF NOT EXISTS tests (
     person_lost INTEGER NOT NULL,
     result_json TEXT NOT NULL,
     stored TEXT NOT NULL,
+    validated_by TEXT,
+    validated_at TEXT,
     UNIQUE (patient, started)
 );
 CREATE TABLE IF NOT EXISTS items (
@@ -86,6 +89,10 @@ MIGRATIONS = {
             person_lost, result_json, stored FROM tests""",
         "DROP TABLE tests",
         "ALTER TABLE tests_v1 RENAME TO tests",
+    ],
+    2: [
+        "ALTER TABLE tests ADD COLUMN validated_by TEXT",
+        "ALTER TABLE tests ADD COLUMN validated_at TEXT",
     ],
 }
 
@@ -225,6 +232,28 @@ class ResultsStore:
             )
         return test_id
 
+    def validate(self, test_id: int, clinician: str, when: str | None = None) -> dict[str, str]:
+        """The clinician validates a stored result: stored with their name and the time, once;
+        after it the result cannot change. ``InvalidResult`` says why it cannot be done."""
+        clinician = clinician.strip()
+        if not clinician:
+            raise InvalidResult("a validation needs the clinician's name")
+        when = when or datetime.now(UTC).isoformat(timespec="seconds")
+        with self.db:
+            row = self.db.execute(
+                "SELECT validated_by, validated_at FROM tests WHERE id = ?", (test_id,)
+            ).fetchone()
+            if row is None:
+                raise InvalidResult(f"no test {test_id}")
+            if row[0] is not None:
+                raise InvalidResult(f"test {test_id} was validated by {row[0]} at {row[1]}")
+            self.db.execute(
+                "UPDATE tests SET validated_by = ?, validated_at = ? "
+                "WHERE id = ? AND validated_by IS NULL",
+                (clinician, when, test_id),
+            )
+        return {"validated_by": clinician, "validated_at": when}
+
     def notify(self, kind: str, message: str, test_id: int | None = None) -> None:
         with self.db:
             self.db.execute(
@@ -242,10 +271,11 @@ class ResultsStore:
     def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
         out = []
-        for test_id, test, result_json in self.db.execute(
-            "SELECT id, test, result_json FROM tests ORDER BY id"
+        for test_id, test, result_json, by, at in self.db.execute(
+            "SELECT id, test, result_json, validated_by, validated_at FROM tests ORDER BY id"
         ):
             result = json.loads(result_json)
+            validation = {"validated_by": by, "validated_at": at}
             if test == "get_up_and_go":
                 out.append(
                     {
@@ -261,6 +291,7 @@ class ResultsStore:
                         "trials": int(result.get("trials", 1)),
                         "person_lost": bool(result.get("person_lost")),
                         "person_lost_count": int(result.get("person_lost_count", 0)),
+                        **validation,
                     }
                 )
                 continue
@@ -278,6 +309,7 @@ class ResultsStore:
                     "clinician_called": bool(result.get("clinician_called")),
                     "person_lost": bool(result.get("person_lost")),
                     "person_lost_count": int(result.get("person_lost_count", 0)),
+                    **validation,
                 }
             )
         return out

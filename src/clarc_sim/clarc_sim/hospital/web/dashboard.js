@@ -53,6 +53,38 @@ function cell(tr, text) { tr.insertCell().textContent = text; }
 const TIMED = "get_up_and_go";
 function score(t) { return t.test === TIMED ? `${t.tug_seconds.toFixed(1)} s` : `${t.total}/100`; }
 function testName(t) { return t.test === TIMED ? "Get Up & Go" : "Barthel"; }
+// a stored time (ISO 8601, any zone) in this browser's local time, with its zone
+function localTime(iso) {
+  // (dateStyle cannot go with timeZoneName: the fields one by one)
+  return new Date(iso).toLocaleString(undefined, { year: "numeric", month: "short", day: "numeric",
+    hour: "2-digit", minute: "2-digit", timeZoneName: "short" });
+}
+
+function validation(t) {
+  const p = document.createElement("p");
+  p.id = "validation";
+  if (t.validated_by) {
+    p.textContent = `Validated by ${t.validated_by}, ${localTime(t.validated_at)}. This result can no longer change.`;
+    return p;
+  }
+  const name = document.createElement("input");
+  name.id = "clinician";
+  name.placeholder = "your name";
+  const button = document.createElement("button");
+  button.id = "validate";
+  button.textContent = "Validate";
+  const error = document.createElement("span");
+  error.id = "validate-error";
+  button.addEventListener("click", async () => {
+    const r = await fetch(`/api/results/${t.id}/validate`, { method: "POST",
+      headers: { "Content-Type": "application/json" }, body: JSON.stringify({ clinician: name.value }) });
+    if (!r.ok) { error.textContent = await r.text(); return; }
+    await loadResults();
+    showResult(results.find((x) => x.id === t.id));
+  });
+  p.append("Not validated yet. ", name, button, error);
+  return p;
+}
 
 function showResult(t) {
   const div = $("result-detail");
@@ -60,6 +92,8 @@ function showResult(t) {
   const h = document.createElement("h3");
   h.textContent = `Test ${t.id}: ${t.patient}, ${testName(t)} ${score(t)} (${t.band})` +
     (t.test === TIMED && t.fall_risk ? ", fall risk" : "");
+  const when = document.createElement("p");
+  when.textContent = `Started ${localTime(t.started)}` + (t.finished ? `, finished ${localTime(t.finished)}` : "");
   const table = document.createElement("table");
   table.id = "items";
   for (const [phase, seconds] of Object.entries(t.test === TIMED ? t.phases : {})) {
@@ -76,8 +110,8 @@ function showResult(t) {
   }
   const history = results.filter((r) => r.patient === t.patient && r.test === t.test);
   const p = document.createElement("p");
-  p.textContent = `History of ${t.patient} (${testName(t)}): ` + history.map((r) => `${r.started.slice(0, 10)} ${score(r)}`).join(", ");
-  div.append(h, table, p);
+  p.textContent = `History of ${t.patient} (${testName(t)}): ` + history.map((r) => `${new Date(r.started).toLocaleDateString()} ${score(r)}`).join(", ");
+  div.append(h, when, table, p, validation(t));
 }
 
 async function loadResults() {
@@ -89,7 +123,7 @@ async function loadResults() {
     tr.dataset.id = String(t.id);
     cell(tr, String(t.id));
     cell(tr, t.patient);
-    cell(tr, t.started.replace("T", " ").slice(0, 19));
+    cell(tr, localTime(t.started));
     cell(tr, `${testName(t)} ${score(t)}`);
     cell(tr, t.band);
     const notes = [];
@@ -97,6 +131,7 @@ async function loadResults() {
     if ((t.unanswered || []).length) notes.push(`${t.unanswered.length} unanswered`);
     if (t.clinician_called) notes.push("clinician called");
     if (t.person_lost) notes.push("patient left");
+    notes.push(t.validated_by ? `validated by ${t.validated_by}` : "to validate");
     cell(tr, notes.join(", "));
     tr.addEventListener("click", () => showResult(t));
   }
