@@ -29,7 +29,7 @@ from typing import Any
 
 from clarc_agents.barthel.items import ORDER
 from clarc_agents.barthel.record import ItemResult
-from clarc_agents.gug.record import GugRecord, result
+from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea.low_to_high import person_present, record
 from dsr_graph.model.graph import Graph
 
@@ -72,13 +72,8 @@ def view(graph: Graph) -> TestView:
         person_present=person_present(graph),
         clinician_called=rec.clinician_called,
         kind=str(t.get("kind", "barthel")),
-        gait=tuple(sorted(_gait(graph).items())),
+        gait=tuple(sorted(gait(graph).items())),
     )
-
-
-def _gait(graph: Graph) -> dict[str, Any]:
-    node = graph.find("gait")
-    return {} if node is None else dict(node.attrs)
 
 
 def _gait_changes(before: TestView, after: TestView) -> list[dict[str, Any]]:

@@ -23,7 +23,7 @@ import rclpy
 from clarc_agents import topics
 from clarc_agents.course import Course
 from clarc_sim.console.reach import HeartbeatSilence, Reach
-from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.agent import SERVER_SILENCE, DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
 from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
@@ -115,7 +115,6 @@ def describe_result(result: dict) -> list[str]:
 
 
 REACH_PERIOD = 0.5  # seconds between looks at the ROS graph and at the server's heartbeat
-SERVER_SILENCE = 2.5  # seconds without the server's heartbeat (sent every second) = out of reach
 ROBOT_NODES = [  # the robot's nodes whose reach the monitor shows
     "/dsr_server",
     "/pelea",

@@ -93,8 +93,7 @@ class LocalBus:
                 return
             self.unreachable |= away
             self.reach_losses += 1
-            held = [c for c in self.core.claims.all() if c.agent in away]
-            delta = self.core.end_claims(held, "unreachable", self.now) if held else None
+            delta = self.core.end_claims_of(away, "unreachable", self.now)
             if delta is not None:
                 wire = json.dumps(delta)
                 for agent in list(self.agents):

@@ -246,6 +246,13 @@ class ServerCore:
             SERVER_AGENT, "", [], {"released": records}, time.time() if now is None else now
         )
 
+    def end_claims_of(
+        self, agents: Iterable[str], reason: str, now: float | None = None
+    ) -> dict[str, Any] | None:
+        """A server delta ending every claim these agents hold (gone, out of reach), or None."""
+        agents = set(agents)
+        return self.end_claims([c for c in self.claims.all() if c.agent in agents], reason, now)
+
     # ------------------------------------------------------------------ replay and snapshots
     def replay(self, delta: dict[str, Any]) -> None:
         """Re-apply a journaled delta after a restart (it was valid when accepted)."""

@@ -38,7 +38,8 @@ GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (delt
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
 RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
-SERVER_SILENCE = 2.5  # seconds without the server's heartbeat (one a second): out of its reach
+# seconds without the server's heartbeat (one a second): out of its reach (agents, the monitor)
+SERVER_SILENCE = 2.5
 
 
 Listener = Callable[
@@ -215,11 +216,12 @@ class DsrAgent:
             self.replica.observe_server_seq(int(beat["seq"]))
         except (ValueError, KeyError, TypeError):
             return
-        away = beat.get("unreachable", [])
-        away = frozenset(a for a in away if isinstance(a, str)) if isinstance(away, list) else set()
+        listed = beat.get("unreachable", [])
+        listed = listed if isinstance(listed, list) else []
+        away = frozenset(a for a in listed if isinstance(a, str))
         if away - self.out_of_reach:
             self.reach_losses += 1
-        self.out_of_reach = frozenset(away)
+        self.out_of_reach = away
         boot = str(beat.get("boot", ""))
         if self._boot and boot != self._boot and self._unanswered:
             # the server restarted: what it did not answer may have died with it

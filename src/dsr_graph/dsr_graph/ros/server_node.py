@@ -377,13 +377,7 @@ class DsrServer(DsrNode):
         expired = self.core.claims.expired(now)
         if expired:
             ended.append(self.core.end_claims(expired, "expired", now))
-        gone = self._gone_holders(now)
-        if gone:
-            ended.append(
-                self.core.end_claims(
-                    [c for c in self.core.claims.all() if c.agent in gone], "agent-gone", now
-                )
-            )
+        ended.append(self.core.end_claims_of(self._gone_holders(now), "agent-gone", now))
         ended.append(self._check_presence(now))
         if any(ended):
             self._accept([d for d in ended if d is not None])
@@ -399,8 +393,12 @@ class DsrServer(DsrNode):
         self._beat(now)
 
     def _beat(self, now: float) -> None:
-        beat = {"seq": self.core.seq, "stamp": now, "boot": self._boot}
-        beat["unreachable"] = self.requests.presence.away
+        beat = {
+            "seq": self.core.seq,
+            "stamp": now,
+            "boot": self._boot,
+            "unreachable": self.requests.presence.away,
+        }
         self._heartbeat.publish(String(data=json.dumps(beat)))
 
     def _check_presence(self, now: float):
@@ -413,9 +411,7 @@ class DsrServer(DsrNode):
             )
         for agent, seconds in back:
             self.get_logger().info(f"{agent} is back in reach after {seconds:.1f} s")
-        away = set(self.requests.presence.away)
-        held = [c for c in self.core.claims.all() if c.agent in away]
-        return self.core.end_claims(held, "unreachable", now) if held else None
+        return self.core.end_claims_of(self.requests.presence.away, "unreachable", now)
 
     def _gone_holders(self, now: float) -> list[str]:
         holders = {c.agent for c in self.core.claims.all()}
