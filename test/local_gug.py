@@ -10,7 +10,7 @@ import random
 
 from clarc_agents.gug import sentences
 from clarc_agents.gug.gait_analyser import GaitAnalyser
-from clarc_agents.gug.posture import PostureTracker
+from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import Times
@@ -106,10 +106,8 @@ class GugRobot(Robot):
                 stamp, joints = self.port.epoch(), parse_skeleton(raw)
                 self.person_link.send(skeleton_tx(self.person_link.graph, joints, stamp))
                 # what Person does with the frame's geometry: the posture percept
-                room = self.person_link.graph.transform("room", "kinect")
-                posture = self.posture.update(
-                    stamp, room[:3, :3] @ joints["pelvis"][0] + room[:3, 3]
-                )
+                pelvis = pelvis_in_room(self.person_link.graph, joints)
+                posture = self.posture.update(stamp, pelvis)
                 if posture is not None:
                     self.person.signal("posture", posture=posture)
             if self.bus.now - go < self.motion.total + 3.0:

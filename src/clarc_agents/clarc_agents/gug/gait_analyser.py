@@ -10,6 +10,7 @@ with ``scale`` (the session's pace), so a result is the same at any pace.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from clarc_agents.gug.phases import (
@@ -41,7 +42,14 @@ class GaitAnalyser:
         self.samples: list[Sample] = []
         self.phase = ""
         self._last_frame = None
-        self._written: tuple[Any, str] | None = None  # (trial, phase) last sent
+        self._reset()
+
+    def _reset(self) -> None:
+        """What is followed of the trial as frames come, so each frame costs the same."""
+        self.samples = []
+        self.walked = False  # the hips have been FAR from the chair
+        self.last_up = 0.0  # when the hips were last above the seated height
+        self.tried = float("-inf")  # when timing the whole trial was last tried
 
     def on_graph(self, graph: Graph) -> dict[str, Any] | None:
         """The transaction to send for this state of the graph, if any."""
@@ -51,7 +59,8 @@ class GaitAnalyser:
             return None
         if gait.attrs.get("trial") != self.trial:
             self.trial, self.go = gait.attrs.get("trial"), float(gait.attrs.get("go_at", 0.0))
-            self.samples, self.phase, self._last_frame = [], "waiting", None
+            self.phase, self._last_frame = "waiting", None
+            self._reset()
         new = self._take_frame(graph)
         if new is None:
             return None
@@ -93,20 +102,22 @@ class GaitAnalyser:
         s = sample((float(frame) - self.go) / self.scale, joints)
         if s is not None and s.t >= 0.0:
             self.samples.append(s)
+            self.walked = self.walked or s.distance > FAR
+            if len(self.samples) <= 15 or s.height > self._seated_height() + 0.05:
+                self.last_up = s.t
             return s
         return None
 
     # ------------------------------------------------------------------ the trial
     def _seated_height(self) -> float:
-        first = [s.height for s in self.samples[:15]]
-        return min(first) if first else 0.0
+        """The lowest of the first frames after go: the patient still sits."""
+        return min(s.height for s in self.samples[:15])
 
     def _phase_now(self) -> str:
         last, seated = self.samples[-1], self._seated_height()
-        walked = any(s.distance > FAR for s in self.samples)
         turned = abs(last.heading - self.samples[0].heading)
-        turned = min(turned, 2 * 3.141592653589793 - turned)
-        if not walked:
+        turned = min(turned, 2 * math.pi - turned)
+        if not self.walked:
             return "rise" if last.height > seated + 0.1 else "waiting"
         if last.distance > FAR and turned < 0.8:
             return "walk_out"
@@ -117,12 +128,12 @@ class GaitAnalyser:
         return "sit"
 
     def _time_if_seated(self):
-        if len(self.samples) < 30 or not any(s.distance > FAR for s in self.samples):
+        """The whole trial timed, once the patient walked and has sat for ``SEATED_FOR``; the
+        fit is tried again at most every ``SEATED_FOR`` (it costs up to 0.2 s)."""
+        now = self.samples[-1].t
+        if not self.walked or now - self.last_up < SEATED_FOR or now - self.tried < SEATED_FOR:
             return None
-        seated, last = self._seated_height(), self.samples[-1]
-        since = [s for s in self.samples if s.t >= last.t - SEATED_FOR]
-        if since[0].t > last.t - SEATED_FOR * 0.9 or any(s.height > seated + 0.05 for s in since):
-            return None
+        self.tried = now
         try:
             return time_trial(self.samples, 0.0)
         except NotATrial:

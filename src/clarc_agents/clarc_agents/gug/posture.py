@@ -7,10 +7,21 @@ from __future__ import annotations
 import math
 from collections import deque
 
+import numpy as np
+
+from dsr_graph.model.graph import Graph
+
 SITTING_BELOW = 0.70  # m: a seated pelvis is about 0.47 m up, a standing one about 0.95 m
 WALKING_ABOVE = 0.30  # m/s of the patient's time over the floor
 SPEED_OVER = 0.5  # s of the patient's time the speed is measured over
 STEADY = 3  # frames a new posture must hold before it is told (noise must not flicker it)
+
+
+def pelvis_in_room(graph: Graph, joints) -> np.ndarray:
+    """The pelvis of a parsed skeleton frame (in the Kinect's frame) in the room's, z up from the
+    floor: the kinematic chain room -> kinect of the DSR."""
+    room_from_kinect = graph.transform("room", "kinect")
+    return room_from_kinect[:3, :3] @ joints["pelvis"][0] + room_from_kinect[:3, 3]
 
 
 class PostureTracker:

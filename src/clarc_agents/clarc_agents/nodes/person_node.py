@@ -18,7 +18,7 @@ import math
 from typing import Any
 
 from clarc_agents import topics
-from clarc_agents.gug.posture import PostureTracker
+from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.formats.units import PER_METRE
@@ -58,7 +58,7 @@ class PersonAgent(GrammarAgentNode):
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self.skeletons_skipped = 0
-        self._posture: PostureTracker | None = None
+        self._posture = PostureTracker(self.scale)
 
     def processes(self) -> dict[str, Process]:
         return {}
@@ -109,11 +109,7 @@ class PersonAgent(GrammarAgentNode):
     def _follow_posture(self, joints, stamp: float) -> None:
         """Sitting, standing or walking, from the pelvis in the room (its height above the
         floor): a change is the percept ``posture`` (grammars/person.yaml writes it)."""
-        if self._posture is None:
-            self._posture = PostureTracker(self.scale)
-        room_from_kinect = self.dsr.graph.transform("room", "kinect")
-        pelvis = room_from_kinect[:3, :3] @ joints["pelvis"][0] + room_from_kinect[:3, 3]
-        posture = self._posture.update(stamp, pelvis)
+        posture = self._posture.update(stamp, pelvis_in_room(self.dsr.graph, joints))
         if posture is not None:
             self.runner.signal("posture", posture=posture)
 

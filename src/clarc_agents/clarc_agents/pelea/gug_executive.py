@@ -103,6 +103,7 @@ class GugExecutive(HighLevelExecutive):
     def __init__(self, port, times, log):
         super().__init__(port, times, log)
         self.trials = 0
+        self._last_phase = ""  # the analyser's phase last told as an event
 
     # ------------------------------------------------------------------ inputs
     def start(self, graph: Graph, patient: str) -> bool:
@@ -199,7 +200,7 @@ class GugExecutive(HighLevelExecutive):
         super()._check_wait(graph)
 
     def _phase_seen(self, phase: str) -> None:
-        if phase != getattr(self, "_last_phase", None):
+        if phase != self._last_phase:
             self._last_phase = phase
             self.port.event(event="phase", trial=self.trials, phase=phase)
 

@@ -65,6 +65,7 @@ class KinectStandIn(DsrNode):
         subscribe_json(self, sim_topics.PATIENT_PRESENCE, self.on_presence, qos_latched())
         subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
         self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
+        self.scale = float_param(self, "time_scale") or 1.0
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
         self._skeleton_timer = None  # made with the first trial: a Barthel test needs none
 
@@ -82,8 +83,7 @@ class KinectStandIn(DsrNode):
             "drop_rate": float(doc.get("drop_rate", 0.0)),
         }
         if self._skeleton_timer is None:
-            scale = float_param(self, "time_scale") or 1.0
-            period = scale / float_param(self, "skeleton_hz")
+            period = self.scale / float_param(self, "skeleton_hz")
             self._skeleton_timer = self.create_timer(period, self.on_skeleton_frame)
 
     def on_frame(self) -> None:
@@ -101,8 +101,7 @@ class KinectStandIn(DsrNode):
         if dropped(self._random, trial["drop_rate"]):
             return
         now = time.time()
-        scale = float_param(self, "time_scale") or 1.0
-        t = -1.0 if trial["go"] is None else (now - trial["go"]) / scale
+        t = -1.0 if trial["go"] is None else (now - trial["go"]) / self.scale
         joints = skeleton(trial["motion"], t, self.place, self._random, trial["noise_mm"])
         frame = {"present": True, "face": joints["head"]["p"], "stamp": now, "skeleton": joints}
         publish_json(self._frames, frame)
