@@ -139,22 +139,18 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
     try:
         procs.server(work / "lat_state")
         ros, writer = session_with_agent(domain, "bench_writer")
-        reader_node, reader, arrived = timed_reader(ros)
+        reader_node, _, arrived = timed_reader(ros)
         done = []
         writer.send(
             {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, done.append
         )
         ros.spin_until(lambda: done, 10, "set-up")
-        samples = []
-        payload = None
-        for i in range(n):
-            tx = {"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": i}}]}
-            sent = time.perf_counter()
-            ident = writer.send(tx)
-            payload = payload or json.dumps(dict(tx, id=ident, agent=writer.name))
-            ros.spin_until(lambda ident=ident: ident in arrived, 10, "the delta")
-            samples.append(arrived[ident] - sent)
-        dsr = percentiles(samples[n // 10 :])  # the first tenth warms up
+
+        def change(i: int) -> dict[str, Any]:
+            return {"ops": [{"op": "set_node_attrs", "node": "bench", "attrs": {"level": i}}]}
+
+        payload = json.dumps(dict(change(0), id=writer.next_id(), agent=writer.name))
+        dsr = percentiles(latency_samples(ros, writer, arrived, n, change))
         procs.stop_all()
 
         # baseline: the same payload through a raw rclpy relay, same hops, same QoS
@@ -598,10 +594,12 @@ def cpu_seconds(pid: int) -> float:
     return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
 
 
-def _latency_samples(ros, writer, reader, arrived, n: int, step) -> list[float]:
+def latency_samples(ros, writer, arrived, n: int, change, step=lambda: None) -> list[float]:
+    """Seconds from sending ``change(i)`` until the reader's replica applied it, for i < n, the
+    first tenth left out (warming up); ``step`` runs while waiting (another stream)."""
     samples = []
     for i in range(n):
-        tx = {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": f"x{i}"}}]}
+        tx = change(i)
         sent = time.perf_counter()
         ident = writer.send(tx)
         while ident not in arrived:  # the stream goes on while we wait
@@ -625,7 +623,7 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
     try:
         server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
         ros, person = session_with_agent(domain, "person")
-        reader_node, reader, arrived = timed_reader(ros)
+        _, _, arrived = timed_reader(ros)
         done: list = []
         person.send(
             {
@@ -705,9 +703,13 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
         )
         out["journal_largest_bytes"] = largest[0]
         out["compact_every"] = 1000
-        out["latency_quiet"] = percentiles(_latency_samples(ros, person, reader, arrived, n, idle))
+
+        def speech(i: int) -> dict[str, Any]:  # a Speech-sized change
+            return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": f"x{i}"}}]}
+
+        out["latency_quiet"] = percentiles(latency_samples(ros, person, arrived, n, speech))
         out["latency_streaming"] = percentiles(
-            _latency_samples(ros, person, reader, arrived, n, step)
+            latency_samples(ros, person, arrived, n, speech, step)
         )
         ros.close()
     finally:
