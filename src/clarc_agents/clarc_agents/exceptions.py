@@ -25,6 +25,14 @@ class InvalidResult(DsrError, ValueError):
     wrong."""
 
 
+class UnknownTest(InvalidResult):
+    """No stored test has that id."""
+
+
+class AlreadyValidated(InvalidResult):
+    """A clinician validated this result already; the message says who and when."""
+
+
 class NotATrial(DsrError, ValueError):
     """Skeleton samples that do not hold a whole Get Up & Go trial (no rise, no walk, no turn,
     not seated again); the message says which."""

@@ -23,7 +23,7 @@ from typing import Any
 from aiohttp import web
 
 from clarc_agents.course import TestView, position
-from clarc_agents.exceptions import InvalidResult
+from clarc_agents.exceptions import AlreadyValidated, InvalidResult, UnknownTest
 from clarc_sim.hospital.results_store import ResultsStore
 from dsr_graph.web.events import Broadcaster
 
@@ -103,13 +103,12 @@ def make_app(
         results()  # this thread's connection
         try:
             return web.json_response(store["db"].validate(test_id, clinician))
+        except UnknownTest as e:
+            raise web.HTTPNotFound(text=str(e)) from None
+        except AlreadyValidated as e:
+            raise web.HTTPConflict(text=str(e)) from None
         except InvalidResult as e:
-            text = str(e)
-            if text.startswith("no test"):
-                raise web.HTTPNotFound(text=text) from None
-            if "validated by" in text:
-                raise web.HTTPConflict(text=text) from None
-            raise web.HTTPBadRequest(text=text) from None
+            raise web.HTTPBadRequest(text=str(e)) from None
 
     async def stream(request: web.Request) -> web.StreamResponse:
         return await events.stream(request, first=lambda: [("status", status.to_json())])

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from clarc_agents.barthel.items import BY_KEY, ORDER, band
-from clarc_agents.exceptions import InvalidResult
+from clarc_agents.exceptions import AlreadyValidated, InvalidResult, UnknownTest
 from clarc_agents.gug.phases import PHASES, fall_risk
 from clarc_agents.gug.phases import band as gug_band
 from dsr_graph.formats.default_paths import data_path
@@ -244,9 +244,9 @@ class ResultsStore:
                 "SELECT validated_by, validated_at FROM tests WHERE id = ?", (test_id,)
             ).fetchone()
             if row is None:
-                raise InvalidResult(f"no test {test_id}")
+                raise UnknownTest(f"no test {test_id}")
             if row[0] is not None:
-                raise InvalidResult(f"test {test_id} was validated by {row[0]} at {row[1]}")
+                raise AlreadyValidated(f"test {test_id} was validated by {row[0]} at {row[1]}")
             self.db.execute(
                 "UPDATE tests SET validated_by = ?, validated_at = ? "
                 "WHERE id = ? AND validated_by IS NULL",
