@@ -4,9 +4,10 @@ from pathlib import Path
 
 import pytest
 
-from clarc_agents.barthel.sentences import ask, sit_down
+from clarc_agents.barthel.items import DEFINITION
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea import high_to_low
+from clarc_agents.questionnaire.sentences import ask, sit_down
 from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model.transaction import apply_ops
@@ -62,7 +63,7 @@ def test_person_rules_follow_the_kinect(room):
 
 def test_speech_says_a_new_sentence_once_and_stops_when_the_person_leaves(room):
     speech = engine("speech")
-    run(room, high_to_low.say(room, ask("feeding"), 1))
+    run(room, high_to_low.say(room, ask(DEFINITION, "feeding"), 1))
     f = fire(speech, room, "start_speaking")
     assert f.bindings["$text"].startswith("Which option") and f.during_tx()["claim"] == [
         {"from": "robot", "to": "speaking"}
@@ -103,7 +104,7 @@ def test_listening_and_a_tap_race_for_one_answer(room):
 
 def test_panel_shows_each_sentence_and_clears_when_the_person_leaves(room):
     panel = engine("panel")
-    run(room, high_to_low.say(room, ask("stairs"), 1))
+    run(room, high_to_low.say(room, ask(DEFINITION, "stairs"), 1))
     f = fire(panel, room, "start_showing")
     assert f.bindings["$options"] == [
         "I cannot use stairs",

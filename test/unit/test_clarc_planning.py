@@ -3,7 +3,7 @@ the start and from each kind of deviation."""
 
 import pytest
 
-from clarc_agents.barthel.items import ORDER
+from clarc_agents.barthel.items import DEFINITION, ORDER
 from clarc_agents.pelea import monitoring
 from clarc_agents.pelea.decision_support import NoPlan, initial_state, plan
 
@@ -13,7 +13,7 @@ def names(steps):
 
 
 def test_a_whole_test_from_start():
-    steps = names(plan(initial_state(person_present=True)))
+    steps = names(plan(initial_state(person_present=True, definition=DEFINITION), DEFINITION))
     assert steps[:6] == [
         "(greet)",
         "(explain)",
@@ -30,7 +30,9 @@ def test_a_whole_test_from_start():
 
 
 def test_nobody_in_front_of_the_robot_at_start():
-    assert names(plan(initial_state(person_present=False)))[:3] == [
+    assert names(plan(initial_state(person_present=False, definition=DEFINITION), DEFINITION))[
+        :3
+    ] == [
         "(ask-to-sit)",
         "(wait-for-person)",
         "(greet)",
@@ -38,20 +40,23 @@ def test_nobody_in_front_of_the_robot_at_start():
 
 
 def started(*extra, drop=()):
-    state = set(initial_state(True)) | {"(greeted)", "(explained)"} | set(extra)
+    state = set(initial_state(True, DEFINITION)) | {"(greeted)", "(explained)"} | set(extra)
     return frozenset(state - set(drop))
 
 
 def test_silence_then_options_again_then_skip():
     state = started("(asked feeding)", drop=["(pending feeding)"])
     state = monitoring.window_failed(state, "feeding", 1, "no_answer")
-    assert names(plan(state))[:3] == [
+    assert names(plan(state, DEFINITION))[:3] == [
         "(options-again feeding)",
         "(await-answer-again feeding)",
         "(next-item feeding bathing)",
     ]
     state = monitoring.window_failed(state | {"(retry-asked feeding)"}, "feeding", 2, "no_answer")
-    assert names(plan(state))[:2] == ["(skip-item feeding)", "(next-item feeding bathing)"]
+    assert names(plan(state, DEFINITION))[:2] == [
+        "(skip-item feeding)",
+        "(next-item feeding bathing)",
+    ]
 
 
 def test_not_understood_then_clarify():
@@ -61,12 +66,15 @@ def test_not_understood_then_clarify():
         1,
         "not_understood",
     )
-    assert names(plan(state))[:2] == ["(clarify dressing)", "(await-answer-again dressing)"]
+    assert names(plan(state, DEFINITION))[:2] == [
+        "(clarify dressing)",
+        "(await-answer-again dressing)",
+    ]
 
 
 def test_asking_to_skip_closes_the_item_at_once():
     state = monitoring.window_failed(started("(asked feeding)"), "feeding", 1, "skip")
-    assert names(plan(state))[0] == "(skip-item feeding)"
+    assert names(plan(state, DEFINITION))[0] == "(skip-item feeding)"
 
 
 def test_person_lost_asks_to_sit_and_starts_the_item_again():
@@ -74,7 +82,7 @@ def test_person_lost_asks_to_sit_and_starts_the_item_again():
         "(described bowels)", "(current bowels)", drop=["(current feeding)", "(pending bowels)"]
     )
     state = monitoring.person_lost(state, "bowels")
-    steps = names(plan(state))
+    steps = names(plan(state, DEFINITION))
     assert steps[:4] == [
         "(ask-to-sit)",
         "(wait-for-person)",
@@ -85,9 +93,9 @@ def test_person_lost_asks_to_sit_and_starts_the_item_again():
 
 def test_two_unanswered_call_the_clinician_before_going_on():
     state = monitoring.clinician_needed(started("(closed feeding)"))
-    assert names(plan(state))[:2] == ["(call-clinician)", "(next-item feeding bathing)"]
+    assert names(plan(state, DEFINITION))[:2] == ["(call-clinician)", "(next-item feeding bathing)"]
 
 
 def test_an_impossible_goal_is_reported():
     with pytest.raises(NoPlan):
-        plan(frozenset({"(clinician-ok)"}))  # not started: nothing can happen
+        plan(frozenset({"(clinician-ok)"}), DEFINITION)  # not started: nothing can happen

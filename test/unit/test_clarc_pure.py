@@ -5,10 +5,10 @@ import sqlite3
 
 import pytest
 
-from clarc_agents.barthel.answers import understand
-from clarc_agents.barthel.items import BY_KEY, ITEMS, MAX_TOTAL, ORDER, band
-from clarc_agents.barthel.record import BarthelRecord
+from clarc_agents.barthel.items import BY_KEY, DEFINITION, ITEMS, MAX_TOTAL, ORDER, band
 from clarc_agents.exceptions import InvalidResult, ScenarioError
+from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.record import QuestionnaireRecord
 from clarc_sim.hospital.results_store import ResultsStore
 from clarc_sim.patient.scenario import parse
 from clarc_sim.patient.script import ASK, GARBLED, PatientScript
@@ -61,7 +61,7 @@ def test_dependency_bands(total, expected):
 
 
 def test_record_totals_only_answered_items():
-    r = BarthelRecord("Carlos", "t0")
+    r = QuestionnaireRecord(DEFINITION, "Carlos", "t0")
     r.answer("feeding", 10, "voice")
     r.items["grooming"].attempts = 2
     r.give_up("grooming")
@@ -69,7 +69,14 @@ def test_record_totals_only_answered_items():
     with pytest.raises(ValueError):
         r.answer("bathing", 10, "voice")  # not an option of bathing
     doc = r.to_json()
-    assert doc["items"][2] == {"item": "grooming", "points": None, "via": None, "attempts": 2}
+    assert doc["items"][2] == {
+        "item": "grooming",
+        "points": None,
+        "via": None,
+        "attempts": 2,
+        "max": 5,
+        "needs_clinician": False,
+    }
 
 
 def test_every_option_is_understood_from_its_own_words():
@@ -146,7 +153,7 @@ def test_patient_script_follows_the_scenario():
 
 
 def result(**changes):
-    r = BarthelRecord("Carlos", "2026-11-24T10:00:00")
+    r = QuestionnaireRecord(DEFINITION, "Carlos", "2026-11-24T10:00:00")
     for k in ORDER:
         r.answer(k, max(BY_KEY[k].points), "voice")
         r.items[k].attempts = 1
@@ -175,7 +182,7 @@ def test_results_store_keeps_each_test_once_and_refuses_wrong_sums(tmp_path):
 
 def test_a_result_sent_again_is_stored_once_and_told_once(tmp_path):
     store = ResultsStore(tmp_path / "db.sqlite")
-    result = BarthelRecord("Carlos", "2026-11-24T10:00:00").to_json()
+    result = QuestionnaireRecord(DEFINITION, "Carlos", "2026-11-24T10:00:00").to_json()
     first, again = store.store(result), store.store(result)
     assert first == again and len(store.tests()) == 1
     assert not store.notified("result_stored", first)

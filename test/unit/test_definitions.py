@@ -3,10 +3,10 @@ file, and a file with a mistake is refused naming the line."""
 
 import pytest
 
-from clarc_agents.barthel import sentences
-from clarc_agents.barthel.items import BY_KEY, ORDER, band
+from clarc_agents.barthel.items import BY_KEY, DEFINITION, ORDER, band
 from clarc_agents.definitions import load, parse
 from clarc_agents.exceptions import DefinitionError
+from clarc_agents.questionnaire import sentences
 
 SMALL = """format: clarc-test
 version: 1
@@ -51,7 +51,7 @@ def test_the_barthel_test_is_its_definition_file():
         "slight",
         "independent",
     ]
-    assert sentences.greet("Carlos").text.startswith("Hello Carlos, I am CLARC.")
+    assert sentences.greet(DEFINITION, "Carlos").text.startswith("Hello Carlos, I am CLARC.")
     assert BY_KEY["bowels"].option(10).keywords == ("yes", "always", "i control")
 
 

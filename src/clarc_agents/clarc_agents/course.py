@@ -27,11 +27,14 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from clarc_agents.barthel.items import ORDER
-from clarc_agents.barthel.record import ItemResult
+from clarc_agents import definitions
+from clarc_agents.definitions import Definition
 from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea.low_to_high import person_present, record
+from clarc_agents.questionnaire.record import ItemResult
 from dsr_graph.model.graph import Graph
+
+TIMED = "get_up_and_go"  # the test that is timed, not a questionnaire
 
 
 @dataclass(frozen=True)
@@ -60,8 +63,9 @@ def view(graph: Graph) -> TestView:
     test = graph.find("test")
     if test is None:
         return TestView()
-    rec = record(graph)
     t = test.attrs
+    kind = str(t.get("kind", "barthel"))
+    rec = record(graph, _definition(kind))
     return TestView(
         status=str(t.get("status", "")),
         patient=rec.patient,
@@ -71,7 +75,7 @@ def view(graph: Graph) -> TestView:
         items=tuple(rec.items.items()),
         person_present=person_present(graph),
         clinician_called=rec.clinician_called,
-        kind=str(t.get("kind", "barthel")),
+        kind=kind,
         gait=tuple(sorted(gait(graph).items())),
     )
 
@@ -101,17 +105,24 @@ def _gait_changes(before: TestView, after: TestView) -> list[dict[str, Any]]:
     return events
 
 
+def _definition(kind: str) -> Definition:
+    """The definition the test's items are read by (a timed test has no items; a test this
+    package does not ship is read as the Barthel test was before tests had kinds)."""
+    return definitions.load(kind if kind in definitions.tests() else "barthel")
+
+
 def _result(graph: Graph, after: TestView) -> dict[str, Any]:
-    if after.kind != "get_up_and_go":
-        return record(graph).to_json()
+    if after.kind != TIMED:
+        return record(graph, _definition(after.kind)).to_json()
     if dict(after.gait).get("status") != "timed":
         return {"test": after.kind, "patient": after.patient, "timed": False}
     return result(graph, GugRecord(after.patient, after.started))
 
 
-def position(item: str) -> int:
+def position(item: str, kind: str = "barthel") -> int:
     """An item's place in the test, from 1 (0: not an item)."""
-    return ORDER.index(item) + 1 if item in ORDER else 0
+    order = () if kind == TIMED else _definition(kind).order
+    return order.index(item) + 1 if item in order else 0
 
 
 def _item_changes(key: str, before: ItemResult, after: ItemResult) -> list[dict[str, Any]]:
@@ -129,9 +140,10 @@ def _item_changes(key: str, before: ItemResult, after: ItemResult) -> list[dict[
         events.append({"event": "listening", "item": key, "attempt": after.attempts})
     if after.status != before.status:
         if after.status == "answered":
-            events.append(
-                {"event": "answer", "item": key, "points": after.points, "via": after.via}
-            )
+            event = {"event": "answer", "item": key, "points": after.points, "via": after.via}
+            if after.drawing:
+                event["drawing"] = True  # for the clinician to score
+            events.append(event)
         elif after.status == "unanswered":
             events.append({"event": "unanswered", "item": key})
     return events
@@ -153,7 +165,9 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
     if after.kind == "get_up_and_go":
         events.extend(_gait_changes(before, after))
     elif after.item != before.item:
-        events.append({"event": "item", "item": after.item, "position": position(after.item)})
+        events.append(
+            {"event": "item", "item": after.item, "position": position(after.item, after.kind)}
+        )
     for key, item in after.items if after.kind != "get_up_and_go" else ():
         events.extend(_item_changes(key, before.of(key), item))
     if after.running and before.person_present != after.person_present and not new_test:
@@ -195,7 +209,7 @@ class Course:
                     "event": "following",
                     "patient": after.patient,
                     "item": after.item,
-                    "position": position(after.item),
+                    "position": position(after.item, after.kind),
                 }
             ]
         return changes(before, after, graph)

@@ -29,6 +29,10 @@ class UnknownTest(InvalidResult):
     """No stored test has that id."""
 
 
+class UnknownPatient(InvalidResult):
+    """No patient record has that id."""
+
+
 class AlreadyValidated(InvalidResult):
     """A clinician validated this result already; the message says who and when."""
 

@@ -1,2 +1,2 @@
-"""The Barthel index as knowledge: its items and options, the record of a test and its score, the
-understanding of a spoken answer, and what CLARC says and shows at each step. Pure."""
+"""The Barthel index as knowledge: its items, options and bands, read from its test definition
+(definitions/barthel.yaml). Pure. Running it is the generic questionnaire (questionnaire/)."""

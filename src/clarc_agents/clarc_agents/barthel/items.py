@@ -11,11 +11,11 @@ from clarc_agents.definitions import Item, Option, load
 
 DEFINITION = load("barthel")  # definitions/barthel.yaml: the one copy of the table
 ITEMS: tuple[Item, ...] = DEFINITION.items
-__all__ = ["BANDS", "BY_KEY", "ITEMS", "MAX_TOTAL", "ORDER", "Item", "Option", "band"]
+__all__ = ["BANDS", "BY_KEY", "DEFINITION", "ITEMS", "MAX_TOTAL", "ORDER", "Item", "Option", "band"]
 
 BY_KEY: dict[str, Item] = {item.key: item for item in ITEMS}
 ORDER: tuple[str, ...] = tuple(item.key for item in ITEMS)
-MAX_TOTAL = sum(max(i.points) for i in ITEMS)
+MAX_TOTAL = DEFINITION.max_total
 assert MAX_TOTAL == 100
 
 BANDS = DEFINITION.bands

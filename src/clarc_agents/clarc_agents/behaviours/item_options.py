@@ -1,10 +1,15 @@
-"""The options of an item as the DSR carries them (pure): PELEA writes them on the item's node
-(``item_<key>``: ``options``, ``option_points``, ``option_words``) when a test starts, so the
-agents that hear or show answers need no copy of any test's table."""
+"""How an item is answered, as the DSR carries it (pure): PELEA writes it on the item's node
+(``item_<key>``) when a test starts, so the agents that hear, show or see answers need no copy
+of any test's table. ``answer_kind`` is the item's kind (choose, words, touches, drawing, eyes);
+a ``choose`` item has ``options``, ``option_points`` and ``option_words``; a ``words`` or
+``touches`` item ``parts`` (the words that recognise each part); the points it is worth are
+``max_points``. Several phrases of one option or part are joined by "|"."""
 
 from __future__ import annotations
 
-from clarc_agents.definitions import Item, Option
+from typing import Any
+
+from clarc_agents.definitions import KINDS, Item, Option, Part
 from dsr_graph.model.graph import Graph
 
 
@@ -12,11 +17,41 @@ def item_node(key: str) -> str:
     return f"item_{key}"
 
 
+def answer_attrs(item: Item) -> dict[str, Any]:
+    """What the item's node carries for the agents that take its answers."""
+    attrs: dict[str, Any] = {"answer_kind": item.kind, "max_points": item.max}
+    if item.kind == "choose":
+        attrs.update(
+            options=[o.text for o in item.options],
+            option_points=[float(o.points) for o in item.options],
+            option_words=["|".join(o.keywords) for o in item.options],
+        )
+    if item.parts:
+        attrs["parts"] = ["|".join(p.keywords) for p in item.parts]
+    return attrs
+
+
 def item_in(graph: Graph, key: str) -> Item | None:
-    """Item ``key`` with its options from its node; None when the DSR does not carry them."""
+    """Item ``key`` as its node says it is answered; None when the DSR does not say."""
     node = graph.find(item_node(key))
     if node is None:
         return None
+    kind = node.attrs.get("answer_kind", "choose")  # written before items had kinds: choose
+    if kind not in KINDS:
+        return None
+    title = str(node.attrs.get("title", key))
+    if kind != "choose":
+        parts = node.attrs.get("parts", [])
+        if not isinstance(parts, list):
+            return None
+        return Item(
+            key,
+            title,
+            "",
+            kind=kind,
+            parts=tuple(Part(str(i), _phrases(ws)) for i, ws in enumerate(parts)),
+            most=int(node.attrs.get("max_points", 0)),
+        )
     texts = node.attrs.get("options")
     points = node.attrs.get("option_points")
     words = node.attrs.get("option_words")
@@ -25,7 +60,11 @@ def item_in(graph: Graph, key: str) -> Item | None:
     if not len(texts) == len(points) == len(words):
         return None
     options = tuple(
-        Option(int(p), str(t), "", tuple(w for w in str(ws).split("|") if w))
+        Option(int(p), str(t), "", _phrases(ws))
         for t, p, ws in zip(texts, points, words, strict=True)
     )
-    return Item(key, str(node.attrs.get("title", key)), "", options)
+    return Item(key, title, "", options)
+
+
+def _phrases(joined: Any) -> tuple[str, ...]:
+    return tuple(w for w in str(joined).split("|") if w)

@@ -1,16 +1,28 @@
 """The Panel agent's processes, apart from ROS: ``show`` puts the sentence and its options on the
 touch screen, ``clear`` blanks it; a tap becomes the percept ``tap``, which the grammar turns into
-an answer while one is awaited. Rules: ``grammars/panel.yaml``."""
+an answer while one is awaited. Rules: ``grammars/panel.yaml``.
+
+Beyond options, the screen shows what an item needs (``shows``: pictures, shapes, a written
+instruction) and takes what it asks for (``input``): touches on shapes, scored when there are as
+many as the item's parts (percept ``touched``: a point per part touched in its place), or a
+drawing, kept for the clinician (percept ``drawn``: SVG path data)."""
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Callable
 from typing import Any, Protocol
 
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
+from clarc_agents.behaviours.item_options import item_in
+from clarc_agents.questionnaire.answers import touched_in_order
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
+
+# SVG path data of straight strokes, as the screen records a finger: M x y L x y ...
+DRAWING = re.compile(r"^[MLZ0-9 ,.\-]+$")
+MAX_DRAWING = 200_000  # characters: a page of handwriting is a few thousand
 
 
 class Screen(Protocol):
@@ -28,6 +40,7 @@ class PanelBehaviour:
         self.screen = screen
         self.log = log
         self._early = EarlyAnswer(now, server_gap)  # a tap made just before its window opened
+        self._touched: tuple[Any, list[str]] = (None, [])  # (the window, shapes touched in it)
 
     def processes(self) -> dict[str, Process]:
         return {"show": self.show, "clear": self.clear}
@@ -39,6 +52,8 @@ class PanelBehaviour:
                 "text": ctx["text"],
                 "options": ctx["options"],
                 "option_points": ctx["points"],
+                "shows": ctx["shows"],
+                "input": ctx["input"],
             }
         )
         return "done"
@@ -70,6 +85,61 @@ class PanelBehaviour:
             )
             return False
         return bool(runner.signal("tap", points=int(points)))
+
+    def on_input(self, runner: RuleRunner, graph: Graph, entry: dict[str, Any]) -> bool:
+        """What the screen took: a tap on an option (``points``), a touch on a shape
+        (``target``) or a finished drawing (``drawing``)."""
+        if "target" in entry:
+            return self.on_target(runner, graph, entry["target"])
+        if "drawing" in entry:
+            return self.on_drawing(runner, graph, entry["drawing"])
+        return self.on_tap(runner, graph, entry.get("points"))
+
+    def _awaited(self, graph: Graph, kind: str, what: str):
+        """The window and the item it awaits, if it is a ``kind`` item; else a warning."""
+        waiting = graph.edge("person", "answer", "waiting")
+        item = None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
+        if item is None or item.kind != kind:
+            self.log.warning(f"{what} refused: no answer of that kind is awaited")
+            return None, None
+        return waiting, item
+
+    def on_target(self, runner: RuleRunner, graph: Graph, target: Any) -> bool:
+        shown = graph.edge("test", "test_part", "is_in")
+        shapes = [] if shown is None else [str(s).lower() for s in shown.attrs.get("shows", [])]
+        if not isinstance(target, str) or target.lower() not in shapes:
+            self.log.warning(f"touch on {target!r} refused: the screen shows {shapes}")
+            return False
+        waiting, item = self._awaited(graph, "touches", f"touch on {target!r}")
+        if item is None:
+            return False
+        window, touched = self._touched
+        if window is not waiting:  # a new window: its touches start again
+            window, touched = waiting, []
+            self._touched = (window, touched)
+        touched.append(target.lower())
+        if len(touched) < len(item.parts):
+            return True
+        self._touched = (None, [])
+        points = touched_in_order(item, touched)
+        return bool(runner.signal("touched", points=points, heard=", ".join(touched)))
+
+    def on_drawing(self, runner: RuleRunner, graph: Graph, drawing: Any) -> bool:
+        if (
+            not isinstance(drawing, str)
+            or not drawing.strip()
+            or len(drawing) > MAX_DRAWING
+            or not DRAWING.match(drawing)
+        ):
+            self.log.warning(
+                f"drawing refused: SVG path data of at most {MAX_DRAWING} characters "
+                f"(M x y L x y ...) is expected, got {str(drawing)[:40]!r}"
+            )
+            return False
+        _, item = self._awaited(graph, "drawing", "drawing")
+        if item is None:
+            return False
+        return bool(runner.signal("drawn", drawing=drawing.strip()))
 
     def on_graph(self, runner: RuleRunner, graph: Graph) -> None:
         """A window opened: a tap made just before it, for the same item, is its answer."""

@@ -14,9 +14,9 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
-from clarc_agents.barthel.answers import understand
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
 from clarc_agents.behaviours.item_options import item_in
+from clarc_agents.questionnaire.answers import understand
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
@@ -140,8 +140,11 @@ class SpeechBehaviour:
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
-        self.listening = None
         item = item_in(self.graph(), ctx["item"]) if self.graph() is not None else None
+        if item is not None and "voice" not in item.via:  # touched, drawn or seen, not said
+            self.log.info(f"heard {text!r}: item {item.key!r} is not answered by voice")
+            return
+        self.listening = None
         if item is None:  # the DSR does not say what the options are: nothing to match
             self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
             ctx.finish("not_understood", heard=text)

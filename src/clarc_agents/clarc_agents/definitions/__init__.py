@@ -7,12 +7,26 @@ strictly (pure). A mistake is a ``DefinitionError`` naming the file and the line
 Format (docs/FORMAT.md "Test definitions"): ``format: clarc-test``, ``version: 1``, ``test``,
 ``title``, ``scoring: sum``, ``sentences`` (greet, explain, goodbye; ``{patient}`` is filled
 in), ``bands`` (``{name, min, max}`` covering every total from 0 to the maximum once), ``items``
-in order (``key``, ``title``, ``question``, ``options``: ``{points, text, says, words}``).
+in order (``key``, ``title``, ``question``, and how the item is answered: its ``kind``).
+
+Kinds of item (how the patient answers and how it is scored; ``via`` is how the answer comes):
+    choose   ``options`` ({points, text, says, words}): one is chosen by voice or touch
+    words    ``parts`` ({name, words}): a point per part recognised in what is said (voice)
+    touches  ``parts`` and ``shows`` (targets on the screen): a point per part touched in its
+             place in the order (touch)
+    drawing  what the patient draws on the screen is recorded; ``shows`` a model to copy, if
+             any; ``points`` the maximum; the clinician scores it (``needs_clinician``)
+    eyes     ``shows`` a written instruction; ``points`` if the camera sees the eyes close
+             while the answer is awaited, 0 if not (camera)
+Every kind but ``choose`` has ``ask``: the sentence asking for the answer. A part's words may
+hold placeholders filled in when a test starts (``Definition.filled``): see ``PLACEHOLDERS``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import re
+from dataclasses import dataclass, replace
+from functools import cache
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -24,8 +38,35 @@ from clarc_agents.yaml_lines import compose, err, mapping, scalar
 
 SENTENCES = ("greet", "explain", "goodbye")
 TOP = ("format", "version", "test", "title", "scoring", "sentences", "bands", "items")
-ITEM_KEYS = ("key", "title", "question", "options")
+COMMON_KEYS = ("key", "title", "question")
+# the keys of an item of each kind, beyond key, title and question (``kind`` may be left out
+# for ``choose``)
+KIND_KEYS = {
+    "choose": ("options",),
+    "words": ("ask", "parts"),
+    "touches": ("ask", "parts", "shows"),
+    "drawing": ("ask", "points"),
+    "eyes": ("ask", "points", "shows"),
+}
+OPTIONAL_KEYS = {"drawing": ("shows",), "words": ("shows",)}
+KINDS = tuple(KIND_KEYS)
+VIA = {"choose": ("voice", "touch"), "words": ("voice",), "touches": ("touch",)}
+VIA.update(drawing=("touch",), eyes=("camera",))
 OPTION_KEYS = ("points", "text", "says", "words")
+PART_KEYS = ("name", "words")
+# what a part's words may hold, filled in when a test starts (questionnaire/orientation.py)
+PLACEHOLDERS = (
+    "year",
+    "season",
+    "date",
+    "weekday",
+    "month",
+    "country",
+    "province",
+    "city",
+    "building",
+    "floor",
+)
 
 
 @dataclass(frozen=True)
@@ -37,15 +78,45 @@ class Option:
 
 
 @dataclass(frozen=True)
+class Part:
+    name: str
+    keywords: tuple[str, ...]  # what recognises it (lower case); a touch target: the first
+
+
+@dataclass(frozen=True)
 class Item:
     key: str
     title: str
     question: str
-    options: tuple[Option, ...]
+    options: tuple[Option, ...] = ()
+    kind: str = "choose"
+    parts: tuple[Part, ...] = ()
+    shows: tuple[str, ...] = ()  # on the screen with the request to answer
+    ask: str = ""  # the request to answer (every kind but choose)
+    most: int = 0  # drawing and eyes: the points they are worth
 
     @property
     def points(self) -> tuple[int, ...]:
-        return tuple(o.points for o in self.options)
+        """Every score the item can have."""
+        if self.kind == "choose":
+            return tuple(o.points for o in self.options)
+        return tuple(range(self.max + 1))
+
+    @property
+    def max(self) -> int:
+        if self.kind == "choose":
+            return max(o.points for o in self.options)
+        return len(self.parts) if self.parts else self.most
+
+    @property
+    def needs_clinician(self) -> bool:
+        """Scored by the clinician, from what was recorded."""
+        return self.kind == "drawing"
+
+    @property
+    def via(self) -> tuple[str, ...]:
+        """How its answer can come: voice, touch or camera."""
+        return VIA[self.kind]
 
     def option(self, points: int) -> Option | None:
         return next((o for o in self.options if o.points == points), None)
@@ -62,7 +133,26 @@ class Definition:
 
     @property
     def max_total(self) -> int:
-        return sum(max(i.points) for i in self.items)
+        return sum(i.max for i in self.items)
+
+    @property
+    def order(self) -> tuple[str, ...]:
+        return tuple(i.key for i in self.items)
+
+    def item(self, key: str) -> Item:
+        return next(i for i in self.items if i.key == key)
+
+    def filled(self, values: dict[str, tuple[str, ...]]) -> Definition:
+        """The definition with each placeholder in a part's words replaced by its values (a
+        phrase with ``{year}`` becomes one phrase per way of saying the year)."""
+        items = []
+        for item in self.items:
+            parts = tuple(
+                Part(p.name, tuple(w for k in p.keywords for w in _fill(k, values)))
+                for p in item.parts
+            )
+            items.append(replace(item, parts=parts))
+        return replace(self, items=tuple(items))
 
     def band(self, total: int) -> str:
         for low, high, name in self.bands:
@@ -74,12 +164,34 @@ class Definition:
         return self.sentences[name].format(**values)
 
 
+_PLACEHOLDER = re.compile(r"\{(\w+)\}")
+
+
+def _fill(phrase: str, values: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
+    found = _PLACEHOLDER.search(phrase)
+    if found is None:
+        return (phrase,)
+    return tuple(
+        filled
+        for value in values[found.group(1)]
+        for filled in _fill(phrase.replace(found.group(0), value.lower(), 1), values)
+    )
+
+
+@cache
+def tests() -> tuple[str, ...]:
+    """The questionnaire tests shipped with the package."""
+    folder = resources.files("clarc_agents").joinpath("definitions")
+    return tuple(sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".yaml")))
+
+
 def path_of(test: str) -> Path:
     return Path(str(resources.files("clarc_agents").joinpath(f"definitions/{test}.yaml")))
 
 
+@cache
 def load(test: str) -> Definition:
-    """The definition of ``test`` shipped with the package."""
+    """The definition of ``test`` shipped with the package (read once)."""
     path = path_of(test)
     try:
         text = path.read_text(encoding="utf-8")
@@ -100,7 +212,7 @@ def parse(text: str, source: str = "definition") -> Definition:
     test, title = _text(source, top, "test"), _text(source, top, "title")
     sentences = _sentences(source, top["sentences"][1])
     items = _items(source, top["items"][1])
-    bands = _bands(source, top["bands"][1], sum(max(i.points) for i in items))
+    bands = _bands(source, top["bands"][1], sum(i.max for i in items))
     return Definition(test, title, items, bands, sentences, source)
 
 
@@ -111,13 +223,17 @@ def _err(source: str, node: Any, message: str) -> DefinitionError:
     return err(source, node, message, DefinitionError)
 
 
-def _fields(source: str, node: Any, keys: tuple[str, ...], what: str) -> dict[str, tuple[Any, Any]]:
+def _fields(
+    source: str, node: Any, keys: tuple[str, ...], what: str, optional: tuple[str, ...] = ()
+) -> dict[str, tuple[Any, Any]]:
     """A mapping's fields, refusing a key it may not have or one it lacks (``what``: where)."""
     fields = mapping(node)
     for key, (key_node, _) in fields.items():
-        if key not in keys:
+        if key not in keys + optional:
             raise _err(
-                source, key_node, f"{what}unknown key {key!r}; the keys are {', '.join(keys)}"
+                source,
+                key_node,
+                f"{what}unknown key {key!r}; the keys are {', '.join(keys + optional)}",
             )
     missing = [k for k in keys if k not in fields]
     if missing:
@@ -150,17 +266,74 @@ def _items(source: str, node: Any) -> tuple[Item, ...]:
     for item_node in node.value:
         if not isinstance(item_node, _Mapping):
             raise _err(source, item_node, "an item is a mapping with key, title, question, options")
-        fields = _fields(source, item_node, ITEM_KEYS, "an item: ")
+        kind_node = mapping(item_node).get("kind", (None, None))[1]
+        kind = "choose" if kind_node is None else scalar(kind_node)
+        if kind not in KIND_KEYS:
+            raise _err(source, kind_node, f"an item's kind is one of {', '.join(KINDS)}")
+        keys = COMMON_KEYS + KIND_KEYS[kind]
+        optional = OPTIONAL_KEYS.get(kind, ()) + (("kind",) if kind == "choose" else ())
+        fields = _fields(
+            source,
+            item_node,
+            keys + (() if kind == "choose" else ("kind",)),
+            f"an item ({kind}): ",
+            optional,
+        )
         key = _text(source, fields, "key")
         if not key.isidentifier() or key != key.lower():
             raise _err(source, fields["key"][1], f"an item key is a lower-case name, got {key!r}")
         if key in {i.key for i in items}:
             raise _err(source, fields["key"][1], f"item {key!r} is listed twice")
-        options = _options(source, key, fields["options"][1])
-        items.append(
-            Item(key, _text(source, fields, "title"), _text(source, fields, "question"), options)
-        )
+        common = (key, _text(source, fields, "title"), _text(source, fields, "question"))
+        if kind == "choose":
+            items.append(Item(*common, options=_options(source, key, fields["options"][1])))
+            continue
+        shows = _texts(source, key, fields["shows"][1], "shows") if "shows" in fields else ()
+        parts = _parts(source, key, fields["parts"][1]) if "parts" in fields else ()
+        if kind == "touches":
+            missing = [p.name for p in parts if p.keywords[0] not in (s.lower() for s in shows)]
+            if missing:
+                raise _err(
+                    source, fields["shows"][1], f"{key}: shows lacks the target of {missing}"
+                )
+        most = 0
+        if "points" in fields:
+            most = _value(fields, "points")
+            if isinstance(most, bool) or not isinstance(most, int) or most < 1:
+                raise _err(source, fields["points"][1], f"{key}: points is a whole number >= 1")
+        ask = _text(source, fields, "ask")
+        items.append(Item(*common, kind=kind, parts=parts, shows=shows, ask=ask, most=most))
     return tuple(items)
+
+
+def _texts(source: str, item: str, node: Any, what: str) -> tuple[str, ...]:
+    values = scalar(node) if isinstance(node, _Sequence) else None
+    if not values or not all(isinstance(v, str) and v.strip() for v in values):
+        raise _err(source, node, f"{item}: {what} is a list of texts")
+    return tuple(v.strip() for v in values)
+
+
+def _parts(source: str, item: str, node: Any) -> tuple[Part, ...]:
+    if not isinstance(node, _Sequence) or not node.value:
+        raise _err(source, node, f"{item}: parts is a list of {{name, words}}")
+    parts: list[Part] = []
+    for part_node in node.value:
+        if not isinstance(part_node, _Mapping):
+            raise _err(source, part_node, f"{item}: a part is {{name, words}}")
+        fields = _fields(source, part_node, PART_KEYS, f"{item}: a part: ")
+        name = _text(source, fields, "name")
+        words = _texts(source, item, fields["words"][1], f"{name}: words")
+        for word in words:
+            for placeholder in _PLACEHOLDER.findall(word):
+                if placeholder not in PLACEHOLDERS:
+                    raise _err(
+                        source,
+                        fields["words"][1],
+                        f"{item}: {name}: unknown placeholder {{{placeholder}}}; "
+                        f"the placeholders are {', '.join(PLACEHOLDERS)}",
+                    )
+        parts.append(Part(name, tuple(w.lower() for w in words)))
+    return tuple(parts)
 
 
 def _options(source: str, item: str, node: Any) -> tuple[Option, ...]:

@@ -1,5 +1,6 @@
-"""The Panel agent: shows each sentence (and its options as buttons) on the touch screen,
-clears it when the person leaves, and turns a tap into an answer. Rules: grammars/panel.yaml.
+"""The Panel agent: shows each sentence (and its options as buttons, or the shapes, pictures or
+text an item needs) on the touch screen, clears it when the person leaves, and turns a tap, the
+shapes touched or a drawing into an answer. Rules: grammars/panel.yaml.
 
 Publishers: clarc/panel/display (latched). Subscriptions: clarc/panel/tap. Plus the DSR topics.
 """
@@ -43,7 +44,7 @@ class PanelAgent(GrammarAgentNode):
         publish_json(self._display, content)
 
     def on_tap(self, tap: dict[str, Any]) -> None:
-        self.behaviour.on_tap(self.runner, self.dsr.graph, tap["points"])
+        self.behaviour.on_input(self.runner, self.dsr.graph, tap)
 
 
 main = main_for(PanelAgent)

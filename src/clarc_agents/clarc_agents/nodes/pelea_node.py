@@ -7,6 +7,10 @@ ROS Parameters:
     outbox_dir (str): results not yet acknowledged by CGAmed wait here, so a crash loses none
         (default $XDG_STATE_HOME/clarc/pelea_outbox).
     setup_timeout (float): seconds to wait for the DSR server (default 20).
+    place (string[]): where the robot is, as orientation is scored: country, province, city,
+        building, floor ("|" between the ways of saying one; default the paper's hospital).
+Tests: every questionnaire in clarc_agents/definitions (barthel, lawton, mmse) and the Get Up
+& Go; one executive each.
 Start: a request on the DSR's test node (clarc start, or the dashboard).
 Publishers: clarc/pelea/events, clarc/cgamed/notify.
 Clients: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics.
@@ -23,9 +27,10 @@ from typing import Any
 
 from std_msgs.msg import String
 
-from clarc_agents import topics
+from clarc_agents import definitions, topics
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, place_values
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
@@ -67,6 +72,13 @@ class PeleaNode(DsrNode):
             read_only=True,
         )
         declare_setup_timeout(node, 20.0)
+        declare(
+            node,
+            "place",
+            list(DEFAULT_PLACE),
+            "country, province, city, building, floor: orientation is scored against them",
+            read_only=True,
+        )
 
     def __init__(self):
         super().__init__()
@@ -75,8 +87,13 @@ class PeleaNode(DsrNode):
             scale=float_param(self, "time_scale"),
             answer_timeout=float_param(self, "answer_timeout"),
         )
-        self.hle = HighLevelExecutive(self, times, self.get_logger())  # the Barthel test
-        self.gug = GugExecutive(self, times, self.get_logger())  # the Get Up & Go test
+        place = tuple(param(self, "place"))
+        place_values(place)  # a wrong place ends the node now, naming what is wrong
+        self.executives = [
+            HighLevelExecutive(self, times, self.get_logger(), definitions.load(test), place)
+            for test in definitions.tests()
+        ]
+        self.executives.append(GugExecutive(self, times, self.get_logger()))
         self.outbox = Path(param(self, "outbox_dir"))
 
     def setup(self) -> None:
@@ -92,7 +109,7 @@ class PeleaNode(DsrNode):
     def _on_graph(self, deltas, resynced) -> None:
         # A Start request, a test to resume after a restart, and the test's course: all in the DSR.
         # Each executive takes the Starts of its own test; the one running refuses the others.
-        for executive in (self.hle, self.gug):
+        for executive in self.executives:
             executive.on_graph(self.dsr.graph)
 
     # ------------------------------------------------------------------ the HLE's port
@@ -166,7 +183,7 @@ class PeleaNode(DsrNode):
 
     def _flush_outbox(self) -> None:
         """Results left by an earlier run (crash before CGAmed answered) are sent again."""
-        if self.hle.running or self.gug.running:
+        if any(executive.running for executive in self.executives):
             return
         for path in sorted(self.outbox.glob("*.json")):
             try:

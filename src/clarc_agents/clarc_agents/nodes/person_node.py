@@ -1,5 +1,8 @@
 """The Person agent: turns Kinect frames into the person's presence and face pose in the DSR
 (person node, kinect -RT-> person, person -is_with-> robot). Rules: grammars/person.yaml.
+The face data also says whether the eyes are closed: while the DSR awaits the answer to an
+``eyes`` item (the MMSE's "close your eyes", read on the screen), eyes seen closed are its
+answer (percept ``eyes_closed``, worth the item's points).
 
 A person counts as seen after ``seen_frames`` frames with a face and as lost after
 ``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
@@ -18,6 +21,7 @@ import math
 from typing import Any
 
 from clarc_agents import topics
+from clarc_agents.behaviours.item_options import item_in
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
@@ -80,8 +84,13 @@ class PersonAgent(GrammarAgentNode):
         face = [float(v) for v in frame["face"]] if present else None
         if face is not None and (len(face) != 3 or not all(math.isfinite(v) for v in face)):
             raise ValueError(f"face must be 3 finite numbers (mm), got {frame['face']!r}")
+        eyes = frame.get("eyes", "open")
+        if eyes not in ("open", "closed"):
+            raise ValueError(f"eyes must be open or closed, got {eyes!r}")
         if present:
             self._present_frames, self._absent_frames = self._present_frames + 1, 0
+            if eyes == "closed" and self._with_robot():
+                self._eyes_closed()
             # the Kinect speaks millimetres (its SDK's unit), the DSR metres: converted here, once
             metres = [v / PER_METRE[DEVICE_UNIT] for v in face]
             if joints is not None:  # the person is where the pelvis is
@@ -105,6 +114,13 @@ class PersonAgent(GrammarAgentNode):
                 self.runner.signal(
                     "lost"
                 )  # a repeat before the replica catches up is refused (CAS)
+
+    def _eyes_closed(self) -> None:
+        graph = self.dsr.graph
+        waiting = graph.edge("person", "answer", "waiting")
+        item = None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
+        if item is not None and item.kind == "eyes":
+            self.runner.signal("eyes_closed", points=item.max)  # once: the rule takes the window
 
     def _follow_posture(self, joints, stamp: float) -> None:
         """Sitting, standing or walking, from the pelvis in the room (its height above the

@@ -1,6 +1,7 @@
 """PELEA's Decision Support: a plan from the current state to the goal, by a real automated
 planner (pyperplan: greedy best-first search with the FF heuristic) on the PDDL domain of the
-test (``data/barthel_domain.pddl``). Pure; no ROS."""
+test (``data/questionnaire_domain.pddl`` for every questionnaire test: the items, their order and
+whether they have options come from the test's definition, in the problem). Pure; no ROS."""
 
 from __future__ import annotations
 
@@ -14,10 +15,11 @@ from pyperplan import grounding, search
 from pyperplan.heuristics.relaxation import hFFHeuristic
 from pyperplan.pddl.parser import Parser
 
-from clarc_agents.barthel.items import ORDER
+from clarc_agents.definitions import Definition
 from clarc_agents.exceptions import NoPlan
 
 Fact = str  # "(current feeding)"
+GOAL = ("(result-stored)",)
 
 
 @dataclass(frozen=True)
@@ -36,29 +38,32 @@ class Step:
         return (state - self.delete) | self.add
 
 
-def domain_path(name: str = "barthel") -> str:
+def domain_path(name: str = "questionnaire") -> str:
     return str(resources.files("clarc_agents").joinpath(f"data/{name}_domain.pddl"))
 
 
-def problem_pddl(
-    state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",), items=ORDER
-) -> str:
-    items = list(items)
+def problem_pddl(state: Iterable[Fact], definition: Definition, goal: Iterable[Fact] = GOAL) -> str:
+    items = list(definition.order)
     static = [f"(next {a} {b})" for a, b in zip(items, items[1:], strict=False)] + [
         f"(last {items[-1]})"
     ]
+    static += [
+        f"({'has-options' if i.kind == 'choose' else 'no-options'} {i.key})"
+        for i in definition.items
+    ]
     init = sorted(set(state) | set(static))
     return (
-        f"(define (problem barthel-run) (:domain barthel)\n"
+        f"(define (problem {definition.test}-run) (:domain questionnaire)\n"
         f"  (:objects {' '.join(items)} - item)\n"
         f"  (:init {' '.join(init)})\n"
         f"  (:goal (and {' '.join(goal)})))\n"
     )
 
 
-def plan(state: Iterable[Fact], goal: Iterable[Fact] = ("(result-stored)",)) -> list[Step]:
-    """The planner's plan from ``state``; ``NoPlan`` if there is none."""
-    return solve(domain_path(), problem_pddl(state, goal), state, goal)
+def plan(state: Iterable[Fact], definition: Definition, goal: Iterable[Fact] = GOAL) -> list[Step]:
+    """The planner's plan from ``state`` through ``definition``'s items; ``NoPlan`` if there is
+    none."""
+    return solve(domain_path(), problem_pddl(state, definition, goal), state, goal)
 
 
 def solve(domain: str, problem: str, state: Iterable[Fact], goal: Iterable[Fact]) -> list[Step]:
@@ -82,8 +87,9 @@ def solve(domain: str, problem: str, state: Iterable[Fact], goal: Iterable[Fact]
     return steps
 
 
-def initial_state(person_present: bool, items=ORDER) -> frozenset[Fact]:
+def initial_state(person_present: bool, definition: Definition) -> frozenset[Fact]:
     """The state when the clinician presses Start."""
+    items = definition.order
     facts = {"(started)", "(clinician-ok)", f"(current {items[0]})"} | {
         f"(pending {i})" for i in items
     }

@@ -18,12 +18,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from clarc_agents.barthel.sentences import Sentence
 from clarc_agents.gug import sentences
 from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
+from clarc_agents.questionnaire.sentences import Sentence
 from dsr_graph.model.graph import Graph
 
 MAX_TRIALS = 3

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from typing import Any
 
-from clarc_agents.barthel.items import BY_KEY, ORDER
-from clarc_agents.barthel.record import ItemResult
-from clarc_agents.barthel.sentences import Sentence
-from clarc_agents.behaviours.item_options import item_node
+from clarc_agents.behaviours.item_options import answer_attrs, item_node
+from clarc_agents.definitions import Definition
+from clarc_agents.questionnaire.record import ItemResult
+from clarc_agents.questionnaire.sentences import Sentence
 from dsr_graph.model.graph import Graph
 
 
@@ -33,6 +33,8 @@ def say(graph: Graph, sentence: Sentence, sid: int) -> dict[str, Any]:
         "item": sentence.item,
         "options": list(sentence.options),
         "option_points": list(sentence.option_points),
+        "shows": list(sentence.shows),
+        "input": sentence.input,
     }
     ops = _reset_channel(graph, "speaking") + _reset_channel(graph, "showing")
     if graph.edge("test", "test_part", "is_in") is None:
@@ -121,16 +123,6 @@ def request_start(patient: str, requested: str, test: str = "barthel") -> dict[s
     return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
 
 
-def option_attrs(item) -> dict[str, Any]:
-    """An item's options as its node carries them, for the agents that hear or show answers:
-    texts, points, and the words that recognise each ("|" between the phrases of one option)."""
-    return {
-        "options": [o.text for o in item.options],
-        "option_points": [float(o.points) for o in item.options],
-        "option_words": ["|".join(o.keywords) for o in item.options],
-    }
-
-
 def take_request(graph: Graph, patient: str) -> tuple[list[dict], list[dict]]:
     """(preconditions, ops) taking the Start request for ``patient`` (CAS on it), if any."""
     test = graph.node("test")
@@ -141,10 +133,12 @@ def take_request(graph: Graph, patient: str) -> tuple[list[dict], list[dict]]:
     return [check], [{"op": "remove_node_attrs", "node": "test", "names": names}]
 
 
-def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
-    """The test is running: on the test node the patient, the time and everything PELEA needs to
-    resume after a restart (flags of the steps done, the clinician called, how often the person
-    left); one node per item for its answer. A Start request for this patient is taken (CAS)."""
+def start_test(graph: Graph, patient: str, started: str, definition: Definition) -> dict[str, Any]:
+    """The test is running: on the test node the patient, the test, the time and everything
+    PELEA needs to resume after a restart (flags of the steps done, the clinician called, how
+    often the person left); one node per item for its answer, carrying how it is answered (its
+    options, or its parts with the words that recognise them: filled for today and here). A
+    Start request for this patient is taken (CAS)."""
     test = graph.node("test")
     checks, ops = take_request(graph, patient)
     stale = [k for k in ("finished",) if k in test.attrs]
@@ -156,10 +150,10 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
             "node": "test",
             "attrs": {
                 "patient": patient,
-                "kind": "barthel",
+                "kind": definition.test,
                 "status": "running",
                 "started": started,
-                "item": ORDER[0],
+                "item": definition.order[0],
                 "greeted": False,
                 "explained": False,
                 "said_goodbye": False,
@@ -168,8 +162,8 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
             },
         }
     )
-    for position, item in enumerate(ORDER, 1):
-        name = item_node(item)
+    for position, item in enumerate(definition.items, 1):
+        name = item_node(item.key)
         if name in graph:
             ops.append({"op": "delete_node", "node": name})  # a previous test's record
         ops.append(
@@ -178,11 +172,11 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
                 "name": name,
                 "type": "test_item",
                 "attrs": {
-                    "item": item,
+                    "item": item.key,
                     "position": position,
                     "attempts": 0,
                     "status": "asking",
-                    **option_attrs(BY_KEY[item]),
+                    **answer_attrs(item),
                 },
             }
         )
@@ -206,7 +200,11 @@ def record_item(result: ItemResult) -> dict[str, Any]:
         "heard": result.heard,
     }
     if result.points is not None:
-        attrs.update(answer=result.points, via=result.via)
+        attrs.update(answer=result.points)
+    if result.answered:
+        attrs.update(via=result.via)
+    if result.drawing:
+        attrs.update(drawing=result.drawing)
     return {"ops": [{"op": "set_node_attrs", "node": item_node(result.item), "attrs": attrs}]}
 
 

@@ -1,4 +1,5 @@
-"""The High Level Executive: runs a Barthel test (paper, Section III-B).
+"""The High Level Executive: runs a questionnaire test, the Barthel test (paper, Section III-B)
+or any other its definition file describes (the MMSE, the Lawton scale).
 
 Crash-only: Start arrives as a request in the DSR, and everything needed to go on (the steps
 done, each item's attempts and answer, the clinician called, how often the person left) is
@@ -18,13 +19,15 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from datetime import datetime
 from typing import Any, Protocol
 
-from clarc_agents.barthel import sentences
-from clarc_agents.barthel.items import BY_KEY, ORDER
-from clarc_agents.barthel.record import BarthelRecord
+from clarc_agents import definitions
+from clarc_agents.definitions import Definition
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
+from clarc_agents.questionnaire import orientation, sentences
+from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
 from dsr_graph.protocol.presence import PRESENCE_LEASE
 
@@ -125,13 +128,28 @@ class HighLevelExecutive:
     KIND = "barthel"  # the test this executive runs (the Start request's requested_test)
     CLOSING = CLOSING
 
-    def __init__(self, port: Port, times: Times, log):
+    def __init__(
+        self,
+        port: Port,
+        times: Times,
+        log,
+        definition: Definition | None = None,
+        place: tuple[str, ...] = orientation.DEFAULT_PLACE,
+    ):
         self.port = port
         self.times = times
         self.log = log
+        # the test as its file says it (by default this executive's KIND's); filled with today's
+        # date and the place when it runs
+        if definition is None and self.KIND in definitions.tests():
+            definition = definitions.load(self.KIND)
+        self.template = self.definition = definition
+        if definition is not None:
+            self.KIND = definition.test
+        self.place = tuple(place)
         self.graph: Graph | None = None
         self.running = False
-        self.record: BarthelRecord | None = None
+        self.record: QuestionnaireRecord | None = None
         self.state: frozenset[str] = frozenset()
         self.plan: list[Step] = []
         self.current: Step | None = None
@@ -158,10 +176,13 @@ class HighLevelExecutive:
         self.graph = graph
         self.running = True
         self._stuck = False
-        self.record = BarthelRecord(patient, self.port.now())
-        self.state = decision_support.initial_state(low_to_high.person_present(graph))
-        self.port.event(event="started", patient=patient)
-        self.port.send(high_to_low.start_test(graph, patient, self.record.started))
+        self.definition = self._today()
+        self.record = QuestionnaireRecord(self.definition, patient, self.port.now())
+        self.state = decision_support.initial_state(
+            low_to_high.person_present(graph), self.definition
+        )
+        self.port.event(event="started", patient=patient, test=self.KIND)
+        self.port.send(high_to_low.start_test(graph, patient, self.record.started, self.definition))
         self._replan("start")
         return True
 
@@ -170,8 +191,9 @@ class HighLevelExecutive:
         go on from what the DSR says, asking the item in progress again."""
         self.graph = graph
         self.running = True
-        self.record = low_to_high.record(graph)
-        self.state = low_to_high.facts(graph)
+        self.definition = self._today()
+        self.record = low_to_high.record(graph, self.definition)
+        self.state = low_to_high.facts(graph, self.definition)
         reset = high_to_low.reset_answer(graph)
         if reset is not None:  # a window left open by the previous run: it is asked again
             self.port.send(reset)
@@ -237,8 +259,14 @@ class HighLevelExecutive:
         )
         self._next()
 
+    def _today(self) -> Definition:
+        """The test's definition with orientation filled in: today's date (the robot's local
+        time) and the place."""
+        today = datetime.fromtimestamp(self.port.epoch()).date()
+        return self.template.filled(orientation.values(today, self.place))
+
     def _plan(self, state: frozenset[str]) -> list[Step]:
-        return decision_support.plan(state)
+        return decision_support.plan(state, self.definition)
 
     def _person_lost_state(self) -> frozenset[str]:
         """The facts after the person left in the middle of the plan."""
@@ -336,7 +364,8 @@ class HighLevelExecutive:
 
     def _current_item(self) -> str:
         return next(
-            (f[len("(current ") : -1] for f in self.state if f.startswith("(current ")), ORDER[0]
+            (f[len("(current ") : -1] for f in self.state if f.startswith("(current ")),
+            self.definition.order[0],
         )
 
     # ------------------------------------------------------------------ sentences
@@ -413,26 +442,29 @@ class HighLevelExecutive:
         self._check_wait(self.graph)
 
     def _greet(self, step: Step) -> None:
-        self._say(sentences.greet(self.record.patient))
+        self._say(sentences.greet(self.definition, self.record.patient))
 
     def _explain(self, step: Step) -> None:
-        self._say(sentences.explain())
+        self._say(sentences.explain(self.definition))
 
     def _introduce(self, step: Step, item: str) -> None:
-        self.port.event(event="item", item=item, position=ORDER.index(item) + 1)
-        self._say(sentences.introduce(item))
+        self.port.event(event="item", item=item, position=self.definition.order.index(item) + 1)
+        self._say(sentences.introduce(self.definition, item))
 
     def _describe_options(self, step: Step, item: str) -> None:
-        self._say(sentences.describe_options(item))
+        self._say(sentences.describe_options(self.definition, item))
+
+    def _nothing_to_describe(self, step: Step, item: str) -> None:
+        self._complete(self._token)
 
     def _ask(self, step: Step, item: str) -> None:
-        self._say(sentences.ask(item))
+        self._say(sentences.ask(self.definition, item))
 
     def _options_again(self, step: Step, item: str) -> None:
-        self._say(sentences.options_again(item))
+        self._say(sentences.options_again(self.definition, item))
 
     def _clarify(self, step: Step, item: str) -> None:
-        self._say(sentences.clarify(item))
+        self._say(sentences.clarify(self.definition, item))
 
     def _await_answer(self, step: Step, item: str) -> None:
         self._open_window(item, 1)
@@ -470,12 +502,18 @@ class HighLevelExecutive:
         self.port.send(high_to_low.consume_answer())
         if answer.item != item:
             return
-        if answer.outcome == "answered" and BY_KEY[item].option(answer.points) is None:
+        spec = self.definition.item(item)
+        valid = (
+            answer.points is None and bool(answer.drawing)
+            if spec.needs_clinician
+            else answer.points in spec.points
+        )
+        if answer.outcome == "answered" and not valid:
             # written by an agent that did not check it: not an answer to this item
-            self.log.warning(f"{answer.points} points is not an option of {item}: not understood")
+            self.log.warning(f"{answer.points} points is not a score of {item}: not understood")
             answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
         if answer.outcome == "answered":
-            self.record.answer(item, answer.points, answer.via)
+            self.record.answer(item, answer.points, answer.via, answer.heard, answer.drawing)
             self._window_ended(item, "answered")
             self.port.event(event="answer", item=item, points=answer.points, via=answer.via)
             self._complete(token)
@@ -550,6 +588,13 @@ class HighLevelExecutive:
                 self.port.event(event="window_interrupted", item=item, window=window)
                 self._complete(token, monitoring.window_interrupted(self.state, item, window))
                 return
+            if self.definition.item(item).kind == "eyes":
+                # the camera did not see the eyes close while the screen asked it: 0 points
+                self.record.answer(item, 0, "camera")
+                self._window_ended(item, "answered")
+                self.port.event(event="answer", item=item, points=0, via="camera")
+                self._complete(token)
+                return
             self._window_ended(item, "no_answer")
             self.port.event(event="no_answer", item=item, window=window)
             self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
@@ -571,14 +616,14 @@ class HighLevelExecutive:
         unanswered = ", ".join(self.record.unanswered)
         self.port.notify_clinician(
             f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
-            f"({unanswered}) in the Barthel test: please come and attend."
+            f"({unanswered}) in the {self.definition.title}: please come and attend."
         )
         self.port.event(event="clinician_called", unanswered=self.record.unanswered)
         self.port.send(high_to_low.call_clinician(self.graph))
         self._say(sentences.call_clinician())
 
     def _say_goodbye(self, step: Step, item: str) -> None:
-        self._say(sentences.goodbye(self.record.patient))
+        self._say(sentences.goodbye(self.definition, self.record.patient))
 
     def _store_result(self, step: Step) -> None:
         """The result, as the DSR holds it, to CGAmed (which stores a test once, however often
@@ -595,7 +640,7 @@ class HighLevelExecutive:
                     self.times.store_retry, lambda: self._store_result(step)
                 )
                 return
-            result = low_to_high.record(self.graph).to_json()
+            result = low_to_high.record(self.graph, self.definition).to_json()
             self.record.finished = finished
             self.port.store_result(result, lambda ok, error: stored(result, ok, error))
 
@@ -623,6 +668,7 @@ class HighLevelExecutive:
         "explain": _explain,
         "introduce": _introduce,
         "describe-options": _describe_options,
+        "nothing-to-describe": _nothing_to_describe,
         "ask": _ask,
         "options-again": _options_again,
         "clarify": _clarify,

@@ -8,9 +8,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from clarc_agents.barthel.items import ORDER
-from clarc_agents.barthel.record import BarthelRecord
 from clarc_agents.behaviours.item_options import item_node
+from clarc_agents.definitions import Definition
+from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match
 from dsr_graph.rules.syntax import Pattern
@@ -27,13 +27,15 @@ PATTERNS = {
 
 @dataclass(frozen=True)
 class Answer:
-    """answer(item, outcome, points, via, heard): outcome is answered, skip or not_understood."""
+    """answer(item, outcome, points, via, heard): outcome is answered, skip or not_understood.
+    A drawing is answered without points (the clinician scores it)."""
 
     item: str
     outcome: str
     points: int | None = None
     via: str | None = None
     heard: str = ""
+    drawing: str = ""
 
 
 def _first(graph: Graph, name: str) -> dict[str, Any] | None:
@@ -53,8 +55,14 @@ def answer(graph: Graph) -> Answer | None:
         return Answer(found["$item"], "skip", heard=attrs.get("heard", ""))
     if not attrs.get("understood", False):
         return Answer(found["$item"], "not_understood", heard=attrs.get("heard", ""))
+    points = int(attrs["answer"]) if "answer" in attrs else None
     return Answer(
-        found["$item"], "answered", int(attrs["answer"]), attrs.get("via"), attrs.get("heard", "")
+        found["$item"],
+        "answered",
+        points,
+        attrs.get("via"),
+        attrs.get("heard", ""),
+        str(attrs.get("drawing", "")),
     )
 
 
@@ -124,14 +132,16 @@ def test_running(graph: Graph) -> bool:
     return test is not None and test.attrs.get("status") == "running"
 
 
-def record(graph: Graph) -> BarthelRecord:
+def record(graph: Graph, definition: Definition) -> QuestionnaireRecord:
     """The running (or last) test as its record, read from the test node and the item nodes."""
     test = graph.node("test").attrs
-    rec = BarthelRecord(str(test.get("patient", "")), str(test.get("started", "")))
+    rec = QuestionnaireRecord(
+        definition, str(test.get("patient", "")), str(test.get("started", ""))
+    )
     rec.finished = test.get("finished")
     rec.clinician_called = bool(test.get("clinician_called", False))
     rec.person_lost_count = int(test.get("person_lost_count", 0))
-    for key in ORDER:
+    for key in definition.order:
         node = graph.find(item_node(key))
         if node is None:
             continue
@@ -141,22 +151,24 @@ def record(graph: Graph) -> BarthelRecord:
         result.heard = str(node.attrs.get("heard", ""))
         status = node.attrs.get("status")
         if status == "answered":
-            result.points, result.via = int(node.attrs["answer"]), node.attrs.get("via")
+            result.answered, result.via = True, node.attrs.get("via")
+            result.points = int(node.attrs["answer"]) if "answer" in node.attrs else None
+            result.drawing = str(node.attrs.get("drawing", ""))
         result.closed = status in ("answered", "unanswered")
     return rec
 
 
-def facts(graph: Graph) -> frozenset[str]:
+def facts(graph: Graph, definition: Definition) -> frozenset[str]:
     """The high-level state of a running test, read from the DSR: what a restarted PELEA plans
     from. An item not closed yet (the one in progress) is pending: it is asked again."""
     test = graph.node("test").attrs
-    rec = record(graph)
-    state = {"(started)", f"(current {test.get('item', ORDER[0])})"}
+    rec = record(graph, definition)
+    state = {"(started)", f"(current {test.get('item', definition.order[0])})"}
     state.add("(person-present)" if person_present(graph) else "(person-absent)")
     for flag in ("greeted", "explained", "said-goodbye"):
         if test.get(flag.replace("-", "_")):
             state.add(f"({flag})")
-    for key in ORDER:
+    for key in definition.order:
         state.add(f"(closed {key})" if rec.items[key].closed else f"(pending {key})")
     needed = not rec.clinician_called and len(rec.unanswered) >= 2
     state.add("(clinician-needed)" if needed else "(clinician-ok)")

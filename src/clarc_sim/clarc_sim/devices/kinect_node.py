@@ -1,9 +1,9 @@
 """The Kinect stand-in: a frame every 1/rate_hz seconds saying whether a person is in front of
-the robot and where their face is (mm, in the Kinect's frame, with a little jitter), following
-the simulated patient. In a Get Up & Go trial (the patient says so on clarc/sim/patient/trial)
-it tracks the whole skeleton instead: skeleton_hz frames per second of the patient's time, each
-with every joint (mm, in the Kinect's frame) and its confidence, the scenario's noise and lost
-frames (``skeleton_frames.py``).
+the robot, where their face is (mm, in the Kinect's frame, with a little jitter) and whether the
+eyes are open or closed, following the simulated patient. In a Get Up & Go trial (the patient
+says so on clarc/sim/patient/trial) it tracks the whole skeleton instead: skeleton_hz frames per
+second of the patient's time, each with every joint (mm, in the Kinect's frame) and its
+confidence, the scenario's noise and lost frames (``skeleton_frames.py``).
 
 ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
 trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
@@ -73,6 +73,7 @@ class KinectStandIn(DsrNode):
         self.presence = {
             "present": bool(doc["present"]),
             "face": [float(v) for v in doc.get("face", [0, 0, 0])],
+            "eyes": "closed" if doc.get("eyes_closed") else "open",
         }
 
     def on_trial(self, doc: dict[str, Any]) -> None:
@@ -92,6 +93,7 @@ class KinectStandIn(DsrNode):
         frame: dict[str, Any] = {"present": self.presence["present"]}
         if frame["present"]:
             frame["face"] = [v + self._random.uniform(-5, 5) for v in self.presence["face"]]
+            frame["eyes"] = self.presence["eyes"]
         publish_json(self._frames, frame)
 
     def on_skeleton_frame(self) -> None:

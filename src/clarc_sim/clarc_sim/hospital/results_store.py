@@ -5,14 +5,20 @@ Default path: $XDG_DATA_HOME/clarc/cgamed.sqlite (usually ~/.local/share/clarc/c
 ``synchronous=FULL`` before it is acknowledged, so an acknowledged result survives any crash.
 Storing the same test again (same patient and start time) returns the id it already has.
 
-Tables: tests (one row per test: which test, with its whole result as JSON), items (one row
-per item of a questionnaire, in test order) and notifications (what the clinician was told).
+Tables: patients (a record per patient: id and name), tests (one row per test: which test, whose,
+with its whole result as JSON), items (one row per item of a questionnaire, in test order) and
+notifications (what the clinician was told).
 
 The schema is versioned (SQLite's ``user_version``): a store written by an older version is
 migrated when it is opened, in one transaction, keeping every row (``MIGRATIONS``). Version 0 is
 the store before versions (Barthel only); 1 adds ``tests.test`` and lets a test have no total
 (a timed test, the Get Up & Go, has a time instead); 2 adds the clinician's validation
-(``validated_by``, ``validated_at``), after which a result cannot change.
+(``validated_by``, ``validated_at``), after which a result cannot change; 3 adds patients as
+records (``patients``, ``tests.patient_id``: one record per name already stored).
+
+Questionnaire results are checked against their test definition (any test in
+clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinician's score
+(``ResultsStore.score``), and the result is ``complete`` once none waits.
 """
 
 from __future__ import annotations
@@ -23,15 +29,25 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from clarc_agents.barthel.items import BY_KEY, ORDER, band
-from clarc_agents.exceptions import AlreadyValidated, InvalidResult, UnknownTest
+from clarc_agents import definitions
+from clarc_agents.exceptions import (
+    AlreadyValidated,
+    InvalidResult,
+    UnknownPatient,
+    UnknownTest,
+)
 from clarc_agents.gug.phases import PHASES, fall_risk
 from clarc_agents.gug.phases import band as gug_band
 from dsr_graph.formats.default_paths import data_path
 
-VERSION = 2
-TESTS = ("barthel", "get_up_and_go")
+VERSION = 3
+TIMED = "get_up_and_go"
 SCHEMA = """
+CREATE TABLE IF NOT EXISTS patients (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    name TEXT NOT NULL,
+    created TEXT NOT NULL
+);
 CREATE TABLE IF NOT EXISTS tests (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     test TEXT NOT NULL DEFAULT 'barthel',
@@ -46,6 +62,7 @@ CREATE TABLE IF NOT EXISTS tests (
     stored TEXT NOT NULL,
     validated_by TEXT,
     validated_at TEXT,
+    patient_id INTEGER REFERENCES patients(id),
     UNIQUE (patient, started)
 );
 CREATE TABLE IF NOT EXISTS items (
@@ -94,6 +111,16 @@ MIGRATIONS = {
         "ALTER TABLE tests ADD COLUMN validated_by TEXT",
         "ALTER TABLE tests ADD COLUMN validated_at TEXT",
     ],
+    3: [
+        """CREATE TABLE patients (
+            id INTEGER PRIMARY KEY AUTOINCREMENT,
+            name TEXT NOT NULL,
+            created TEXT NOT NULL)""",
+        "ALTER TABLE tests ADD COLUMN patient_id INTEGER REFERENCES patients(id)",
+        """INSERT INTO patients (name, created)
+            SELECT patient, MIN(stored) FROM tests GROUP BY patient ORDER BY MIN(id)""",
+        "UPDATE tests SET patient_id = (SELECT id FROM patients WHERE name = tests.patient)",
+    ],
 }
 
 
@@ -102,33 +129,46 @@ def default_db() -> str:
     return data_path("clarc", "cgamed.sqlite")
 
 
+def tests_known() -> tuple[str, ...]:
+    return definitions.tests() + (TIMED,)
+
+
 def check_result(result: Any) -> dict[str, Any]:
     """Refuse a result whose numbers do not add up, before it reaches the clinician."""
     if not isinstance(result, dict):
         raise InvalidResult("a result is a JSON object")
     test = result.get("test", "barthel")
-    if test not in TESTS:
-        raise InvalidResult(f"unknown test {test!r}; the tests are {', '.join(TESTS)}")
-    if test == "get_up_and_go":
+    if test not in tests_known():
+        raise InvalidResult(f"unknown test {test!r}; the tests are {', '.join(tests_known())}")
+    if test == TIMED:
         return check_timed_result(result)
     for key in ("patient", "started", "items", "total", "band"):
         if key not in result:
             raise InvalidResult(f"missing {key!r}")
+    definition = definitions.load(test)
     items = result["items"]
-    if [i.get("item") for i in items] != list(ORDER):
-        raise InvalidResult(f"items must be the ten Barthel items in order: {', '.join(ORDER)}")
+    if not isinstance(items, list) or [
+        i.get("item") if isinstance(i, dict) else None for i in items
+    ] != list(definition.order):
+        raise InvalidResult(
+            f"items must be the {len(definition.items)} {definition.title} items in order: "
+            f"{', '.join(definition.order)}"
+        )
     for i in items:
-        if i["points"] is not None and BY_KEY[i["item"]].option(i["points"]) is None:
-            raise InvalidResult(f"{i['item']}: {i['points']} is not an option")
-        if i["via"] not in ("voice", "touch", None) or (i["points"] is None) != (i["via"] is None):
+        spec = definition.item(i["item"])
+        points, via = i.get("points"), i.get("via")
+        if points is not None and (isinstance(points, bool) or points not in spec.points):
+            raise InvalidResult(f"{i['item']}: {points!r} is not a score of it {spec.points}")
+        waiting = spec.needs_clinician and points is None and via is not None
+        if via not in spec.via + (None,) or ((points is None) != (via is None) and not waiting):
             raise InvalidResult(
-                f"{i['item']}: via must be voice or touch for an answer, null otherwise"
+                f"{i['item']}: via must be {' or '.join(spec.via)} for an answer, null otherwise"
             )
     total = sum(i["points"] for i in items if i["points"] is not None)
-    if result["total"] != total or result["band"] != band(total):
+    if result["total"] != total or result["band"] != definition.band(total):
         raise InvalidResult(
             f"total/band {result['total']}/{result['band']} do not match the items "
-            f"({total}/{band(total)})"
+            f"({total}/{definition.band(total)})"
         )
     return result
 
@@ -204,10 +244,11 @@ class ResultsStore:
             ).fetchone()
             if row is not None:
                 return row[0]
+            patient_id = self._patient_of(result, now)
             cur = self.db.execute(
                 "INSERT INTO tests (test, patient, started, finished, total, band,"
-                " clinician_called, person_lost, result_json, stored)"
-                " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                " clinician_called, person_lost, result_json, stored, patient_id)"
+                " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                 (
                     result.get("test", "barthel"),
                     result["patient"],
@@ -219,6 +260,7 @@ class ResultsStore:
                     int(bool(result.get("person_lost"))),
                     json.dumps(result),
                     now,
+                    patient_id,
                 ),
             )
             test_id = cur.lastrowid
@@ -231,6 +273,107 @@ class ResultsStore:
                 ],
             )
         return test_id
+
+    # ------------------------------------------------------------------ patients
+    def _patient_of(self, result: dict[str, Any], now: str) -> int:
+        """The record a result is for: its ``patient_id`` if the Start named one, else the first
+        record with its name, else a new one."""
+        given = result.get("patient_id")
+        if isinstance(given, int) and not isinstance(given, bool):
+            row = self.db.execute("SELECT name FROM patients WHERE id = ?", (given,)).fetchone()
+            if row is not None:
+                return given
+        row = self.db.execute(
+            "SELECT id FROM patients WHERE name = ? ORDER BY id LIMIT 1", (result["patient"],)
+        ).fetchone()
+        if row is not None:
+            return row[0]
+        cur = self.db.execute(
+            "INSERT INTO patients (name, created) VALUES (?, ?)", (result["patient"], now)
+        )
+        return cur.lastrowid
+
+    def add_patient(self, name: str) -> dict[str, Any]:
+        """A new patient record; ``InvalidResult`` for an empty name."""
+        name = " ".join(str(name).split())
+        if not name:
+            raise InvalidResult("a patient needs a name")
+        now = datetime.now(UTC).isoformat(timespec="seconds")
+        with self.db:
+            cur = self.db.execute("INSERT INTO patients (name, created) VALUES (?, ?)", (name, now))
+        return {"id": cur.lastrowid, "name": name, "created": now}
+
+    def patients(self) -> list[dict[str, Any]]:
+        return [
+            {"id": i, "name": n, "created": c}
+            for i, n, c in self.db.execute("SELECT id, name, created FROM patients ORDER BY id")
+        ]
+
+    def patient(self, patient_id: int) -> dict[str, Any]:
+        row = self.db.execute(
+            "SELECT id, name, created FROM patients WHERE id = ?", (patient_id,)
+        ).fetchone()
+        if row is None:
+            raise UnknownPatient(f"no patient {patient_id}")
+        return {"id": row[0], "name": row[1], "created": row[2]}
+
+    # ------------------------------------------------------------------ the clinician
+    def score(
+        self, test_id: int, item: str, points: int, clinician: str, when: str | None = None
+    ) -> dict[str, Any]:
+        """The clinician scores an item that ``needs_clinician`` (a drawing), before the result
+        is validated; the total, the band and ``complete`` follow. The result as it is now."""
+        clinician = clinician.strip()
+        if not clinician:
+            raise InvalidResult("a score needs the clinician's name")
+        when = when or datetime.now(UTC).isoformat(timespec="seconds")
+        with self.db:
+            row = self.db.execute(
+                "SELECT test, result_json, validated_by, validated_at FROM tests WHERE id = ?",
+                (test_id,),
+            ).fetchone()
+            if row is None:
+                raise UnknownTest(f"no test {test_id}")
+            test, result_json, by, at = row
+            if by is not None:
+                raise AlreadyValidated(
+                    f"test {test_id} was validated by {by} at {at}: it cannot change"
+                )
+            if test == TIMED:
+                raise InvalidResult(f"test {test_id} is timed: it has no items to score")
+            definition = definitions.load(test)
+            if item not in definition.order or not definition.item(item).needs_clinician:
+                waits = [i.key for i in definition.items if i.needs_clinician]
+                raise InvalidResult(
+                    f"{item!r} is not scored by the clinician in the {definition.title} "
+                    f"(those are: {', '.join(waits) or 'none'})"
+                )
+            spec = definition.item(item)
+            if isinstance(points, bool) or not isinstance(points, int) or points not in spec.points:
+                raise InvalidResult(
+                    f"{item}: a score is one of {list(spec.points)}, got {points!r}"
+                )
+            result = json.loads(result_json)
+            entry = result["items"][definition.order.index(item)]
+            entry.update(points=points, scored_by=clinician, scored_at=when)
+            result["total"] = sum(i["points"] for i in result["items"] if i["points"] is not None)
+            result["band"] = definition.band(result["total"])
+            result["complete"] = all(
+                i["points"] is not None or not definition.item(i["item"]).needs_clinician
+                for i in result["items"]
+            )
+            if result.get("unanswered") and entry.get("via") is None:
+                result["unanswered"] = [k for k in result["unanswered"] if k != item]
+            self.db.execute(
+                "UPDATE tests SET total = ?, band = ?, result_json = ? "
+                "WHERE id = ? AND validated_by IS NULL",
+                (result["total"], result["band"], json.dumps(result), test_id),
+            )
+            self.db.execute(
+                "UPDATE items SET points = ? WHERE test_id = ? AND item = ?",
+                (points, test_id, item),
+            )
+        return next(t for t in self.tests() if t["id"] == test_id)
 
     def validate(self, test_id: int, clinician: str, when: str | None = None) -> dict[str, str]:
         """The clinician validates a stored result: stored with their name and the time, once;
@@ -271,11 +414,12 @@ class ResultsStore:
     def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
         out = []
-        for test_id, test, result_json, by, at in self.db.execute(
-            "SELECT id, test, result_json, validated_by, validated_at FROM tests ORDER BY id"
+        for test_id, test, result_json, by, at, patient_id in self.db.execute(
+            "SELECT id, test, result_json, validated_by, validated_at, patient_id FROM tests"
+            " ORDER BY id"
         ):
             result = json.loads(result_json)
-            validation = {"validated_by": by, "validated_at": at}
+            validation = {"validated_by": by, "validated_at": at, "patient_id": patient_id}
             if test == "get_up_and_go":
                 out.append(
                     {
@@ -295,6 +439,8 @@ class ResultsStore:
                     }
                 )
                 continue
+            definition = definitions.load(test)
+            items = [_item_fields(definition, i) for i in result["items"]]
             out.append(
                 {
                     "id": test_id,
@@ -303,8 +449,10 @@ class ResultsStore:
                     "started": result["started"],
                     "finished": result.get("finished"),
                     "total": result["total"],
+                    "max_total": definition.max_total,
                     "band": result["band"],
-                    "items": result["items"],
+                    "complete": all(i["points"] is not None for i in items if i["needs_clinician"]),
+                    "items": items,
                     "unanswered": result.get("unanswered", []),
                     "clinician_called": bool(result.get("clinician_called")),
                     "person_lost": bool(result.get("person_lost")),
@@ -321,3 +469,10 @@ class ResultsStore:
                 "SELECT time, kind, message FROM notifications ORDER BY id"
             )
         ]
+
+
+def _item_fields(definition, item: dict[str, Any]) -> dict[str, Any]:
+    """An item of a stored result with its maximum and whether the clinician scores it (a
+    result stored before items said so gets them from its definition)."""
+    spec = definition.item(item["item"])
+    return {"max": spec.max, "needs_clinician": spec.needs_clinician, **item}

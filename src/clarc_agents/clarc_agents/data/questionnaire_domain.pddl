@@ -1,17 +1,20 @@
-; The Barthel test as a planning domain for PELEA's Decision Support (STRIPS + typing, so any
-; classical planner reads it; pyperplan solves it here).
+; A questionnaire test (the Barthel index, the MMSE, the Lawton scale, any test definition) as a
+; planning domain for PELEA's Decision Support (STRIPS + typing, so any classical planner reads
+; it; pyperplan solves it here). No item is named here: the problem lists the test's items, their
+; order (next, last) and whether each has options to describe (has-options, no-options).
 ;
 ; The actions assume the expected outcome (an answer comes, the person stays). Monitoring
 ; records what really happened as facts: (no-answer ?i), (not-understood ?i), (failed-again ?i),
 ; (person-absent), (clinician-needed); the next plan starts from that state, so what follows a
 ; deviation is chosen by the planner. The executive maps each action here to a handler.
-(define (domain barthel)
+(define (domain questionnaire)
   (:requirements :strips :typing)
   (:types item)
   (:predicates
     (started) (person-present) (person-absent) (sit-requested)
     (greeted) (explained)
     (current ?i - item) (next ?i - item ?j - item) (last ?i - item)
+    (has-options ?i - item) (no-options ?i - item)
     (pending ?i - item) (introduced ?i - item) (described ?i - item) (asked ?i - item)
     (no-answer ?i - item) (not-understood ?i - item) (retry-asked ?i - item) (failed-again ?i - item)
     (closed ?i - item)
@@ -38,14 +41,18 @@
     :precondition (and (greeted) (person-present))
     :effect (and (explained)))
 
-  ; -- one item: introduce, describe the options, ask, wait for the answer -----------------
+  ; -- one item: introduce, describe the options (if it has any), ask, wait for the answer ---
   (:action introduce
     :parameters (?i - item)
     :precondition (and (explained) (person-present) (current ?i) (pending ?i))
     :effect (and (introduced ?i) (not (pending ?i))))
   (:action describe-options
     :parameters (?i - item)
-    :precondition (and (person-present) (introduced ?i))
+    :precondition (and (person-present) (introduced ?i) (has-options ?i))
+    :effect (and (described ?i) (not (introduced ?i))))
+  (:action nothing-to-describe
+    :parameters (?i - item)
+    :precondition (and (introduced ?i) (no-options ?i))
     :effect (and (described ?i) (not (introduced ?i))))
   (:action ask
     :parameters (?i - item)

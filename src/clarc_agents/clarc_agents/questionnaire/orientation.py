@@ -1,0 +1,64 @@
+"""What orientation is scored against (pure): the real date and the configured place, as the
+values of a definition's placeholders ({year}, {season}, {date}, {weekday}, {month};
+{country}, {province}, {city}, {building}, {floor}). Each value is every way of saying it that
+counts as right."""
+
+from __future__ import annotations
+
+from datetime import date
+
+from clarc_agents.exceptions import DefinitionError
+
+PLACE_PARTS = ("country", "province", "city", "building", "floor")
+# Where CLARC runs the tests (the paper's hospital); "|" between the ways of saying one part.
+DEFAULT_PLACE = (
+    "Spain",
+    "Andalusia|Seville province",
+    "Seville",
+    "Hospital Universitario Virgen del Rocio|Virgen del Rocio",
+    "first floor",
+)
+# the meteorological seasons of the northern hemisphere (where the place is)
+SEASONS = {12: "winter", 1: "winter", 2: "winter", 3: "spring", 4: "spring", 5: "spring"}
+SEASONS |= {6: "summer", 7: "summer", 8: "summer", 9: "autumn", 10: "autumn", 11: "autumn"}
+SEASON_WORDS = {"autumn": ("autumn", "fall")}
+# in English whatever the machine's locale
+WEEKDAYS = ("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday", "Sunday")
+MONTHS = ("January", "February", "March", "April", "May", "June", "July", "August")
+MONTHS += ("September", "October", "November", "December")
+
+
+def ordinal(n: int) -> str:
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def place_values(place: tuple[str, ...] | list[str]) -> dict[str, tuple[str, ...]]:
+    """The five parts of the place (country, province, city, building, floor)."""
+    if len(place) != len(PLACE_PARTS):
+        raise DefinitionError(
+            f"the place has {len(PLACE_PARTS)} parts ({', '.join(PLACE_PARTS)}), got {list(place)}"
+        )
+    values = {}
+    for name, text in zip(PLACE_PARTS, place, strict=True):
+        ways = tuple(w.strip() for w in str(text).split("|") if w.strip())
+        if not ways:
+            raise DefinitionError(f"the place's {name} is empty")
+        values[name] = ways
+    return values
+
+
+def date_values(today: date) -> dict[str, tuple[str, ...]]:
+    season = SEASONS[today.month]
+    return {
+        "year": (str(today.year),),
+        "season": SEASON_WORDS.get(season, (season,)),
+        "date": (str(today.day), ordinal(today.day)),
+        "weekday": (WEEKDAYS[today.weekday()],),
+        "month": (MONTHS[today.month - 1],),
+    }
+
+
+def values(today: date, place: tuple[str, ...] | list[str] = DEFAULT_PLACE):
+    """Every placeholder's values on ``today`` at ``place``."""
+    return date_values(today) | place_values(place)
