@@ -75,7 +75,10 @@ source "$root/scripts/env.sh"
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2
 test_kind=$(clarc scenario --test "$scenario") || exit 2
-case "$test_kind" in get_up_and_go) test_name="Get Up & Go" ;; *) test_name="Barthel" ;; esac
+case "$test_kind" in
+  get_up_and_go) test_name="Get Up & Go" ;; mmse) test_name="Mini-Mental" ;;
+  lawton) test_name="Lawton" ;; *) test_name="Barthel" ;;
+esac
 [ -n "$db" ] || db=$(python -c 'from clarc_sim.hospital.results_store import default_db; print(default_db())')
 
 # Results CGAmed has not acknowledged wait in an outbox of their own store, sent again next time.

@@ -11,11 +11,14 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents import definitions
+from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.behaviours.panel import PanelBehaviour
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.questionnaire import orientation
+from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.protocol.local_bus import LocalBus
 from dsr_graph.rules.runner import RuleRunner
@@ -32,8 +35,11 @@ log = logging.getLogger("local_clarc")
 class Patient:
     """What the patient does: per item, one response per answer window, in order: ``("voice",
     points)``, ``("touch", points)``, ``"silence"``, ``"garbled"`` or ``"skip"``; an item not
-    listed is answered by voice with its best option. ``leaves``: item
-    -> seconds the patient is away, leaving while that item is introduced."""
+    listed earns its maximum, the way it is answered (voice for an option or words, touch for
+    shapes or a drawing, the eyes closing for "close your eyes"). ``("voice", points)`` to an
+    item of parts says that many right; ``("touch", points)`` touches that many shapes in their
+    place, or draws (1) or scribbles (0); ``("eyes", points)`` closes the eyes (1) or not (0).
+    ``leaves``: item -> seconds the patient is away, leaving while that item is introduced."""
 
     answers: dict[str, list[Any]] = field(default_factory=dict)
     leaves: dict[str, float] = field(default_factory=dict)
@@ -105,8 +111,9 @@ class Port:
 
 
 class Robot:
-    def __init__(self, patient: Patient | None = None, present: bool = True):
+    def __init__(self, patient: Patient | None = None, present: bool = True, test: str = "barthel"):
         self.patient = patient or Patient()
+        self.test = test
         self.bus = LocalBus(read_world(ROOM).graph)
         self.windows: dict[str, int] = {}
         self.left: set[str] = set()
@@ -127,7 +134,7 @@ class Robot:
         )
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link)
-        self.hle = HighLevelExecutive(self.port, Times(), log)
+        self.hle = HighLevelExecutive(self.port, Times(), log, definitions.load(test))
         self.pelea_restarts = 0
         self.dsr_boot = "boot-1"  # a test changes it to stand for a restarted DSR server
         for runner in (self.person, self.speech_runner, self.panel_runner):
@@ -203,7 +210,7 @@ class Robot:
         self.pelea_restarts += 1
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link, events=self.port.events, stored=self.port.stored)
-        self.hle = HighLevelExecutive(self.port, Times(), log)
+        self.hle = HighLevelExecutive(self.port, Times(), log, definitions.load(self.test))
         self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
         self.hle.on_graph(self.pelea_link.graph)  # its first snapshot
 
@@ -230,9 +237,14 @@ class Robot:
         self.screen.append(content)
 
     # ------------------------------------------------------------------ the patient
+    def definition(self):
+        """The test as the patient knows it: filled for the robot's today and its place."""
+        today = datetime.fromtimestamp(self.epoch()).date()
+        return definitions.load(self.test).filled(orientation.values(today))
+
     def _maybe_leave(self, text: str) -> None:
         for item, seconds in self.patient.leaves.items():
-            position = ORDER.index(item) + 1
+            position = self.definition().order.index(item) + 1
             if text.startswith(f"Question {position} of") and item not in self.left:
                 self.left.add(item)
                 self.bus.after(0.5, lambda: self.person.signal("lost"))
@@ -243,7 +255,9 @@ class Robot:
         self.speech.listen(ctx)
         item = ctx["item"]
         self.windows[item] = self.windows.get(item, 0) + 1
-        responses = self.patient.answers.get(item, [("voice", None)])
+        spec = self.definition().item(item)
+        way = {"voice": "voice", "touch": "touch", "camera": "eyes"}[spec.via[0]]
+        responses = self.patient.answers.get(item, [(way, spec.max)])
         response = responses[min(self.windows[item], len(responses)) - 1]
         self.bus.after(REACTION, lambda: self._respond(item, response))
 
@@ -256,9 +270,23 @@ class Robot:
             self.speech.on_heard("mmh... the, eh... brr")
         elif response == "skip":
             self.speech.on_heard("skip this one please")
-        elif response[0] == "touch":
-            self.panel.on_tap(self.panel_runner, self.panel_link.graph, response[1])
         else:
-            options = BY_KEY[item].options
-            option = options[-1] if response[1] is None else BY_KEY[item].option(response[1])
-            self.speech.on_heard(option.says)
+            self._answer(self.definition().item(item), *response)
+
+    def _answer(self, spec, way: str, points: int) -> None:
+        graph = self.panel_link.graph
+        if way == "eyes":
+            awaited = awaited_item(self.person_link.graph)
+            if points and awaited is not None and awaited.kind == "eyes":
+                self.person.signal("eyes_closed", points=spec.max)  # as the Person node does
+        elif spec.kind == "touches":
+            for target in touches_for(spec, points):
+                self.panel.on_target(self.panel_runner, graph, target)
+        elif spec.kind == "drawing":
+            self.panel.on_drawing(self.panel_runner, graph, drawing_for(spec, points))
+        elif way == "touch":
+            self.panel.on_tap(self.panel_runner, graph, points)
+        elif spec.kind == "words":
+            self.speech.on_heard(words_for(spec, points))
+        else:
+            self.speech.on_heard(spec.option(points).says)

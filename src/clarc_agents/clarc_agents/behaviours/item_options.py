@@ -66,5 +66,12 @@ def item_in(graph: Graph, key: str) -> Item | None:
     return Item(key, title, "", options)
 
 
+def awaited_item(graph: Graph) -> Item | None:
+    """The item whose answer is awaited now (a listener took the window), as its node says it
+    is answered; None when no answer is awaited."""
+    waiting = graph.edge("person", "answer", "waiting")
+    return None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
+
+
 def _phrases(joined: Any) -> tuple[str, ...]:
     return tuple(w for w in str(joined).split("|") if w)

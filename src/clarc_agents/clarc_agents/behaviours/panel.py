@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
-from clarc_agents.behaviours.item_options import item_in
+from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.questionnaire.answers import touched_in_order
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
@@ -97,8 +97,7 @@ class PanelBehaviour:
 
     def _awaited(self, graph: Graph, kind: str, what: str):
         """The window and the item it awaits, if it is a ``kind`` item; else a warning."""
-        waiting = graph.edge("person", "answer", "waiting")
-        item = None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
+        waiting, item = graph.edge("person", "answer", "waiting"), awaited_item(graph)
         if item is None or item.kind != kind:
             self.log.warning(f"{what} refused: no answer of that kind is awaited")
             return None, None

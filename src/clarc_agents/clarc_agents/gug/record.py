@@ -32,7 +32,9 @@ def result(graph: Graph, record: GugRecord) -> dict[str, Any]:
     """The stored result, read from the DSR (the test node and the analyser's gait node)."""
     g, t = gait(graph), graph.node("test").attrs
     lost = int(t.get("person_lost_count", 0))
+    patient_id = {"patient_id": int(t["patient_id"])} if "patient_id" in t else {}
     return {
+        **patient_id,
         "test": KIND,
         "patient": str(t.get("patient", record.patient)),
         "started": str(t.get("started", record.started)),

@@ -21,7 +21,7 @@ import math
 from typing import Any
 
 from clarc_agents import topics
-from clarc_agents.behaviours.item_options import item_in
+from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
@@ -116,9 +116,7 @@ class PersonAgent(GrammarAgentNode):
                 )  # a repeat before the replica catches up is refused (CAS)
 
     def _eyes_closed(self) -> None:
-        graph = self.dsr.graph
-        waiting = graph.edge("person", "answer", "waiting")
-        item = None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
+        item = awaited_item(self.dsr.graph)
         if item is not None and item.kind == "eyes":
             self.runner.signal("eyes_closed", points=item.max)  # once: the rule takes the window
 

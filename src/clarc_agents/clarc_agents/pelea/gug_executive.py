@@ -57,10 +57,13 @@ def initial_state(person_present: bool) -> frozenset[str]:
 def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
     """The test node says a Get Up & Go test runs; a fresh gait node (a previous test's result
     goes). Takes the Start request for ``patient`` (CAS)."""
+    forget, patient_id = high_to_low.patient_attrs(graph)
     checks, ops = high_to_low.take_request(graph, patient)
+    ops = forget + ops
     if "finished" in graph.node("test").attrs:
         ops.append({"op": "remove_node_attrs", "node": "test", "names": ["finished"]})
     attrs = {
+        **patient_id,
         "patient": patient,
         "kind": GugExecutive.KIND,
         "status": "running",

@@ -113,14 +113,42 @@ def consume_answer() -> dict[str, Any]:
     }
 
 
-REQUEST = ("requested_patient", "requested", "requested_test")
+REQUEST = ("requested_patient", "requested", "requested_test", "requested_patient_id")
 
 
-def request_start(patient: str, requested: str, test: str = "barthel") -> dict[str, Any]:
-    """The clinician pressed Start for a test (``barthel``, ``get_up_and_go``): the request waits
-    on the test node until PELEA takes it."""
-    attrs = {"requested_patient": patient, "requested": requested, "requested_test": test}
-    return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
+def request_start(
+    patient: str,
+    requested: str,
+    test: str = "barthel",
+    patient_id: int | None = None,
+    graph: Graph | None = None,
+) -> dict[str, Any]:
+    """The clinician pressed Start for a test (``barthel``, ``mmse``, ``get_up_and_go``, ...)
+    and a patient (their record's id, if the Start named one): the request waits on the test
+    node until PELEA takes it. ``graph``: the DSR as the sender sees it, so that an id left by
+    an earlier request not taken yet goes."""
+    attrs: dict[str, Any] = {
+        "requested_patient": patient,
+        "requested": requested,
+        "requested_test": test,
+    }
+    ops: list[dict[str, Any]] = []
+    if patient_id is not None:
+        attrs["requested_patient_id"] = patient_id
+    elif graph is not None and "requested_patient_id" in graph.node("test").attrs:
+        ops.append({"op": "remove_node_attrs", "node": "test", "names": ["requested_patient_id"]})
+    return {"ops": ops + [{"op": "set_node_attrs", "node": "test", "attrs": attrs}]}
+
+
+def patient_attrs(graph: Graph) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """The patient's record id from the Start request onto the running test (ops removing an
+    earlier test's id first, attrs to set): results name the record, not only the name."""
+    test = graph.node("test").attrs
+    if "requested_patient_id" in test:
+        return [], {"patient_id": int(test["requested_patient_id"])}
+    if "patient_id" in test:
+        return [{"op": "remove_node_attrs", "node": "test", "names": ["patient_id"]}], {}
+    return [], {}
 
 
 def take_request(graph: Graph, patient: str) -> tuple[list[dict], list[dict]]:
@@ -140,7 +168,9 @@ def start_test(graph: Graph, patient: str, started: str, definition: Definition)
     options, or its parts with the words that recognise them: filled for today and here). A
     Start request for this patient is taken (CAS)."""
     test = graph.node("test")
+    forget, patient_id = patient_attrs(graph)
     checks, ops = take_request(graph, patient)
+    ops = forget + ops
     stale = [k for k in ("finished",) if k in test.attrs]
     if stale:
         ops.append({"op": "remove_node_attrs", "node": "test", "names": stale})
@@ -149,6 +179,7 @@ def start_test(graph: Graph, patient: str, started: str, definition: Definition)
             "op": "set_node_attrs",
             "node": "test",
             "attrs": {
+                **patient_id,
                 "patient": patient,
                 "kind": definition.test,
                 "status": "running",

@@ -139,6 +139,7 @@ def record(graph: Graph, definition: Definition) -> QuestionnaireRecord:
         definition, str(test.get("patient", "")), str(test.get("started", ""))
     )
     rec.finished = test.get("finished")
+    rec.patient_id = int(test["patient_id"]) if "patient_id" in test else None
     rec.clinician_called = bool(test.get("clinician_called", False))
     rec.person_lost_count = int(test.get("person_lost_count", 0))
     for key in definition.order:

@@ -74,6 +74,7 @@ class QuestionnaireRecord:
     finished: str | None = None
     clinician_called: bool = False
     person_lost_count: int = 0
+    patient_id: int | None = None  # the patient's record in CGAmed, if Start named it
 
     def __post_init__(self) -> None:
         for key in self.definition.order:
@@ -117,7 +118,9 @@ class QuestionnaireRecord:
 
     def to_json(self) -> dict[str, Any]:
         order = self.definition.order
+        patient_id = {} if self.patient_id is None else {"patient_id": self.patient_id}
         return {
+            **patient_id,
             "test": self.definition.test,
             "patient": self.patient,
             "started": self.started,

@@ -2,7 +2,9 @@
 
 clarc results [--db PATH] [--json]   the stored tests (CGAmed's results store)
 clarc scenario FILE [--patient|--test]  check a scenario file and show what the patient will do
-clarc start PATIENT [--test TEST]    press Start for a test (barthel, get_up_and_go)
+clarc start PATIENT [--test TEST] [--patient-id N]
+                                     press Start for a test (barthel, mmse, lawton,
+                                     get_up_and_go), for a patient's record if given
 """
 
 from __future__ import annotations
@@ -13,10 +15,10 @@ import os
 import sys
 from datetime import UTC, datetime
 
-from clarc_agents.barthel.items import ORDER
+from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.hospital.results_store import ResultsStore, default_db
-from clarc_sim.patient.scenario import TESTS, load
+from clarc_sim.hospital.results_store import ResultsStore, default_db, tests_known
+from clarc_sim.patient.scenario import load
 from dsr_graph.cli.api import split_ros_args
 
 
@@ -53,13 +55,20 @@ def results(args: argparse.Namespace) -> int:
             )
             if on
         ]
+        waiting = [i["item"] for i in t["items"] if i["needs_clinician"] and i["points"] is None]
+        if waiting:
+            flags.append(f"the clinician scores {', '.join(waiting)}")
+        title = definitions.load(t["test"]).title
         print(
-            f"#{t['id']} {t['patient']}  {t['started']}  Barthel {t['total']}/100 ({t['band']})"
-            + (f"  [{', '.join(flags)}]" if flags else "")
+            f"#{t['id']} {t['patient']}  {t['started']}  {title} {t['total']}/{t['max_total']}"
+            f" ({t['band']})" + (f"  [{', '.join(flags)}]" if flags else "")
         )
         for i in t["items"]:
-            got = "unanswered" if i["points"] is None else f"{i['points']:>2} by {i['via']}"
-            print(f"    {i['item']:<11} {got}  ({i['attempts']} tries)")
+            if i["points"] is None:
+                got = "drawn, to score" if i["via"] else "unanswered"
+            else:
+                got = f"{i['points']:>2}/{i['max']} by {i['via']}"
+            print(f"    {i['item']:<17} {got}  ({i['attempts']} tries)")
     return 0
 
 
@@ -86,13 +95,14 @@ def scenario(args: argparse.Namespace) -> int:
             extras.append(f"walks out of view {s.leave:g} s after go")
         print(f"  ({', '.join(extras)})")
         return 0
-    for item in ORDER:
+    print(f"test: {s.test}")
+    for item in definitions.load(s.test).order:
         p = s.plan(item)
         what = "silent" if p.via == "silence" else f"{p.answer} points by {p.via}"
         extra = (f", first try {p.first}" if p.first else "") + (
             f", leaves for {p.leave} s" if p.leave is not None else ""
         )
-        print(f"  {item:<11} {what}{extra}")
+        print(f"  {item:<17} {what}{extra}")
     return 0
 
 
@@ -111,7 +121,8 @@ def start(args: argparse.Namespace) -> int:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
-            agent.send(request_start(args.patient, now(), args.test), verdicts.append)
+            request = request_start(args.patient, now(), args.test, args.patient_id, agent.graph)
+            agent.send(request, verdicts.append)
             ros.spin_until(lambda: bool(verdicts), args.timeout, "the DSR server's verdict")
     except DsrError as e:
         print(f"clarc: error: {e}", file=sys.stderr)
@@ -125,7 +136,7 @@ def start(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="clarc", description="CLARC: the Barthel test robot's tools"
+        prog="clarc", description="CLARC: the clinical test robot's tools"
     )
     sub = parser.add_subparsers(dest="verb", required=True)
     p = sub.add_parser("results", help="the stored tests")
@@ -139,7 +150,8 @@ def main(argv: list[str] | None = None) -> int:
     p.set_defaults(run=scenario)
     p = sub.add_parser("start", help="press Start for a patient")
     p.add_argument("patient")
-    p.add_argument("--test", default="barthel", choices=TESTS, help="which test (barthel)")
+    p.add_argument("--test", default="barthel", choices=tests_known(), help="which test (barthel)")
+    p.add_argument("--patient-id", type=int, help="the patient's record in CGAmed's store")
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)

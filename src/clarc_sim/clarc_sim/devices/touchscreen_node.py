@@ -1,5 +1,7 @@
 """The touch screen stand-in: shows what the Panel agent sends, and turns the patient's touch
-on a shown option into a tap for the Panel. A touch where no option is shown does nothing.
+on a shown option into a tap for the Panel, a touch on a shown shape into a touch on it, and a
+finished drawing (while the screen takes one) into the drawing. A touch where nothing it takes
+is shown does nothing.
 
 Subscriptions: clarc/panel/display (latched), clarc/sim/patient/touch. Publishers:
 clarc/panel/tap.
@@ -37,6 +39,9 @@ class TouchscreenStandIn(DsrNode):
         )
 
     def on_touch(self, touch: dict[str, Any]) -> None:
+        if "target" in touch or "drawing" in touch:
+            self._on_shape_or_drawing(touch)
+            return
         points = int(touch["points"])
         shown_points = [int(p) for p in self.shown.get("option_points", [])]
         if points not in shown_points:
@@ -46,6 +51,20 @@ class TouchscreenStandIn(DsrNode):
             return
         text = self.shown["options"][shown_points.index(points)]
         publish_json(self._tap, {"points": points, "text": text})
+
+    def _on_shape_or_drawing(self, touch: dict[str, Any]) -> None:
+        takes = self.shown.get("input", "")
+        if "target" in touch:
+            shapes = [str(s).lower() for s in self.shown.get("shows", [])]
+            target = str(touch["target"]).lower()
+            if takes != "targets" or target not in shapes:
+                self.get_logger().info(f"touch on the {target}, but no such shape is on the screen")
+                return
+            publish_json(self._tap, {"target": target})
+        elif takes != "drawing":
+            self.get_logger().info("a drawing, but the screen is not taking one")
+        else:
+            publish_json(self._tap, {"drawing": str(touch["drawing"])})
 
 
 main = main_for(TouchscreenStandIn)

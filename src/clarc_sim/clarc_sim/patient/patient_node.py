@@ -1,11 +1,14 @@
 """The simulated patient: sits in front of CLARC, listens to what it says and answers by voice
-or on the touch screen, stays silent, mumbles or walks away, as its scenario file says. In a
+or on the touch screen (a tap, shapes touched, a drawing), closes the eyes when asked to, stays
+silent, mumbles or walks away, as its scenario file says; it knows the date and where it is
+(``place``, as PELEA's), so it answers orientation as its scenario says. In a
 Get Up & Go scenario it sits on the trial's chair and, when it hears "go", does the trial of its
 ``motion:`` (the Kinect stand-in draws the body from clarc/sim/patient/trial), walking out of
 view once if the scenario says ``leave``.
 
 ROS Parameters: scenario (path, required), time_scale (1.0), reaction (1.0 s before answering),
-face (mm in the Kinect's frame, default [900, 0, -400]). Subscriptions: clarc/speaker/events.
+face (mm in the Kinect's frame, default [900, 0, -400]), place (PELEA's default).
+Subscriptions: clarc/speaker/events.
 Publishers: clarc/sim/patient/voice, clarc/sim/patient/touch, clarc/sim/patient/presence
 (latched), clarc/sim/patient/trial (latched, Get Up & Go).
 """
@@ -14,12 +17,14 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from datetime import date
 from typing import Any
 
 from std_msgs.msg import String
 
-from clarc_agents import topics
+from clarc_agents import definitions, topics
 from clarc_agents.gug import sentences as gug
+from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 from clarc_sim import sim_topics
 from clarc_sim.patient.scenario import MOTION_KEYS, load
 from clarc_sim.patient.script import Action, PatientScript
@@ -43,19 +48,25 @@ class SimulatedPatient(DsrNode):
             node, "reaction", 1.0, "seconds before the patient answers", read_only=True, minimum=0.0
         )
         declare(node, "face", [900.0, 0.0, -400.0], "where the face is, in the Kinect's frame (mm)")
+        declare(node, "place", list(DEFAULT_PLACE), "where the patient is (as PELEA's place)")
 
     def __init__(self):
         super().__init__()
-        self.script: PatientScript | None = None
+        self.script: PatientScript | None = None  # a questionnaire's; none in a timed test
+        self._present = True
 
     def setup(self) -> None:
         scenario = load(param(self, "scenario"))  # a ScenarioError ends the node, naming the line
-        self.script = PatientScript(scenario, reaction=float_param(self, "reaction"))
+        if scenario.test in definitions.tests():
+            known = values(date.today(), tuple(param(self, "place")))
+            definition = definitions.load(scenario.test).filled(known)
+            self.script = PatientScript(scenario, definition, float_param(self, "reaction"))
         self._voice = self.create_publisher(String, sim_topics.PATIENT_VOICE, qos_stream())
         self._touch = self.create_publisher(String, sim_topics.PATIENT_TOUCH, qos_stream())
         self._presence = self.create_publisher(String, sim_topics.PATIENT_PRESENCE, qos_latched())
         self.scenario = scenario
         self._left = False
+        self._eyes_closed = False
         if scenario.test == "get_up_and_go":
             self._trial = self.create_publisher(String, sim_topics.PATIENT_TRIAL, qos_latched())
             self._publish_trial(None)
@@ -67,8 +78,15 @@ class SimulatedPatient(DsrNode):
         OneShot(self, seconds * float_param(self, "time_scale"), action)
 
     def _set_present(self, present: bool) -> None:
-        self.script.present = present
-        publish_json(self._presence, {"present": present, "face": list(param(self, "face"))})
+        if self.script is not None:
+            self.script.present = present
+        self._present = present
+        presence = {"present": present, "face": list(param(self, "face"))}
+        publish_json(self._presence, presence | {"eyes_closed": self._eyes_closed})
+
+    def _set_eyes(self, closed: bool) -> None:
+        self._eyes_closed = closed
+        self._set_present(self._present)
 
     def _publish_trial(self, go: float | None) -> None:
         s = self.scenario
@@ -77,7 +95,7 @@ class SimulatedPatient(DsrNode):
         publish_json(self._trial, trial)
 
     def _on_gug_speaker(self, event: dict[str, Any]) -> None:
-        if event["event"] != "end" or event["text"] != gug.GO or not self.script.present:
+        if event["event"] != "end" or event["text"] != gug.GO or not self._present:
             return
         self.get_logger().info(f"hears go: gets up ({self.scenario.motion.total:.1f} s trial)")
         self._publish_trial(time.time())
@@ -110,8 +128,18 @@ class SimulatedPatient(DsrNode):
             self._later(
                 action.seconds, lambda: (self.get_logger().info("is back"), self._set_present(True))
             )
-        elif not self.script.present:
+        elif not self._present:
             return
+        elif action.kind == "close_eyes":
+            self.get_logger().info(f"closes the eyes for {action.seconds} s")
+            self._set_eyes(True)
+            self._later(action.seconds, lambda: self._set_eyes(False))
+        elif action.kind == "touch":
+            self.get_logger().info(f"touches the {action.text} on the screen")
+            publish_json(self._touch, {"target": action.text})
+        elif action.kind == "draw":
+            self.get_logger().info(f"draws on the screen ({len(action.text)} characters of path)")
+            publish_json(self._touch, {"drawing": action.text})
         elif action.kind == "say":
             self.get_logger().info(f"says {action.text!r}")
             publish_json(self._voice, {"text": action.text})

@@ -14,7 +14,25 @@ that names the line (pure; no ROS).
 happens on the first try) is garbled or silence; ``leave`` is how many seconds (scaled with every
 other time) the patient is away after walking off when the item is introduced.
 
-A Get Up & Go scenario says ``test: get_up_and_go`` (a Barthel one may say ``test: barthel``):
+Any questionnaire test (a file in clarc_agents/definitions) is played the same way, saying which
+(``test: barthel`` may be left out): ``test: lawton``, or ``test: mmse``, whose items are scored,
+not chosen, so each says the ``points`` the patient earns (``answer`` and ``points`` are one key
+by two names) and how (an item not listed earns its maximum, the way its kind is answered):
+
+    test: mmse
+    patient: Carlos
+    items:
+      recall:   {points: 2, via: voice}      # two of the three words right
+      command:  {points: 1, via: touch}      # the first shape right, two wrong
+      reading:  {points: 0}                  # does not close the eyes
+      writing:  {via: silence}               # writes nothing, twice -> unanswered
+
+``via`` must be a way the item is answered (voice for said items, touch for the command, the
+writing and the copying); "close your eyes" is seen by the camera, whatever ``via`` says. The
+points of a writing or a copying are what the clinician would give the drawing (a line of
+handwriting or the pentagons for 1, a scribble for 0): they are scored in the dashboard.
+
+A Get Up & Go scenario says ``test: get_up_and_go``:
 
     test: get_up_and_go
     patient: Carlos
@@ -35,26 +53,27 @@ from typing import Any
 
 import yaml
 
-from clarc_agents.barthel.items import BY_KEY, ORDER
+from clarc_agents import definitions
+from clarc_agents.definitions import Definition
 from clarc_agents.exceptions import ScenarioError
 from clarc_agents.yaml_lines import compose
 from clarc_agents.yaml_lines import err as _err
 from clarc_agents.yaml_lines import scalar as _scalar
 from clarc_sim.patient.gait_motion import Motion
 
-TESTS = ("barthel", "get_up_and_go")
+TIMED = "get_up_and_go"
 MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")
 GUG_KEYS = ("test", "patient", "motion", "noise_mm", "drop_rate", "leave")
 
-VIAS = ("voice", "touch", "silence")
+VIAS = ("voice", "touch", "camera", "silence")
 FIRSTS = ("garbled", "silence")
-ITEM_KEYS = ("answer", "via", "first", "leave")
+ITEM_KEYS = ("answer", "points", "via", "first", "leave")
 
 
 @dataclass(frozen=True)
 class ItemPlan:
     item: str
-    answer: int | None  # None with via: silence
+    answer: int | None  # the points earned; None with via: silence
     via: str
     first: str | None = None
     leave: float | None = None
@@ -81,11 +100,13 @@ def parse(text: str, source: str = "scenario") -> Scenario:
         raise _err(source, root, 'a scenario is a mapping with "patient" and "items"')
     patient, items_node = None, None
     test = next((_scalar(v) for k, v in root.value if _scalar(k) == "test"), "barthel")
-    if test not in TESTS:
+    tests = definitions.tests() + (TIMED,)
+    if test not in tests:
         node = next(v for k, v in root.value if _scalar(k) == "test")
-        raise _err(source, node, f"test must be one of {', '.join(TESTS)}, got {test!r}")
-    if test == "get_up_and_go":
+        raise _err(source, node, f"test must be one of {', '.join(tests)}, got {test!r}")
+    if test == TIMED:
         return _get_up_and_go(source, root)
+    definition = definitions.load(test)
     for key_node, value_node in root.value:
         key = _scalar(key_node)
         if key == "test":
@@ -100,7 +121,7 @@ def parse(text: str, source: str = "scenario") -> Scenario:
             raise _err(source, key_node, f"unknown key {key!r} (a scenario has patient and items)")
     if patient is None:
         raise _err(source, root, 'missing "patient"')
-    scenario = Scenario(patient.strip(), source=source)
+    scenario = Scenario(patient.strip(), source=source, test=test)
     listed: dict[str, ItemPlan] = {}
     if items_node is not None and not (
         isinstance(items_node, yaml.ScalarNode) and _scalar(items_node) is None
@@ -109,20 +130,23 @@ def parse(text: str, source: str = "scenario") -> Scenario:
             raise _err(source, items_node, '"items" maps item names to what the patient does')
         for key_node, value_node in items_node.value:
             item = _scalar(key_node)
-            if item not in BY_KEY:
+            if item not in definition.order:
                 raise _err(
-                    source, key_node, f"unknown item {item!r}; the items are {', '.join(ORDER)}"
+                    source,
+                    key_node,
+                    f"unknown item {item!r}; the items are {', '.join(definition.order)}",
                 )
             if item in listed:
                 raise _err(source, key_node, f"item {item!r} is listed twice")
-            listed[item] = _item(source, item, value_node)
-    for item in ORDER:
-        highest = max(BY_KEY[item].points)
-        scenario.items[item] = listed.get(item, ItemPlan(item, highest, "voice"))
+            listed[item] = _item(source, definition, item, value_node)
+    for spec in definition.items:
+        plan = ItemPlan(spec.key, spec.max, spec.via[0])
+        scenario.items[spec.key] = listed.get(spec.key, plan)
     return scenario
 
 
-def _item(source: str, item: str, node: Any) -> ItemPlan:
+def _item(source: str, definition: Definition, item: str, node: Any) -> ItemPlan:
+    spec = definition.item(item)
     if not isinstance(node, yaml.MappingNode):
         raise _err(source, node, f"{item}: expected a mapping like {{answer: 10, via: voice}}")
     values: dict[str, Any] = {}
@@ -135,10 +159,21 @@ def _item(source: str, item: str, node: Any) -> ItemPlan:
                 f"{item}: unknown key {key!r}; the keys are {', '.join(ITEM_KEYS)}",
             )
         values[key] = (_scalar(value_node), value_node)
-    via, via_node = values.get("via", ("voice", node))
+    if "answer" in values and "points" in values:
+        raise _err(source, node, f"{item}: answer and points are the same key; give one")
+    via, via_node = values.get("via", (spec.via[0], node))
     if via not in VIAS:
         raise _err(source, via_node, f"{item}: via must be one of {', '.join(VIAS)}, got {via!r}")
-    answer, answer_node = values.get("answer", (None, node))
+    if spec.kind == "eyes" and via != "silence":
+        via = "camera"  # whatever the scenario says, the camera sees the eyes close
+    if via not in spec.via + ("silence",):
+        raise _err(
+            source,
+            via_node,
+            f"{item}: via must be {' or '.join(spec.via + ('silence',))} for this item, "
+            f"got {via!r}",
+        )
+    answer, answer_node = values.get("answer", values.get("points", (None, node)))
     if via == "silence":
         if "answer" in values:
             raise _err(
@@ -146,17 +181,13 @@ def _item(source: str, item: str, node: Any) -> ItemPlan:
             )
     else:
         if answer is None:
-            answer = max(BY_KEY[item].points)
-        if (
-            isinstance(answer, bool)
-            or not isinstance(answer, int)
-            or BY_KEY[item].option(answer) is None
-        ):
+            answer = spec.max
+        if isinstance(answer, bool) or not isinstance(answer, int) or answer not in spec.points:
+            what = "an option; the options are" if spec.kind == "choose" else "a score; it is"
             raise _err(
                 source,
                 answer_node,
-                f"{item}: answer {answer!r} is not an option; the options are "
-                f"{', '.join(str(p) for p in BY_KEY[item].points)} points",
+                f"{item}: {answer!r} is not {what} {', '.join(str(p) for p in spec.points)} points",
             )
     first, first_node = values.get("first", (None, node))
     if first is not None and first not in FIRSTS:

@@ -1,27 +1,30 @@
 """What the simulated patient does when it hears CLARC (pure; the node runs the actions).
 
 The patient reacts to sentences, as a person would: it recognises the question of an item, the
-request to answer, the options said again, and the "did not understand" repetition, and answers
-according to its scenario. ``heard(text, event)`` returns the actions to take, each after a delay
-in seconds of a real session (the node scales them).
+request to answer, the options said again, the question asked again and the "did not
+understand" repetition, and answers according to its scenario, the way the item is answered
+(``answering.py``). ``heard(text, event)`` returns the actions to take, each after a delay in
+seconds of a real session (the node scales them).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from clarc_agents.barthel.items import BY_KEY, ITEMS
+from clarc_agents.definitions import Definition
+from clarc_agents.questionnaire.sentences import AGAIN, ASK, ASK_AGAIN, CLARIFY
+from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from clarc_sim.patient.scenario import Scenario
 
 GARBLED = "mmh... the, eh... brr"
-ASK = "Which option fits you best?"
-AGAIN = "Let me say the options again."
-CLARIFY = "Sorry, I did not understand."
+EYES_CLOSED = 3.0  # seconds the patient keeps the eyes closed when asked to
+TOUCH_GAP = 0.8  # seconds between the shapes touched one after the other
 
 
 @dataclass(frozen=True)
 class Action:
-    kind: str  # "say" (text), "tap" (points), "leave" (seconds away)
+    kind: str  # "say" (text), "tap" (points), "touch" (target), "draw" (drawing), "leave"
+    # (seconds away), "close_eyes" (seconds closed)
     delay: float
     text: str = ""
     points: int | None = None
@@ -29,8 +32,11 @@ class Action:
 
 
 class PatientScript:
-    def __init__(self, scenario: Scenario, reaction: float = 1.0):
+    def __init__(self, scenario: Scenario, definition: Definition, reaction: float = 1.0):
+        """``definition``: the scenario's test, filled for today and here (what the patient
+        knows of the date and the place)."""
         self.scenario = scenario
+        self.definition = definition
         self.reaction = reaction
         self.item: str | None = None  # the item being asked, from the last question heard
         self._left: set[str] = set()
@@ -42,7 +48,12 @@ class PatientScript:
         if not self.present:
             return []
         item = next(
-            (i.key for i in ITEMS if i.question in text and text.startswith("Question")), None
+            (
+                i.key
+                for i in self.definition.items
+                if i.question in text and text.startswith("Question")
+            ),
+            None,
         )
         if item is not None and event == "start":
             self.item = item
@@ -53,7 +64,8 @@ class PatientScript:
             return []
         if event != "end" or self.item is None:
             return []
-        if text.startswith(ASK):
+        spec = self.definition.item(self.item)
+        if text.startswith(ASK) or (spec.kind != "choose" and text == spec.ask):
             if self.item not in self._first_done:
                 self._first_done.add(self.item)
                 first = self.scenario.plan(self.item).first
@@ -62,14 +74,27 @@ class PatientScript:
                 if first == "garbled":
                     return [Action("say", self.reaction, text=GARBLED)]
             return self._answer()
-        if text.startswith(AGAIN) or text.startswith(CLARIFY):
+        if text.startswith((AGAIN, CLARIFY, ASK_AGAIN)):
             return self._answer()
         return []
 
     def _answer(self) -> list[Action]:
         plan = self.scenario.plan(self.item)
+        spec = self.definition.item(self.item)
         if plan.via == "silence":
             return []
+        if spec.kind == "words":
+            return [Action("say", self.reaction, text=words_for(spec, plan.answer))]
+        if spec.kind == "touches":
+            targets = touches_for(spec, plan.answer)
+            return [
+                Action("touch", self.reaction + k * TOUCH_GAP, text=target)
+                for k, target in enumerate(targets)
+            ]
+        if spec.kind == "drawing":
+            return [Action("draw", self.reaction, text=drawing_for(spec, plan.answer))]
+        if spec.kind == "eyes":
+            return [Action("close_eyes", self.reaction, seconds=EYES_CLOSED)] if plan.answer else []
         if plan.via == "touch":
             return [Action("tap", self.reaction, points=plan.answer)]
-        return [Action("say", self.reaction, text=BY_KEY[self.item].option(plan.answer).says)]
+        return [Action("say", self.reaction, text=spec.option(plan.answer).says)]
