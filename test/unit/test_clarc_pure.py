@@ -134,7 +134,7 @@ def test_patient_script_follows_the_scenario():
         "patient: C\nitems:\n  feeding: {answer: 5, via: voice, first: garbled}\n"
         "  bathing: {answer: 0, via: touch, first: silence}\n  grooming: {via: silence, leave: 2}\n"
     )
-    p = PatientScript(s, reaction=1.0)
+    p = PatientScript(s, DEFINITION, reaction=1.0)
     assert p.heard("Question 1 of 10, Feeding. Can you eat by yourself?", "start") == []
     [a] = p.heard(ASK + " Say it, or touch it on the screen.", "end")
     assert (a.kind, a.text) == ("say", GARBLED)

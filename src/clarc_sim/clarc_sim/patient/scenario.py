@@ -187,7 +187,8 @@ def _item(source: str, definition: Definition, item: str, node: Any) -> ItemPlan
             raise _err(
                 source,
                 answer_node,
-                f"{item}: {answer!r} is not {what} {', '.join(str(p) for p in spec.points)} points",
+                f"{item}: {'points' if 'points' in values else 'answer'} {answer!r} is not "
+                f"{what} {', '.join(str(p) for p in spec.points)} points",
             )
     first, first_node = values.get("first", (None, node))
     if first is not None and first not in FIRSTS:
