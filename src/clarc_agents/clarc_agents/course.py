@@ -119,6 +119,17 @@ def _result(graph: Graph, after: TestView) -> dict[str, Any]:
     return result(graph, GugRecord(after.patient, after.started))
 
 
+def test_name(kind: str) -> str:
+    """How people call a test: "Barthel test", "Get Up & Go test", or its definition's title."""
+    names = {"barthel": "Barthel test", TIMED: "Get Up & Go test"}
+    return names.get(kind) or _definition(kind).title
+
+
+def items_in(kind: str) -> int:
+    """How many items a test has (0: a timed test)."""
+    return 0 if kind == TIMED else len(_definition(kind).order)
+
+
 def position(item: str, kind: str = "barthel") -> int:
     """An item's place in the test, from 1 (0: not an item)."""
     order = () if kind == TIMED else _definition(kind).order
@@ -166,7 +177,12 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
         events.extend(_gait_changes(before, after))
     elif after.item != before.item:
         events.append(
-            {"event": "item", "item": after.item, "position": position(after.item, after.kind)}
+            {
+                "event": "item",
+                "item": after.item,
+                "position": position(after.item, after.kind),
+                "of": items_in(after.kind),
+            }
         )
     for key, item in after.items if after.kind != "get_up_and_go" else ():
         events.extend(_item_changes(key, before.of(key), item))
@@ -210,6 +226,8 @@ class Course:
                     "patient": after.patient,
                     "item": after.item,
                     "position": position(after.item, after.kind),
+                    "of": items_in(after.kind),
+                    "test": after.kind,
                 }
             ]
         return changes(before, after, graph)

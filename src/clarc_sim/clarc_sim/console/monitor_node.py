@@ -21,7 +21,7 @@ from typing import Any
 import rclpy
 
 from clarc_agents import topics
-from clarc_agents.course import Course
+from clarc_agents.course import Course, test_name
 from clarc_sim.console.reach import HeartbeatSilence, Reach
 from dsr_graph.ros.agent import SERVER_SILENCE, DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -36,8 +36,7 @@ def describe_step(event: dict) -> str | None:
     if kind == "start_requested":
         return f"Start pressed for {event['patient']}"
     if kind == "started":
-        name = "Get Up & Go" if event.get("test") == "get_up_and_go" else "Barthel"
-        return f"{name} test started for {event['patient']}"
+        return f"{test_name(event.get('test', 'barthel'))} started for {event['patient']}"
     if kind == "trial":
         return f"--- trial {event['trial']}: go!"
     if kind == "phase":
@@ -48,11 +47,13 @@ def describe_step(event: dict) -> str | None:
         return f"trial {event['trial']} is void: it will be repeated if trials are left"
     if kind == "following":
         return (
-            f"following the Barthel test of {event['patient']} under way "
-            f"(item {event['position']}/10: {event['item']})"
+            f"following the {test_name(event.get('test', 'barthel'))} of {event['patient']} "
+            f"under way (item {event['position']}/{event.get('of', 10)}: {event['item']})"
         )
     if kind == "item":
-        return f"--- item {event['position']}/10: {event['item']}"
+        return f"--- item {event['position']}/{event.get('of', 10)}: {event['item']}"
+    if kind == "answer" and event["points"] is None:
+        return f"answer: {event['item']} drawn, by {event['via']}: the clinician scores it"
     if kind == "answer":
         return f"answer: {event['item']} = {event['points']} points, by {event['via']}"
     if kind == "no_answer":
@@ -100,13 +101,21 @@ def describe_result(result: dict) -> list[str]:
             f"  {phases}",
             f"  trials: {result['trials']}; person left: {result['person_lost_count']} time(s)",
         ]
-    lines = [
-        f"RESULT {result['patient']}: Barthel index {result['total']}/100 "
-        f"({result['band']} dependency)"
-    ]
+    test = result.get("test", "barthel")
+    if test == "barthel":
+        score = f"Barthel index {result['total']}/100 ({result['band']} dependency)"
+    else:
+        waiting = [i["item"] for i in result["items"] if i["needs_clinician"] and i["via"]]
+        score = f"{test_name(test)} {result['total']}/{result['max_total']} ({result['band']})"
+        score += f"; the clinician scores {', '.join(waiting)}" if waiting else ""
+    lines = [f"RESULT {result['patient']}: {score}"]
+    width = max(11, *(len(i["item"]) for i in result["items"]))
     for i in result["items"]:
-        got = "unanswered" if i["points"] is None else f"{i['points']:>2} points by {i['via']}"
-        lines.append(f"  {i['item']:<11} {got}  ({i['attempts']} tries)")
+        if i["points"] is not None:
+            got = f"{i['points']:>2} points by {i['via']}"
+        else:
+            got = f"drawn by {i['via']}, to score" if i["via"] else "unanswered"
+        lines.append(f"  {i['item']:<{width}} {got}  ({i['attempts']} tries)")
     lines.append(
         f"  clinician called: {'yes' if result['clinician_called'] else 'no'}; "
         f"person left: {result.get('person_lost_count', 0)} time(s)"

@@ -21,7 +21,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
-from clarc_agents.course import Course
+from clarc_agents.course import Course, test_name
 from clarc_agents.exceptions import InvalidResult
 from clarc_agents.pelea.high_to_low import request_start
 from clarc_sim.hospital.dashboard_app import TestStatus, make_app
@@ -142,13 +142,16 @@ class CgamedStandIn(DsrNode):
             score = f"{result['tug_seconds']:.1f} s, {result['band']}" + (
                 ", fall risk" if result["fall_risk"] else ""
             )
-            name = "Get Up & Go"
+        elif result.get("test", "barthel") == "barthel":
+            score = f"{result['total']}/100, {result['band']} dependency"
         else:
-            score, name = f"{result['total']}/100, {result['band']} dependency", "Barthel"
+            score = f"{result['total']}/{result['max_total']}, {result['band']}"
+            waiting = [i["item"] for i in result["items"] if i["needs_clinician"] and i["via"]]
+            score += f"; please score {', '.join(waiting)}" if waiting else ""
         self._tell(
             "result_stored",
-            f"The {name} test of {result['patient']} is stored (test {response.test_id}: "
-            f"{score}); please validate it.",
+            f"The {test_name(result.get('test', 'barthel'))} of {result['patient']} is stored "
+            f"(test {response.test_id}: {score}); please validate it.",
             test_id=response.test_id,
             result=result,
         )
