@@ -63,7 +63,8 @@ class CgamedStandIn(DsrNode):
         self.events = Broadcaster()
         self.store: ResultsStore | None = None
         self.bridge: Bridge | None = None
-        self._start_for: str | None = None  # pressed on the dashboard, to be written to the DSR
+        # (patient, test, record id): pressed on the dashboard, to be written to the DSR
+        self._start_for: tuple[str, str, int | None] | None = None
         self.dsr = DsrAgent()
         self.course = Course()
         self._shown: dict[str, Any] | None = None
@@ -84,17 +85,19 @@ class CgamedStandIn(DsrNode):
         self.create_timer(0.1, self._send_start)
         self.get_logger().info(f"results store: {self.store.path}")
 
-    def press_start(self, patient: str) -> None:
+    def press_start(self, patient: str, test: str = "barthel", patient_id: int | None = None):
         """The clinician pressed Start (from the dashboard's thread, or at start-up)."""
-        self._start_for = patient
+        self._start_for = (patient, test, patient_id)
 
     def _send_start(self) -> None:  # ROS thread
-        patient = self._start_for
-        if patient is None or not self.dsr.ready:
+        pressed = self._start_for
+        if pressed is None or not self.dsr.ready:
             return
         self._start_for = None
+        patient, test, patient_id = pressed
         requested = datetime.now(UTC).astimezone().isoformat(timespec="seconds")
-        self.dsr.send(request_start(patient, requested), lambda r: self._start_sent(patient, r))
+        request = request_start(patient, requested, test, patient_id, self.dsr.graph)
+        self.dsr.send(request, lambda r: self._start_sent(patient, r))
 
     def _start_sent(self, patient: str, result) -> None:
         if result.accepted:

@@ -390,6 +390,15 @@ class ResultsStore:
                 raise UnknownTest(f"no test {test_id}")
             if row[0] is not None:
                 raise AlreadyValidated(f"test {test_id} was validated by {row[0]} at {row[1]}")
+            waiting = [
+                i["item"]
+                for t in self.tests()
+                if t["id"] == test_id
+                for i in t.get("items", [])
+                if i["needs_clinician"] and i["points"] is None
+            ]
+            if waiting:
+                raise InvalidResult(f"test {test_id}: score {', '.join(waiting)} first")
             self.db.execute(
                 "UPDATE tests SET validated_by = ?, validated_at = ? "
                 "WHERE id = ? AND validated_by IS NULL",
