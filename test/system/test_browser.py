@@ -215,7 +215,10 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
             page.wait_for_function(
                 "document.getElementById('start-error').textContent.includes('choose a patient')"
             )
-            page.fill("#patient", "Carlos")
+            page.fill("#new-patient", "Carlos")
+            page.click("#add-patient")
+            page.wait_for_function("document.getElementById('patient-id').value !== ''")
+            page.select_option("#test", "barthel")
             page.click("#start")
             page.wait_for_selector("body[data-running=true]", timeout=20000)
             page.wait_for_function(
@@ -229,7 +232,11 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
             page.click("#results tbody tr")
             page.wait_for_selector("#items")
             items = page.inner_text("#items")
-            assert "grooming\tunanswered" in items and "stairs\t5 points\ttouch" in items
+            assert "Grooming" in items and "I use stairs by myself" not in items
+            grooming = page.inner_text("#items tr[data-item='grooming']")
+            stairs = page.inner_text("#items tr[data-item='stairs']")
+            assert "unanswered" in grooming and "2 tries" in grooming
+            assert "I need help on stairs\t5/10\ttouch" in stairs  # the option in words
         out, _ = launch.communicate(timeout=60)
         assert launch.returncode == 0, out[-3000:]
     finally:
@@ -238,6 +245,7 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
             launch.wait(timeout=30)
     stored = stored_tests(db)
     assert [t["patient"] for t in stored] == ["Carlos"] and stored[0]["total"] == 80
+    assert stored[0]["patient_id"] == 1  # the record chosen at Start
 
 
 @contextmanager
@@ -252,7 +260,8 @@ def dashboard_serving(db):
     from dsr_graph.web.events import Broadcaster
 
     port, loop, ready = free_port(), asyncio.new_event_loop(), threading.Event()
-    runner = web.AppRunner(make_app(str(db), TestStatus(), Broadcaster(), lambda patient: None))
+    pressed = []
+    app = make_app(str(db), TestStatus(), Broadcaster(), lambda *start: pressed.append(start))
 
     def serve() -> None:
         asyncio.set_event_loop(loop)
@@ -262,11 +271,12 @@ def dashboard_serving(db):
         loop.run_forever()
         loop.run_until_complete(runner.cleanup())
 
+    runner = web.AppRunner(app)
     thread = threading.Thread(target=serve, daemon=True)
     thread.start()
     assert ready.wait(20), "the dashboard did not start"
     try:
-        yield f"http://127.0.0.1:{port}/"
+        yield f"http://127.0.0.1:{port}/", pressed
     finally:
         loop.call_soon_threadsafe(loop.stop)
         thread.join(timeout=20)
@@ -277,7 +287,7 @@ def test_the_clinician_validates_a_result_once_and_sees_local_times(tmp_path):
 
     db = tmp_path / "cgamed.sqlite"  # two Barthel results, stored before versions
     shutil.copy(REPO / "test" / "fixtures" / "cgamed_before_versions.sqlite", db)
-    with dashboard_serving(db) as url, chromium_page() as page:
+    with dashboard_serving(db) as (url, _), chromium_page() as page:
         page.goto(url)
         page.wait_for_function("Number(document.body.dataset.results) === 2", timeout=10000)
         page.click("#results tbody tr[data-id='1']")
@@ -308,3 +318,97 @@ def test_the_clinician_validates_a_result_once_and_sees_local_times(tmp_path):
     [first, second] = stored_tests(db)
     assert first["validated_by"] == "Dr. Ruiz" and first["validated_at"]
     assert second["validated_by"] is None
+
+
+def mmse_store(db):
+    """Two MMSE results of Ana a week apart (the drawings to score) and one of her Barthel
+    tests, as CLARC would store them (local_clarc.py runs the tests without ROS)."""
+    from clarc_sim.hospital.results_store import ResultsStore
+
+    from local_clarc import Patient, Robot
+
+    store = ResultsStore(db)
+    ana = store.add_patient("Ana")["id"]
+    for started, answers in (
+        ("2026-11-17T10:00:00+00:00", {"recall": [("voice", 1)], "attention": [("voice", 2)]}),
+        ("2026-11-24T10:00:00+00:00", {"recall": [("voice", 2)]}),
+    ):
+        result = Robot(Patient(answers=answers), test="mmse").run_test("Ana")
+        store.store(dict(result, started=started, patient_id=ana))
+    barthel = Robot().run_test("Ana")
+    store.store(dict(barthel, started="2026-11-20T09:00:00+00:00", patient_id=ana))
+    store.close()
+    return ana
+
+
+def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(tmp_path):
+    db = tmp_path / "cgamed.sqlite"
+    ana = mmse_store(db)
+    with dashboard_serving(db) as (url, pressed), chromium_page() as page:
+        page.goto(url)
+        page.wait_for_selector("body[data-ready=true]")
+        # Start: a patient's record and a test
+        page.select_option("#patient-id", str(ana))
+        page.select_option("#test", "mmse")
+        page.click("#start")
+        wait_for(lambda: pressed == [("Ana", "mmse", ana)], 10, "the Start for Ana's record")
+        page.wait_for_function("Number(document.body.dataset.results) === 3", timeout=10000)
+        page.click("#results tbody tr[data-id='2']")
+        page.wait_for_selector("#items")
+        # each item with its question and the answer in words
+        recall = page.inner_text("#items tr[data-item='recall']")
+        assert "What were the three objects?" not in recall  # the question is the item's
+        assert "Earlier I named three objects" in recall and "apple, table" in recall
+        assert "2/3\tvoice" in recall
+        assert page.locator("#items tr[data-item='copying'] svg.drawing path").count() == 1
+        assert "To score: writing, copying" in page.inner_text("#validation")
+        page.fill("#clinician", "Dr. Ruiz")
+        page.click("#validate")  # not while the drawings wait for their scores
+        page.wait_for_function(
+            "document.getElementById('validate-error').textContent.includes('score writing')"
+        )
+        page.select_option("#items tr[data-item='writing'] select.score", "1")
+        page.click("#items tr[data-item='writing'] .score-button")
+        page.wait_for_function(
+            "document.querySelector(\"#items tr[data-item='writing']\").innerText.includes('1/1')"
+        )
+        page.select_option("#items tr[data-item='copying'] select.score", "0")
+        page.click("#items tr[data-item='copying'] .score-button")
+        page.wait_for_function(
+            "document.querySelector(\"#items tr[data-item='copying']\").innerText.includes('0/1')"
+        )
+        assert "28/30" in page.inner_text("#result-detail h3")
+        page.click("#validate")
+        page.wait_for_function(
+            "document.getElementById('validation').textContent.includes('Validated by Dr. Ruiz')"
+        )
+        assert page.locator("#items select.score").count() == 0  # it can no longer change
+        again = page.evaluate(
+            "fetch('/api/results/2/score', {method: 'POST', headers: {'Content-Type': "
+            "'application/json'}, body: JSON.stringify({item: 'copying', points: 1, "
+            "clinician: 'Dr. Gil'})}).then(async (r) => [r.status, await r.text()])"
+        )
+        assert again[0] == 409 and "cannot change" in again[1]
+        # the history of Ana's MMSE: two points in time, this one marked
+        points = page.locator("#history-chart circle.point")
+        assert points.count() == 2
+        assert "2 tests" in page.inner_text("figure figcaption")
+        ys = [float(points.nth(k).get_attribute("cy")) for k in range(2)]
+        assert ys[1] < ys[0]  # a better total is higher on the chart
+        # the printable report: one page, with the items and the validation
+        page.goto(url + "report/2")
+        page.wait_for_selector("body[data-ready=true]")
+        report = page.inner_text("#report")
+        assert "Mini-Mental State Examination" in report and "Ana (record #1)" in report
+        assert "Result: 28/30, normal" in report and "Validated by Dr. Ruiz" in report
+        assert "Earlier I named three objects" in report and "UTC" in report
+        pdf = page.pdf(format="A4")
+        assert (
+            pdf.count(b"/Type /Page\n") + pdf.count(b"/Type /Page ") + pdf.count(b"/Type /Page/")
+            == 1
+        ), "the report is one page"
+    [first, second, barthel] = stored_tests(db)
+    assert second["validated_by"] == "Dr. Ruiz" and second["total"] == 28
+    writing = next(i for i in second["items"] if i["item"] == "writing")
+    assert writing["points"] == 1 and writing["scored_by"] == "Dr. Ruiz"
+    assert first["validated_by"] is None and barthel["test"] == "barthel"

@@ -1,4 +1,6 @@
-// The clinician's dashboard: Start, the running test live, the results and the history.
+// The clinician's dashboard: Start for a patient and a test, the running test live, the results
+// (each item's question and answer, the clinician's scores, validation), a patient's history as
+// a chart, and a printable report. results_view.js draws a result.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
@@ -21,10 +23,10 @@ function logEvent(text, alert) {
 // The steps of the test, read from the DSR by CGAmed (clarc_agents/course.py).
 const DESCRIBE = {
   start_requested: (e) => `Start pressed for ${e.patient}`,
-  started: (e) => `Start: ${e.patient}`,
-  following: (e) => `test of ${e.patient} under way: item ${e.position}/10 ${e.item}`,
-  item: (e) => `item ${e.position}/10: ${e.item}`,
-  answer: (e) => `${e.item}: ${e.points} points (${e.via})`,
+  started: (e) => `Start: ${e.patient}, ${testName({ test: e.test || "barthel" })}`,
+  following: (e) => `test of ${e.patient} under way: item ${e.position}/${e.of} ${e.item}`,
+  item: (e) => `item ${e.position}/${e.of}: ${e.item}`,
+  answer: (e) => e.points === null ? `${e.item}: drawn (${e.via}), to score` : `${e.item}: ${e.points} points (${e.via})`,
   no_answer: (e) => `${e.item}: no answer (try ${e.attempt})`,
   not_understood: (e) => `${e.item}: not understood "${e.heard}"`,
   skip: (e) => `${e.item}: skip asked`,
@@ -33,7 +35,8 @@ const DESCRIBE = {
   person_lost: () => "the patient left",
   person_back: () => "the patient is back",
   clinician_called: (e) => `you are called (${e.unanswered.join(", ")} unanswered)`,
-  finished: (e) => `finished: ${score(e.result)} (${e.result.band})`,
+  finished: (e) => e.result.test === TIMED && !e.result.tug_seconds ? "finished: not timed" :
+    `finished: ${score(e.result)} (${e.result.band})`,
   error: (e) => `error: ${e.message}`,
 };
 const ALERTS = new Set(["person_lost", "clinician_called", "error"]);
@@ -42,22 +45,50 @@ function onStep(e) {
   const text = DESCRIBE[e.event] ? DESCRIBE[e.event](e) : null;
   if (text) logEvent(text, ALERTS.has(e.event));
   if (e.event === "started" || e.event === "following") { setRunning(true); $("live-patient").textContent = e.patient; $("live-answer").textContent = "–"; }
-  if (e.event === "item") $("live-item").textContent = `${e.position}/10 ${e.item}`;
-  if (e.event === "answer") $("live-answer").textContent = `${e.item}: ${e.points} points by ${e.via}`;
+  if (e.event === "item") $("live-item").textContent = `${e.position}/${e.of} ${e.item}`;
+  if (e.event === "answer") $("live-answer").textContent = DESCRIBE.answer(e);
   if (e.event === "unanswered") $("live-answer").textContent = `${e.item}: unanswered`;
   if (e.event === "finished" || e.event === "error") { setRunning(false, e.event === "finished"); loadResults(); }
 }
 
-function cell(tr, text) { tr.insertCell().textContent = text; }
+async function post(url, doc) {
+  return fetch(url, { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(doc) });
+}
 
-const TIMED = "get_up_and_go";
-function score(t) { return t.test === TIMED ? `${t.tug_seconds.toFixed(1)} s` : `${t.total}/100`; }
-function testName(t) { return t.test === TIMED ? "Get Up & Go" : "Barthel"; }
-// a stored time (ISO 8601, any zone) in this browser's local time, with its zone
-function localTime(iso) {
-  // (dateStyle cannot go with timeZoneName: the fields one by one)
-  return new Date(iso).toLocaleString(undefined, { year: "numeric", month: "short", day: "numeric",
-    hour: "2-digit", minute: "2-digit", timeZoneName: "short" });
+// -- the clinician's part of a result: scores, then validation --------------------------------
+function clinicianName() {
+  const name = document.createElement("input");
+  name.id = "clinician";
+  name.placeholder = "your name";
+  name.value = sessionStorage.getItem("clinician") || "";
+  name.addEventListener("change", () => sessionStorage.setItem("clinician", name.value));
+  return name;
+}
+
+async function refresh(id) {
+  await loadResults();
+  showResult(results.find((x) => x.id === id));
+}
+
+function scoring(t, table) {
+  if (t.validated_by) return;
+  for (const i of t.items || []) {
+    if (!i.needs_clinician || i.points !== null) continue;
+    const row = table.querySelector(`tr[data-item='${i.item}']`);
+    const select = document.createElement("select");
+    select.className = "score";
+    for (let p = 0; p <= i.max; p++) select.append(new Option(String(p), String(p)));
+    const button = document.createElement("button");
+    button.className = "score-button";
+    button.textContent = "Score";
+    button.addEventListener("click", async () => {
+      const r = await post(`/api/results/${t.id}/score`, { item: i.item, points: Number(select.value), clinician: $("clinician").value });
+      if (!r.ok) { $("validate-error").textContent = await r.text(); return; }
+      await refresh(t.id);
+    });
+    row.cells[3].textContent = "";
+    row.cells[3].append(select, button);
+  }
 }
 
 function validation(t) {
@@ -67,23 +98,63 @@ function validation(t) {
     p.textContent = `Validated by ${t.validated_by}, ${localTime(t.validated_at)}. This result can no longer change.`;
     return p;
   }
-  const name = document.createElement("input");
-  name.id = "clinician";
-  name.placeholder = "your name";
   const button = document.createElement("button");
   button.id = "validate";
   button.textContent = "Validate";
   const error = document.createElement("span");
   error.id = "validate-error";
   button.addEventListener("click", async () => {
-    const r = await fetch(`/api/results/${t.id}/validate`, { method: "POST",
-      headers: { "Content-Type": "application/json" }, body: JSON.stringify({ clinician: name.value }) });
+    const r = await post(`/api/results/${t.id}/validate`, { clinician: $("clinician").value });
     if (!r.ok) { error.textContent = await r.text(); return; }
-    await loadResults();
-    showResult(results.find((x) => x.id === t.id));
+    await refresh(t.id);
   });
-  p.append("Not validated yet. ", name, button, error);
+  const waiting = (t.items || []).filter((i) => i.needs_clinician && i.points === null).map((i) => i.item);
+  p.append(waiting.length ? `To score: ${waiting.join(", ")}. ` : "Not validated yet. ", clinicianName(), button, error);
   return p;
+}
+
+// -- a patient's history of one test, as a chart over time ------------------------------------
+function samePatient(a, b) {
+  return a.patient_id !== null && a.patient_id !== undefined ? a.patient_id === b.patient_id : a.patient === b.patient;
+}
+function historyChart(t) {
+  const history = results.filter((r) => samePatient(r, t) && r.test === t.test && (r.test !== TIMED || r.tug_seconds))
+    .sort((a, b) => new Date(a.started) - new Date(b.started));
+  const value = (r) => r.test === TIMED ? r.tug_seconds : r.total;
+  const top = t.test === TIMED ? Math.max(30, ...history.map(value)) : t.max_total;
+  const ns = "http://www.w3.org/2000/svg";
+  const W = 560, H = 200, L = 40, B = 30, T = 10, R = 20;
+  const svg = document.createElementNS(ns, "svg");
+  svg.id = "history-chart";
+  svg.setAttribute("viewBox", `0 0 ${W} ${H}`);
+  const el = (name, attrs, text) => {
+    const e = document.createElementNS(ns, name);
+    for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+    if (text !== undefined) e.textContent = text;
+    svg.append(e);
+    return e;
+  };
+  const times = history.map((r) => new Date(r.started).getTime());
+  const t0 = Math.min(...times), t1 = Math.max(...times);
+  const x = (ms) => L + (t1 === t0 ? (W - L - R) / 2 : (ms - t0) / (t1 - t0) * (W - L - R));
+  const y = (v) => H - B - v / top * (H - B - T);
+  el("line", { x1: L, y1: H - B, x2: W - R, y2: H - B, class: "axis" });
+  el("line", { x1: L, y1: T, x2: L, y2: H - B, class: "axis" });
+  for (const v of [0, top / 2, top]) el("text", { x: L - 6, y: y(v) + 4, "text-anchor": "end" }, String(Math.round(v)));
+  el("polyline", { points: history.map((r, k) => `${x(times[k])},${y(value(r))}`).join(" "), class: "line" });
+  history.forEach((r, k) => {
+    const dot = el("circle", { cx: x(times[k]), cy: y(value(r)), r: r.id === t.id ? 6 : 4, class: "point" });
+    dot.dataset.id = String(r.id);
+    el("title", {}, `${localTime(r.started)}: ${score(r)} (${r.band})`);
+    dot.append(svg.lastChild);
+    el("text", { x: x(times[k]), y: H - B + 16, "text-anchor": "middle" }, new Date(r.started).toLocaleDateString());
+  });
+  const figure = document.createElement("figure");
+  const caption = document.createElement("figcaption");
+  caption.textContent = `History of ${t.patient}: ${testName(t)}, ${history.length} test${history.length === 1 ? "" : "s"}` +
+    (t.test === TIMED ? " (seconds)" : " (total)");
+  figure.append(caption, svg);
+  return figure;
 }
 
 function showResult(t) {
@@ -91,27 +162,18 @@ function showResult(t) {
   div.innerHTML = "";
   const h = document.createElement("h3");
   h.textContent = `Test ${t.id}: ${t.patient}, ${testName(t)} ${score(t)} (${t.band})` +
-    (t.test === TIMED && t.fall_risk ? ", fall risk" : "");
+    (t.test === TIMED && t.fall_risk ? ", fall risk" : "") + (t.complete === false ? ", to score" : "");
   const when = document.createElement("p");
   when.textContent = `Started ${localTime(t.started)}` + (t.finished ? `, finished ${localTime(t.finished)}` : "");
-  const table = document.createElement("table");
-  table.id = "items";
-  for (const [phase, seconds] of Object.entries(t.test === TIMED ? t.phases : {})) {
-    const tr = table.insertRow();
-    cell(tr, phase);
-    cell(tr, `${seconds.toFixed(1)} s`);
-  }
-  for (const i of t.items || []) {
-    const tr = table.insertRow();
-    cell(tr, i.item);
-    cell(tr, i.points === null ? "unanswered" : `${i.points} points`);
-    cell(tr, i.via || "–");
-    cell(tr, `${i.attempts} ${i.attempts === 1 ? "try" : "tries"}`);
-  }
-  const history = results.filter((r) => r.patient === t.patient && r.test === t.test);
-  const p = document.createElement("p");
-  p.textContent = `History of ${t.patient} (${testName(t)}): ` + history.map((r) => `${new Date(r.started).toLocaleDateString()} ${score(r)}`).join(", ");
-  div.append(h, when, table, p, validation(t));
+  const report = document.createElement("a");
+  report.id = "report";
+  report.href = `/report/${t.id}`;
+  report.target = "_blank";
+  report.textContent = "Printable report";
+  const table = itemsTable(t);
+  const check = validation(t);
+  div.append(h, when, report, table, check, historyChart(t));
+  scoring(t, table);
 }
 
 async function loadResults() {
@@ -128,6 +190,7 @@ async function loadResults() {
     cell(tr, t.band);
     const notes = [];
     if (t.test === TIMED && t.fall_risk) notes.push("fall risk");
+    if (t.complete === false) notes.push("to score");
     if ((t.unanswered || []).length) notes.push(`${t.unanswered.length} unanswered`);
     if (t.clinician_called) notes.push("clinician called");
     if (t.person_lost) notes.push("patient left");
@@ -135,32 +198,56 @@ async function loadResults() {
     cell(tr, notes.join(", "));
     tr.addEventListener("click", () => showResult(t));
   }
-  $("patients").innerHTML = "";
-  for (const name of new Set(results.map((r) => r.patient))) $("patients").append(new Option(name));
   document.body.dataset.results = String(results.length);
 }
 
+async function loadPatients(chosen) {
+  const patients = await (await fetch("/api/patients")).json();
+  const select = $("patient-id");
+  select.length = 1;
+  for (const p of patients) select.append(new Option(`${p.name} (#${p.id})`, String(p.id)));
+  if (chosen !== undefined) select.value = String(chosen);
+  document.body.dataset.patients = String(patients.length);
+}
+
+$("add-patient").addEventListener("click", async () => {
+  $("start-error").textContent = "";
+  const r = await post("/api/patients", { name: $("new-patient").value });
+  if (!r.ok) { $("start-error").textContent = await r.text(); return; }
+  $("new-patient").value = "";
+  await loadPatients((await r.json()).id);
+});
+
 $("start").addEventListener("click", async () => {
   $("start-error").textContent = "";
-  const r = await fetch("/api/start", { method: "POST", headers: { "Content-Type": "application/json" },
-    body: JSON.stringify({ patient: $("patient").value }) });
+  const r = await post("/api/start", { patient_id: $("patient-id").value, test: $("test").value });
   if (!r.ok) $("start-error").textContent = await r.text();
 });
 
-const events = new EventSource("/api/events");
-events.addEventListener("status", (m) => {  // from the DSR: right even if an event was missed
-  const s = JSON.parse(m.data);
-  const ended = document.body.dataset.running === "true" && !s.running;
-  setRunning(s.running, ended);
-  if (ended) loadResults();
+function showStatus(s) {
   if (s.patient) $("live-patient").textContent = s.patient;
-  if (s.item) $("live-item").textContent = `${s.position}/10 ${s.item}`;
-});
-events.addEventListener("step", (m) => onStep(JSON.parse(m.data)));
-events.addEventListener("pelea", (m) => onStep(JSON.parse(m.data)));  // PELEA's errors
-events.addEventListener("speaker", (m) => {
-  const s = JSON.parse(m.data);
-  if (s.event === "start") $("live-question").textContent = s.text;
-});
-events.addEventListener("notification", (m) => logEvent(`to you: ${JSON.parse(m.data).message}`, false));
-loadResults();
+  if (s.test) $("live-test").textContent = testName(s);
+  if (s.item) $("live-item").textContent = `${s.position}/${s.of} ${s.item}`;
+}
+
+async function main() {
+  for (const t of await loadTests()) $("test").append(new Option(t.title, t.test));
+  await Promise.all([loadResults(), loadPatients()]);
+  const events = new EventSource("/api/events");
+  events.addEventListener("status", (m) => {  // from the DSR: right even if an event was missed
+    const s = JSON.parse(m.data);
+    const ended = document.body.dataset.running === "true" && !s.running;
+    setRunning(s.running, ended);
+    if (ended) loadResults();
+    showStatus(s);
+  });
+  events.addEventListener("step", (m) => onStep(JSON.parse(m.data)));
+  events.addEventListener("pelea", (m) => onStep(JSON.parse(m.data)));  // PELEA's errors
+  events.addEventListener("speaker", (m) => {
+    const s = JSON.parse(m.data);
+    if (s.event === "start") $("live-question").textContent = s.text;
+  });
+  events.addEventListener("notification", (m) => logEvent(`to you: ${JSON.parse(m.data).message}`, false));
+  document.body.dataset.ready = "true";
+}
+main();
