@@ -334,9 +334,11 @@ def mmse_store(db):
         ("2026-11-24T10:00:00+00:00", {"recall": [("voice", 2)]}),
     ):
         result = Robot(Patient(answers=answers), test="mmse").run_test("Ana")
-        store.store(dict(result, started=started, patient_id=ana))
+        finished = started.replace("T10:00", "T10:20")
+        store.store(dict(result, started=started, finished=finished, patient_id=ana))
     barthel = Robot().run_test("Ana")
-    store.store(dict(barthel, started="2026-11-20T09:00:00+00:00", patient_id=ana))
+    started, finished = "2026-11-20T09:00:00+00:00", "2026-11-20T09:12:00+00:00"
+    store.store(dict(barthel, started=started, finished=finished, patient_id=ana))
     store.close()
     return ana
 

@@ -123,7 +123,7 @@ function historyChart(t) {
   const value = (r) => r.test === TIMED ? r.tug_seconds : r.total;
   const top = t.test === TIMED ? Math.max(30, ...history.map(value)) : t.max_total;
   const ns = "http://www.w3.org/2000/svg";
-  const W = 560, H = 200, L = 40, B = 30, T = 10, R = 20;
+  const W = 560, H = 200, L = 40, B = 30, T = 10, R = 40;
   const svg = document.createElementNS(ns, "svg");
   svg.id = "history-chart";
   svg.setAttribute("viewBox", `0 0 ${W} ${H}`);
