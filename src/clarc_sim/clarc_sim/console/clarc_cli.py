@@ -55,19 +55,23 @@ def results(args: argparse.Namespace) -> int:
             )
             if on
         ]
-        waiting = [i["item"] for i in t["items"] if i["needs_clinician"] and i["points"] is None]
+        definition = definitions.load(t["test"])
+        scored_later = {i.key for i in definition.items if i.needs_clinician}
+        waiting = [
+            i["item"] for i in t["items"] if i["item"] in scored_later and i["points"] is None
+        ]
         if waiting:
             flags.append(f"the clinician scores {', '.join(waiting)}")
-        title = definitions.load(t["test"]).title
+        title = definition.title
         print(
             f"#{t['id']} {t['patient']}  {t['started']}  {title} {t['total']}/{t['max_total']}"
             f" ({t['band']})" + (f"  [{', '.join(flags)}]" if flags else "")
         )
         for i in t["items"]:
             if i["points"] is None:
-                got = "drawn, to score" if i["via"] else "unanswered"
+                got = "drawn, to score" if i["via"] and i["item"] in scored_later else "unanswered"
             else:
-                got = f"{i['points']:>2}/{i['max']} by {i['via']}"
+                got = f"{i['points']:>2}/{definition.item(i['item']).max} by {i['via']}"
             print(f"    {i['item']:<17} {got}  ({i['attempts']} tries)")
     return 0
 

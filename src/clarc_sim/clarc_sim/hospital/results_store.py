@@ -42,6 +42,9 @@ from dsr_graph.formats.default_paths import data_path
 
 VERSION = 3
 TIMED = "get_up_and_go"
+# The Barthel test's items keep the fields they had in `clarc results --json` before tests were
+# data files: its results are unchanged for whoever reads them.
+ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts")}
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS patients (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
@@ -393,8 +396,8 @@ class ResultsStore:
             waiting = [
                 i["item"]
                 for t in self.tests()
-                if t["id"] == test_id
-                for i in t.get("items", [])
+                if t["id"] == test_id and not t.get("complete", True)
+                for i in t["items"]
                 if i["needs_clinician"] and i["points"] is None
             ]
             if waiting:
@@ -450,6 +453,9 @@ class ResultsStore:
                 continue
             definition = definitions.load(test)
             items = [_item_fields(definition, i) for i in result["items"]]
+            complete = all(i["points"] is not None for i in items if i["needs_clinician"])
+            if test in ITEM_FIELDS:
+                items = [{k: i[k] for k in ITEM_FIELDS[test]} for i in items]
             out.append(
                 {
                     "id": test_id,
@@ -460,7 +466,7 @@ class ResultsStore:
                     "total": result["total"],
                     "max_total": definition.max_total,
                     "band": result["band"],
-                    "complete": all(i["points"] is not None for i in items if i["needs_clinician"]),
+                    "complete": complete,
                     "items": items,
                     "unanswered": result.get("unanswered", []),
                     "clinician_called": bool(result.get("clinician_called")),

@@ -63,7 +63,8 @@ function itemsTable(t) {
     cell(tr, `${seconds.toFixed(1)} s`);
   }
   for (const i of t.items || []) {
-    const spec = itemOf(t, i.item) || { title: i.item, question: "" };
+    const spec = itemOf(t, i.item) || { title: i.item, question: "", max: i.max };
+    const max = i.max !== undefined ? i.max : spec.max;
     const tr = body.insertRow();
     tr.dataset.item = i.item;
     cell(tr, spec.title);
@@ -71,7 +72,7 @@ function itemsTable(t) {
     const answer = cell(tr, answerWords(t, i));
     if (i.drawing) answer.append(drawingSvg(i.drawing));
     const waiting = i.needs_clinician && i.points === null;
-    cell(tr, waiting ? (i.via ? "to score" : "unanswered") : i.points === null ? "unanswered" : `${i.points}/${i.max}`);
+    cell(tr, waiting ? (i.via ? "to score" : "unanswered") : i.points === null ? "unanswered" : `${i.points}/${max}`);
     cell(tr, i.via || "–");
     cell(tr, `${i.attempts} ${i.attempts === 1 ? "try" : "tries"}`);
   }
