@@ -166,6 +166,26 @@ def run_robot(script, *args, run_dir, timeout=240, env=None):
     return done
 
 
+def launch_scenario(scenario, tmp_path, *extra):
+    """``scripts/launch.sh --scenario SCENARIO`` in a ROS domain of its own, storing in a fresh
+    database under ``tmp_path``: (the finished launch, what it stored)."""
+    db = tmp_path / "cgamed.sqlite"
+    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    run = run_robot(
+        "launch.sh",
+        "--scenario",
+        scenario,
+        "--db",
+        db,
+        "--timeout",
+        "150",
+        *extra,
+        run_dir=tmp_path / "run",
+        env=env,
+    )
+    return run, stored_tests(db, env)
+
+
 def stored_tests(db, env=None) -> list[dict]:
     """What ``clarc results --db DB --json`` lists: the tests CGAmed stored, oldest first."""
     listed = subprocess.run(

@@ -121,24 +121,10 @@ EXPECTED = {
 
 @pytest.mark.parametrize("scenario", sorted(EXPECTED))
 def test_scenario_through_the_launch(scenario, tmp_path):
-    from ros_processes import fresh_domain_id, run_robot, stored_tests
+    from ros_processes import launch_scenario
 
-    db = tmp_path / "cgamed.sqlite"
-    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    scenario_file = REPO / "scenarios" / scenario
-    run = run_robot(
-        "launch.sh",
-        "--scenario",
-        scenario_file,
-        "--db",
-        db,
-        "--timeout",
-        "150",
-        run_dir=tmp_path / "run",
-        env=env,
-    )
+    run, [stored] = launch_scenario(REPO / "scenarios" / scenario, tmp_path)
     assert "RESULT" in run.stdout and "Barthel index" in run.stdout
-    [stored] = stored_tests(db, env)
     expected = EXPECTED[scenario]
     for key, value in expected.items():
         assert stored[key] == value, f"{key}: {stored[key]!r} != {value!r}\n{run.stdout[-4000:]}"

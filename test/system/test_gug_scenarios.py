@@ -4,7 +4,6 @@ issue's tolerances (tug_seconds within 0.3 s of the six scripted parts, each pha
 the band (Podsiadlo & Richardson 1991) and the fall risk (Shumway-Cook 2000); one of them also
 at another pace."""
 
-import os
 from pathlib import Path
 
 import pytest
@@ -17,23 +16,9 @@ SCENARIOS = sorted(p.name for p in (REPO / "scenarios").glob("gug_*.yaml"))
 
 
 def run_gug(scenario: str, tmp_path, *extra):
-    from ros_processes import fresh_domain_id, run_robot, stored_tests
+    from ros_processes import launch_scenario
 
-    db = tmp_path / "cgamed.sqlite"
-    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    run = run_robot(
-        "launch.sh",
-        "--scenario",
-        REPO / "scenarios" / scenario,
-        "--db",
-        db,
-        "--timeout",
-        "150",
-        *extra,
-        run_dir=tmp_path / "run",
-        env=env,
-    )
-    [stored] = stored_tests(db, env)
+    run, [stored] = launch_scenario(REPO / "scenarios" / scenario, tmp_path, *extra)
     return run, stored
 
 

@@ -3,7 +3,6 @@ own process): each shipped scenario's stored result (`clarc results --json`) aga
 scenario itself: every item earns the points the patient gave, the way they gave them, after
 the tries its deviations cost; the drawings wait for the clinician."""
 
-import os
 from pathlib import Path
 
 import pytest
@@ -44,23 +43,10 @@ def test_the_shipped_mmse_scenarios_cover_every_item_and_path():
 
 @pytest.mark.parametrize("scenario", SCENARIOS)
 def test_a_questionnaire_scenario_through_the_launch(scenario, tmp_path):
-    from ros_processes import fresh_domain_id, run_robot, stored_tests
+    from ros_processes import launch_scenario
 
-    db = tmp_path / "cgamed.sqlite"
-    env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    run = run_robot(
-        "launch.sh",
-        "--scenario",
-        REPO / "scenarios" / scenario,
-        "--db",
-        db,
-        "--timeout",
-        "150",
-        run_dir=tmp_path / "run",
-        env=env,
-    )
+    run, [stored] = launch_scenario(REPO / "scenarios" / scenario, tmp_path)
     truth = load(str(REPO / "scenarios" / scenario))
-    [stored] = stored_tests(db, env)
     assert stored["test"] == truth.test and stored["patient"] == truth.patient
     got = {i["item"]: (i["points"], i["via"], i["attempts"]) for i in stored["items"]}
     assert got == expected(truth), run.stdout[-3000:]

@@ -198,3 +198,20 @@ def test_the_clinician_scores_a_drawing_until_the_result_is_validated(tmp_path):
         store.score(test_id, "copying", 1, "Dr. Ruiz")
     assert store.tests()[0]["total"] == 29
     assert store.patients()[0]["name"] == "Carlos" and store.tests()[0]["patient_id"] == 1
+
+
+def comparable(result):
+    """What a restart must not change (attempts may: the item in progress is asked again)."""
+    items = {i["item"]: (i["points"], i["via"], i.get("drawing", "")) for i in result["items"]}
+    return items, result["total"], result["unanswered"], result["complete"]
+
+
+@pytest.mark.parametrize("moment", [1, 8, 30, 60, 90, 105, 118, 128, 138, 150])
+@pytest.mark.parametrize("agent", ["pelea", "panel", "speech"])
+def test_an_agent_killed_at_any_moment_of_an_mmse_gives_the_same_result(agent, moment):
+    expected = Robot(test="mmse").run_test()
+    robot = Robot(test="mmse")
+    robot.bus.after(moment, getattr(robot, f"restart_{agent}"))
+    result = robot.run_test()
+    assert len(robot.port.stored) == 1
+    assert comparable(result) == comparable(expected)

@@ -193,17 +193,28 @@ def make_app(
         press_start(name, test, patient_id)
         return web.json_response({"started": name, "test": test, "patient_id": patient_id})
 
-    async def score(request: web.Request) -> web.Response:
-        item, points, clinician = await body(request, "item", "points", "clinician")
+    def test_id(request: web.Request) -> int:
         try:
-            test_id = int(request.match_info["id"])
-            return web.json_response(db().score(test_id, str(item), points, str(clinician)))
+            return int(request.match_info["id"])
+        except ValueError:
+            raise web.HTTPNotFound(text=f"no test {request.match_info['id']!r}") from None
+
+    def clinician_change(change: Callable[[], Any]) -> web.Response:
+        """A change the clinician asked of a stored result, as the store answers it: 404 no such
+        test, 409 validated already, 400 anything else wrong."""
+        try:
+            return web.json_response(change())
         except UnknownTest as e:
             raise web.HTTPNotFound(text=str(e)) from None
         except AlreadyValidated as e:
             raise web.HTTPConflict(text=str(e)) from None
         except InvalidResult as e:
             raise web.HTTPBadRequest(text=str(e)) from None
+
+    async def score(request: web.Request) -> web.Response:
+        item, points, clinician = await body(request, "item", "points", "clinician")
+        number = test_id(request)
+        return clinician_change(lambda: db().score(number, str(item), points, str(clinician)))
 
     async def get_status(request: web.Request) -> web.Response:
         return web.json_response(status.to_json())
@@ -212,19 +223,9 @@ def make_app(
         return web.json_response(results())
 
     async def validate(request: web.Request) -> web.Response:
-        try:
-            test_id = int(request.match_info["id"])
-            clinician = str((await request.json())["clinician"])
-        except (ValueError, KeyError, TypeError):
-            raise web.HTTPBadRequest(text='send {"clinician": "<name>"}') from None
-        try:
-            return web.json_response(db().validate(test_id, clinician))
-        except UnknownTest as e:
-            raise web.HTTPNotFound(text=str(e)) from None
-        except AlreadyValidated as e:
-            raise web.HTTPConflict(text=str(e)) from None
-        except InvalidResult as e:
-            raise web.HTTPBadRequest(text=str(e)) from None
+        [clinician] = await body(request, "clinician")
+        number = test_id(request)
+        return clinician_change(lambda: db().validate(number, str(clinician)))
 
     async def stream(request: web.Request) -> web.StreamResponse:
         return await events.stream(request, first=lambda: [("status", status.to_json())])
