@@ -21,7 +21,9 @@ def expected(scenario) -> dict:
     for item in definition.items:
         plan = scenario.plan(item.key)
         attempts = 2 if plan.first or plan.via == "silence" else 1
-        if plan.via == "silence":
+        if item.kind == "eyes" and (plan.via == "silence" or plan.answer == 0):
+            out[item.key] = (0, "camera", 2)  # asked twice, the eyes never closed: 0 points
+        elif plan.via == "silence":
             out[item.key] = (None, None, attempts)
         elif item.needs_clinician:
             out[item.key] = (None, plan.via, attempts)

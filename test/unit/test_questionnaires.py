@@ -107,7 +107,7 @@ def test_each_mmse_item_earns_what_the_patient_gave_and_deviations_work_as_in_ba
     assert by["orientation_time"] == (3, "voice", 2)  # not understood first, then 3 right
     assert by["attention"] == (0, "voice", 1)  # "I don't know" is an answer worth 0
     assert by["recall"] == (2, "voice", 1) and by["command"] == (1, "touch", 1)
-    assert by["reading"] == (0, "camera", 1)  # the eyes did not close: 0, not silence
+    assert by["reading"] == (0, "camera", 2)  # the eyes never closed, asked twice: 0 points
     assert by["writing"] == (None, None, 2) and result["unanswered"] == ["writing"]
     assert by["naming"] == (2, "voice", 1) and result["person_lost_count"] == 1
     assert result["total"] == 3 + 5 + 3 + 0 + 2 + 2 + 1 + 1 + 0

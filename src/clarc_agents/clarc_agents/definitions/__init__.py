@@ -17,7 +17,7 @@ Kinds of item (how the patient answers and how it is scored; ``via`` is how the 
     drawing  what the patient draws on the screen is recorded; ``shows`` a model to copy, if
              any; ``points`` the maximum; the clinician scores it (``needs_clinician``)
     eyes     ``shows`` a written instruction; ``points`` if the camera sees the eyes close
-             while the answer is awaited, 0 if not (camera)
+             while the answer is awaited, 0 if asked twice without (camera)
 Every kind but ``choose`` has ``ask``: the sentence asking for the answer. A part's words may
 hold placeholders filled in when a test starts (``Definition.filled``): see ``PLACEHOLDERS``.
 """

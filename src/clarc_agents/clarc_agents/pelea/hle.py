@@ -588,8 +588,9 @@ class HighLevelExecutive:
                 self.port.event(event="window_interrupted", item=item, window=window)
                 self._complete(token, monitoring.window_interrupted(self.state, item, window))
                 return
-            if self.definition.item(item).kind == "eyes":
-                # the camera did not see the eyes close while the screen asked it: 0 points
+            if self.definition.item(item).kind == "eyes" and window >= 2:
+                # asked twice, the camera never saw the eyes close: not done, 0 points (a
+                # first window without it is asked again, as silence is)
                 self.record.answer(item, 0, "camera")
                 self._window_ended(item, "answered")
                 self.port.event(event="answer", item=item, points=0, via="camera")

@@ -28,7 +28,8 @@ by two names) and how (an item not listed earns its maximum, the way its kind is
       writing:  {via: silence}               # writes nothing, twice -> unanswered
 
 ``via`` must be a way the item is answered (voice for said items, touch for the command, the
-writing and the copying); "close your eyes" is seen by the camera, whatever ``via`` says. The
+writing and the copying); "close your eyes" is seen by the camera, whatever ``via`` says (a
+patient who does not close them, silent or not, is asked twice and scores 0). The
 points of a writing or a copying are what the clinician would give the drawing (a line of
 handwriting or the pentagons for 1, a scribble for 0): they are scored in the dashboard.
 
