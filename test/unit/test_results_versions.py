@@ -1,6 +1,6 @@
-"""CGAmed's results store across versions and tests: a store written before schema versions
-(kept as a fixture, written by that code) opens, migrates and loses nothing; Get Up & Go results
-are stored with their time and phases and refused when they do not add up."""
+"""CGAmed's results store across versions and tests: stores written before schema versions and at
+version 2 (kept as fixtures, written by that code) open, migrate and lose nothing; Get Up & Go
+results are stored with their time and phases and refused when they do not add up."""
 
 import shutil
 import sqlite3
@@ -13,6 +13,9 @@ from clarc_sim.hospital import results_store
 from clarc_sim.hospital.results_store import VERSION, ResultsStore
 
 BEFORE_VERSIONS = Path(__file__).resolve().parents[1] / "fixtures" / "cgamed_before_versions.sqlite"
+# written by the code of version 2 (before patients were records): two Barthel results, one of
+# them validated, a Get Up & Go result and a notification
+VERSION_2 = Path(__file__).resolve().parents[1] / "fixtures" / "cgamed_version_2.sqlite"
 
 
 def rows(path):
@@ -133,3 +136,28 @@ def test_a_result_is_validated_once_with_the_clinician_s_name_and_time(tmp_path)
     store.close()
     reopened = ResultsStore(path)
     assert reopened.tests()[0]["validated_by"] == "Dr. Ruiz"  # committed
+
+
+def test_a_store_of_version_2_migrates_keeping_its_validations_and_gains_patients(tmp_path):
+    path = tmp_path / "cgamed.sqlite"
+    shutil.copy(VERSION_2, path)
+    before = rows(path)
+    store = ResultsStore(path)
+    assert store.migrated_from == 2
+    tests = store.tests()
+    assert [(t["test"], t["patient"], t.get("total")) for t in tests] == [
+        ("barthel", "Carlos", 70),
+        ("barthel", "Ana", 100),
+        ("get_up_and_go", "Carlos", None),
+    ]
+    assert (tests[1]["validated_by"], tests[1]["validated_at"]) == (
+        "Dr. Ruiz",
+        "2026-11-23T12:00:00+00:00",
+    )
+    assert tests[2]["tug_seconds"] == 9.1 and tests[2]["validated_by"] is None
+    assert [p["name"] for p in store.patients()] == ["Carlos", "Ana"]
+    assert [t["patient_id"] for t in tests] == [1, 2, 1]  # Carlos's two tests, one record
+    with pytest.raises(InvalidResult, match="validated by Dr. Ruiz"):
+        store.validate(2, "Dr. Gil")
+    store.close()
+    assert rows(path) == before  # every row as it was
