@@ -286,7 +286,7 @@ class Robot:
             self.panel.on_drawing(self.panel_runner, graph, drawing_for(spec, points))
         elif way == "touch":
             self.panel.on_tap(self.panel_runner, graph, points)
-        elif spec.kind == "words":
+        elif spec.kind in ("words", "serial"):
             self.speech.on_heard(words_for(spec, points))
         else:
             self.speech.on_heard(spec.option(points).says)

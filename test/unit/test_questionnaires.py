@@ -66,11 +66,27 @@ def test_orientation_is_scored_against_the_date_and_the_place():
         values(date(2026, 3, 1), ("Spain",))
 
 
+@pytest.mark.parametrize(
+    "said, points",
+    [
+        ("93, 86, 79, 72, 65", 5),
+        ("93, 85, 78, 71, 64", 4),  # one slip costs one point: the rest follow from 85
+        ("ninety three, eighty six, seventy nine", 3),
+        ("a hundred, ninety-three, 86, 79, 72, 65", 5),  # the start said again
+        ("90, 83, 76", 2),
+        ("I don't know", 0),
+    ],
+)
+def test_serial_sevens_score_each_number_against_the_one_said_before(said, points):
+    attention = definitions.load("mmse").item("attention")
+    assert understand(attention, said).points == points
+
+
 def test_the_patient_earns_exactly_the_points_asked_on_every_item():
     mmse = definitions.load("mmse").filled(values(date(2026, 11, 24)))
     for item in mmse.items:
         for points in range(item.max + 1):
-            if item.kind == "words":
+            if item.kind in ("words", "serial"):
                 assert understand(item, words_for(item, points)).points == points, item.key
             if item.kind == "touches":
                 assert touched_in_order(item, touches_for(item, points)) == points
@@ -145,6 +161,11 @@ BAD_ITEMS = [
         "shows lacks the target",
     ),
     ("  - {key: a, title: A, question: Q, kind: eyes, ask: S, shows: [X], points: 0}", ">= 1"),
+    (
+        "  - {key: a, title: A, question: Q, kind: serial, ask: S,"
+        " parts: [{name: a, words: ['93']}, {name: b, words: ['85']}, {name: c, words: ['79']}]}",
+        "go by one step",
+    ),
 ]
 
 

@@ -12,6 +12,9 @@ in order (``key``, ``title``, ``question``, and how the item is answered: its ``
 Kinds of item (how the patient answers and how it is scored; ``via`` is how the answer comes):
     choose   ``options`` ({points, text, says, words}): one is chosen by voice or touch
     words    ``parts`` ({name, words}): a point per part recognised in what is said (voice)
+    serial   ``parts``: the numbers of a serial subtraction in order (93, 86, ...); a point
+             per number said that is the one before it (or the start) minus the step, so one
+             slip costs one point, not the rest (voice)
     touches  ``parts`` and ``shows`` (targets on the screen): a point per part touched in its
              place in the order (touch)
     drawing  what the patient draws on the screen is recorded; ``shows`` a model to copy, if
@@ -44,13 +47,15 @@ COMMON_KEYS = ("key", "title", "question")
 KIND_KEYS = {
     "choose": ("options",),
     "words": ("ask", "parts"),
+    "serial": ("ask", "parts"),
     "touches": ("ask", "parts", "shows"),
     "drawing": ("ask", "points"),
     "eyes": ("ask", "points", "shows"),
 }
 OPTIONAL_KEYS = {"drawing": ("shows",), "words": ("shows",)}
 KINDS = tuple(KIND_KEYS)
-VIA = {"choose": ("voice", "touch"), "words": ("voice",), "touches": ("touch",)}
+VIA = {"choose": ("voice", "touch"), "words": ("voice",), "serial": ("voice",)}
+VIA["touches"] = ("touch",)
 VIA.update(drawing=("touch",), eyes=("camera",))
 OPTION_KEYS = ("points", "text", "says", "words")
 PART_KEYS = ("name", "words")
@@ -290,6 +295,8 @@ def _items(source: str, node: Any) -> tuple[Item, ...]:
             continue
         shows = _texts(source, key, fields["shows"][1], "shows") if "shows" in fields else ()
         parts = _parts(source, key, fields["parts"][1]) if "parts" in fields else ()
+        if kind == "serial":
+            _serial_step(source, key, fields["parts"][1], parts)
         if kind == "touches":
             missing = [p.name for p in parts if p.keywords[0] not in (s.lower() for s in shows)]
             if missing:
@@ -304,6 +311,21 @@ def _items(source: str, node: Any) -> tuple[Item, ...]:
         ask = _text(source, fields, "ask")
         items.append(Item(*common, kind=kind, parts=parts, shows=shows, ask=ask, most=most))
     return tuple(items)
+
+
+def serial_numbers(item: Item) -> list[int]:
+    """The numbers of a ``serial`` item, in order (each part's first word)."""
+    return [int(p.keywords[0]) for p in item.parts]
+
+
+def _serial_step(source: str, item: str, node: Any, parts: tuple[Part, ...]) -> None:
+    firsts = [p.keywords[0] for p in parts]
+    if len(parts) < 2 or not all(w.lstrip("-").isdigit() for w in firsts):
+        raise _err(source, node, f"{item}: a serial item's parts are two numbers or more")
+    numbers = [int(w) for w in firsts]
+    steps = {b - a for a, b in zip(numbers, numbers[1:], strict=False)}
+    if len(steps) != 1 or 0 in steps:
+        raise _err(source, node, f"{item}: a serial item's numbers go by one step, got {numbers}")
 
 
 def _texts(source: str, item: str, node: Any, what: str) -> tuple[str, ...]:

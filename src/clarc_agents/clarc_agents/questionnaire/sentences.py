@@ -16,7 +16,7 @@ ASK_AGAIN = "Let me ask again."
 CLARIFY = "Sorry, I did not understand."
 # what the screen takes from the patient while an item of each kind is asked
 INPUTS = {"choose": "options", "words": "", "touches": "targets", "drawing": "drawing"}
-INPUTS["eyes"] = ""
+INPUTS |= {"eyes": "", "serial": ""}
 
 
 @dataclass(frozen=True)

@@ -83,7 +83,7 @@ class PatientScript:
         spec = self.definition.item(self.item)
         if plan.via == "silence":
             return []
-        if spec.kind == "words":
+        if spec.kind in ("words", "serial"):
             return [Action("say", self.reaction, text=words_for(spec, plan.answer))]
         if spec.kind == "touches":
             targets = touches_for(spec, plan.answer)
