@@ -402,7 +402,7 @@ def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(
         page.wait_for_selector("body[data-ready=true]")
         report = page.inner_text("#report")
         assert "Mini-Mental State Examination" in report and "Ana (record #1)" in report
-        assert "Result: 28/30, normal" in report and "Validated by Dr. Ruiz" in report
+        assert "Result: 28/30, normal cognition" in report and "Validated by Dr. Ruiz" in report
         assert "Earlier I named three objects" in report and "UTC" in report
         pdf = page.pdf(format="A4")
         assert (
