@@ -59,7 +59,11 @@ def main() -> int:
             wait_http(viewer + "api/graph", 60)
             with chromium_page(1280, 860) as page:
                 page.goto(dashboard)
-                page.fill("#patient", "Carlos")
+                page.wait_for_selector("body[data-ready=true]")
+                page.fill("#new-patient", "Carlos")  # the scenario's patient, as a record
+                page.click("#add-patient")
+                page.wait_for_function("document.getElementById('patient-id').value !== ''")
+                page.select_option("#test", "barthel")  # the scenario's test
                 page.click("#start")
                 page.wait_for_function(
                     "document.getElementById('live-item').textContent.includes('3/10')",
