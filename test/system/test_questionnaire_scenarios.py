@@ -64,3 +64,26 @@ def test_a_questionnaire_scenario_through_the_launch(scenario, tmp_path):
     )
     assert "RESULT" in run.stdout and definition.title in run.stdout
     assert stored["person_lost"] == any(truth.plan(k).leave is not None for k in definition.order)
+
+
+def test_pelea_drops_a_start_for_a_test_it_does_not_run_saying_so(ros):
+    from clarc_agents.pelea.high_to_low import request_start
+
+    from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
+
+    ros.procs.start_server(ros.tmp / "state", world=REPO / "worlds" / "clarc_room.json")
+    snapshot_via(ros.session, timeout=20)
+    ros.procs.start("pelea", ["pelea", "--ros-args", "-p", f"outbox_dir:={ros.tmp / 'outbox'}"])
+    log = ros.tmp / "pelea.log"
+    wait_for(lambda: "PELEA up" in log.read_text(errors="replace"), 30, "PELEA")
+    agent = agent_in_session(ros)
+    request = request_start("Ana", "2026-11-24T10:00:00+00:00", "moca")
+    assert send_and_wait(ros, agent, request).accepted
+    wait_for(
+        lambda: "requested_patient" not in agent.graph.node("test").attrs,
+        20,
+        "the Start dropped",
+        ros.session,
+    )
+    assert "no test 'moca' here (barthel, lawton, mmse, get_up_and_go); refused" in log.read_text()
+    assert agent.graph.node("test").attrs.get("status") != "running"

@@ -99,7 +99,11 @@ def test_a_whole_mmse_runs_and_waits_for_the_clinician_for_the_drawings():
     assert by["reading"] == (1, "camera", 1) and by["command"] == (3, "touch", 1)
     assert by["writing"] == (None, "touch", 1) and by["copying"] == (None, "touch", 1)
     assert all(by[k] == (MMSE_MAXIMA[k], "voice", 1) for k in list(MMSE_MAXIMA)[:7])
-    assert result["total"] == 28 and result["complete"] is False and result["band"] == "normal cognition"
+    assert (
+        result["total"] == 28
+        and result["complete"] is False
+        and result["band"] == "normal cognition"
+    )
     assert {i["item"]: i["max"] for i in result["items"]} == MMSE_MAXIMA
     drawings = [i for i in result["items"] if i["needs_clinician"]]
     assert all(i["drawing"].startswith("M ") for i in drawings)
@@ -211,7 +215,9 @@ def test_the_clinician_scores_a_drawing_until_the_result_is_validated(tmp_path):
     after = store.score(test_id, "writing", 1, "Dr. Ruiz")
     assert after["total"] == 29 and after["complete"] is False
     after = store.score(test_id, "copying", 0, "Dr. Ruiz")
-    assert after["total"] == 29 and after["complete"] is True and after["band"] == "normal cognition"
+    assert (
+        after["total"] == 29 and after["complete"] is True and after["band"] == "normal cognition"
+    )
     writing = next(i for i in after["items"] if i["item"] == "writing")
     assert writing["scored_by"] == "Dr. Ruiz" and writing["points"] == 1
     store.validate(test_id, "Dr. Ruiz")

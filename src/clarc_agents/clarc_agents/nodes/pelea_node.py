@@ -28,6 +28,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import definitions, topics
+from clarc_agents.pelea import high_to_low, low_to_high
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, place_values
@@ -94,6 +95,7 @@ class PeleaNode(DsrNode):
             for test in definitions.tests()
         ]
         self.executives.append(GugExecutive(self, times, self.get_logger()))
+        self._refused: set[tuple[str, Any]] = set()  # Starts for a test no executive runs
         self.outbox = Path(param(self, "outbox_dir"))
 
     def setup(self) -> None:
@@ -109,8 +111,26 @@ class PeleaNode(DsrNode):
     def _on_graph(self, deltas, resynced) -> None:
         # A Start request, a test to resume after a restart, and the test's course: all in the DSR.
         # Each executive takes the Starts of its own test; the one running refuses the others.
+        self._refuse_unknown_test()
         for executive in self.executives:
             executive.on_graph(self.dsr.graph)
+
+    def _refuse_unknown_test(self) -> None:
+        """A Start for a test none of the executives runs is dropped, saying so, rather than
+        left waiting for an executive that will never come."""
+        graph = self.dsr.graph
+        patient = low_to_high.start_request(graph)
+        if patient is None:
+            return
+        test = low_to_high.requested_test(graph)
+        request = (patient, graph.node("test").attrs.get("requested"))
+        if test in {e.KIND for e in self.executives} or request in self._refused:
+            return
+        self._refused.add(request)
+        kinds = ", ".join(e.KIND for e in self.executives)
+        self.get_logger().error(f"Start for {patient}: no test {test!r} here ({kinds}); refused")
+        self.event(event="error", message=f"unknown test {test!r}: Start refused")
+        self.dsr.send(high_to_low.refuse_start(graph, patient))
 
     # ------------------------------------------------------------------ the HLE's port
     def send(self, tx: dict[str, Any], on_done=None) -> None:
