@@ -44,6 +44,9 @@ def item_in(graph: Graph, key: str) -> Item | None:
         parts = node.attrs.get("parts", [])
         if not isinstance(parts, list):
             return None
+        numbers = [str(p).split("|")[0].lstrip("-") for p in parts]
+        if kind == "serial" and not (len(parts) >= 2 and all(n.isdigit() for n in numbers)):
+            return None  # not a serial subtraction's numbers: nothing to score against
         return Item(
             key,
             title,

@@ -273,7 +273,7 @@ def _items(source: str, node: Any) -> tuple[Item, ...]:
             raise _err(source, item_node, "an item is a mapping with key, title, question, options")
         kind_node = mapping(item_node).get("kind", (None, None))[1]
         kind = "choose" if kind_node is None else scalar(kind_node)
-        if kind not in KIND_KEYS:
+        if not isinstance(kind, str) or kind not in KIND_KEYS:
             raise _err(source, kind_node, f"an item's kind is one of {', '.join(KINDS)}")
         keys = COMMON_KEYS + KIND_KEYS[kind]
         optional = OPTIONAL_KEYS.get(kind, ()) + (("kind",) if kind == "choose" else ())
