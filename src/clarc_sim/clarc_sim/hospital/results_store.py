@@ -45,12 +45,13 @@ TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
 # data files: its results are unchanged for whoever reads them.
 ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts")}
-SCHEMA = """
-CREATE TABLE IF NOT EXISTS patients (
+PATIENTS = """CREATE TABLE IF NOT EXISTS patients (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     name TEXT NOT NULL,
     created TEXT NOT NULL
-);
+)"""
+SCHEMA = f"""
+{PATIENTS};
 CREATE TABLE IF NOT EXISTS tests (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     test TEXT NOT NULL DEFAULT 'barthel',
@@ -115,10 +116,7 @@ MIGRATIONS = {
         "ALTER TABLE tests ADD COLUMN validated_at TEXT",
     ],
     3: [
-        """CREATE TABLE patients (
-            id INTEGER PRIMARY KEY AUTOINCREMENT,
-            name TEXT NOT NULL,
-            created TEXT NOT NULL)""",
+        PATIENTS,
         "ALTER TABLE tests ADD COLUMN patient_id INTEGER REFERENCES patients(id)",
         """INSERT INTO patients (name, created)
             SELECT patient, MIN(stored) FROM tests GROUP BY patient ORDER BY MIN(id)""",
@@ -361,10 +359,7 @@ class ResultsStore:
             entry.update(points=points, scored_by=clinician, scored_at=when)
             result["total"] = sum(i["points"] for i in result["items"] if i["points"] is not None)
             result["band"] = definition.band(result["total"])
-            result["complete"] = all(
-                i["points"] is not None or not definition.item(i["item"]).needs_clinician
-                for i in result["items"]
-            )
+            result["complete"] = not waiting_for_clinician(definition, result["items"])
             if result.get("unanswered") and entry.get("via") is None:
                 result["unanswered"] = [k for k in result["unanswered"] if k != item]
             self.db.execute(
@@ -376,7 +371,7 @@ class ResultsStore:
                 "UPDATE items SET points = ? WHERE test_id = ? AND item = ?",
                 (points, test_id, item),
             )
-        return next(t for t in self.tests() if t["id"] == test_id)
+        return self.test(test_id)
 
     def validate(self, test_id: int, clinician: str, when: str | None = None) -> dict[str, str]:
         """The clinician validates a stored result: stored with their name and the time, once;
@@ -386,20 +381,15 @@ class ResultsStore:
             raise InvalidResult("a validation needs the clinician's name")
         when = when or datetime.now(UTC).isoformat(timespec="seconds")
         with self.db:
-            row = self.db.execute(
-                "SELECT validated_by, validated_at FROM tests WHERE id = ?", (test_id,)
-            ).fetchone()
-            if row is None:
-                raise UnknownTest(f"no test {test_id}")
-            if row[0] is not None:
-                raise AlreadyValidated(f"test {test_id} was validated by {row[0]} at {row[1]}")
-            waiting = [
-                i["item"]
-                for t in self.tests()
-                if t["id"] == test_id and not t.get("complete", True)
-                for i in t["items"]
-                if i["needs_clinician"] and i["points"] is None
-            ]
+            result = self.test(test_id)
+            if result["validated_by"] is not None:
+                raise AlreadyValidated(
+                    f"test {test_id} was validated by {result['validated_by']} at "
+                    f"{result['validated_at']}"
+                )
+            waiting = []
+            if result["test"] != TIMED:
+                waiting = waiting_for_clinician(definitions.load(result["test"]), result["items"])
             if waiting:
                 raise InvalidResult(f"test {test_id}: score {', '.join(waiting)} first")
             self.db.execute(
@@ -425,57 +415,14 @@ class ResultsStore:
 
     def tests(self) -> list[dict[str, Any]]:
         """Every stored test, oldest first, in the `clarc results --json` shape."""
-        out = []
-        for test_id, test, result_json, by, at, patient_id in self.db.execute(
-            "SELECT id, test, result_json, validated_by, validated_at, patient_id FROM tests"
-            " ORDER BY id"
-        ):
-            result = json.loads(result_json)
-            validation = {"validated_by": by, "validated_at": at, "patient_id": patient_id}
-            if test == "get_up_and_go":
-                out.append(
-                    {
-                        "id": test_id,
-                        "test": test,
-                        "patient": result["patient"],
-                        "started": result["started"],
-                        "finished": result.get("finished"),
-                        "tug_seconds": result["tug_seconds"],
-                        "phases": result["phases"],
-                        "band": result["band"],
-                        "fall_risk": result["fall_risk"],
-                        "trials": int(result.get("trials", 1)),
-                        "person_lost": bool(result.get("person_lost")),
-                        "person_lost_count": int(result.get("person_lost_count", 0)),
-                        **validation,
-                    }
-                )
-                continue
-            definition = definitions.load(test)
-            items = [_item_fields(definition, i) for i in result["items"]]
-            complete = all(i["points"] is not None for i in items if i["needs_clinician"])
-            if test in ITEM_FIELDS:
-                items = [{k: i[k] for k in ITEM_FIELDS[test]} for i in items]
-            out.append(
-                {
-                    "id": test_id,
-                    "test": test,
-                    "patient": result["patient"],
-                    "started": result["started"],
-                    "finished": result.get("finished"),
-                    "total": result["total"],
-                    "max_total": definition.max_total,
-                    "band": result["band"],
-                    "complete": complete,
-                    "items": items,
-                    "unanswered": result.get("unanswered", []),
-                    "clinician_called": bool(result.get("clinician_called")),
-                    "person_lost": bool(result.get("person_lost")),
-                    "person_lost_count": int(result.get("person_lost_count", 0)),
-                    **validation,
-                }
-            )
-        return out
+        return [_as_listed(row) for row in self.db.execute(f"{LISTED} ORDER BY id")]
+
+    def test(self, test_id: int) -> dict[str, Any]:
+        """One stored test, as ``tests`` lists it; ``UnknownTest`` if there is none."""
+        row = self.db.execute(f"{LISTED} WHERE id = ?", (test_id,)).fetchone()
+        if row is None:
+            raise UnknownTest(f"no test {test_id}")
+        return _as_listed(row)
 
     def notifications(self) -> list[dict[str, Any]]:
         return [
@@ -486,8 +433,66 @@ class ResultsStore:
         ]
 
 
+def waiting_for_clinician(definition, items: list[dict[str, Any]]) -> list[str]:
+    """The items of a result that wait for the clinician's score."""
+    return [
+        i["item"]
+        for i in items
+        if i["points"] is None and definition.item(i["item"]).needs_clinician
+    ]
+
+
 def _item_fields(definition, item: dict[str, Any]) -> dict[str, Any]:
     """An item of a stored result with its maximum and whether the clinician scores it (a
     result stored before items said so gets them from its definition)."""
     spec = definition.item(item["item"])
     return {"max": spec.max, "needs_clinician": spec.needs_clinician, **item}
+
+
+# what ``tests`` and ``test`` read of a stored test
+LISTED = "SELECT id, test, result_json, validated_by, validated_at, patient_id FROM tests"
+
+
+def _as_listed(row: tuple) -> dict[str, Any]:
+    """A stored test in the `clarc results --json` shape."""
+    test_id, test, result_json, by, at, patient_id = row
+    result = json.loads(result_json)
+    validation = {"validated_by": by, "validated_at": at, "patient_id": patient_id}
+    if test == TIMED:
+        return {
+            "id": test_id,
+            "test": test,
+            "patient": result["patient"],
+            "started": result["started"],
+            "finished": result.get("finished"),
+            "tug_seconds": result["tug_seconds"],
+            "phases": result["phases"],
+            "band": result["band"],
+            "fall_risk": result["fall_risk"],
+            "trials": int(result.get("trials", 1)),
+            "person_lost": bool(result.get("person_lost")),
+            "person_lost_count": int(result.get("person_lost_count", 0)),
+            **validation,
+        }
+    definition = definitions.load(test)
+    items = [_item_fields(definition, i) for i in result["items"]]
+    complete = not waiting_for_clinician(definition, items)
+    if test in ITEM_FIELDS:
+        items = [{k: i[k] for k in ITEM_FIELDS[test]} for i in items]
+    return {
+        "id": test_id,
+        "test": test,
+        "patient": result["patient"],
+        "started": result["started"],
+        "finished": result.get("finished"),
+        "total": result["total"],
+        "max_total": definition.max_total,
+        "band": result["band"],
+        "complete": complete,
+        "items": items,
+        "unanswered": result.get("unanswered", []),
+        "clinician_called": bool(result.get("clinician_called")),
+        "person_lost": bool(result.get("person_lost")),
+        "person_lost_count": int(result.get("person_lost_count", 0)),
+        **validation,
+    }
