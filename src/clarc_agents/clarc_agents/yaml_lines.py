@@ -36,3 +36,28 @@ def scalar(node: Any) -> Any:
 def mapping(node: Any) -> dict[str, tuple[Any, Any]]:
     """{key: (key node, value node)} of a mapping node."""
     return {scalar(k): (k, v) for k, v in node.value}
+
+
+def fields(
+    source: str,
+    node: Any,
+    keys: tuple[str, ...],
+    what: str,
+    optional: tuple[str, ...] = (),
+    error: type[Exception] = ScenarioError,
+) -> dict[str, tuple[Any, Any]]:
+    """A mapping node's fields, refusing a key it may not have or one of ``keys`` it lacks
+    (``what`` says where, e.g. "motion: ")."""
+    found = mapping(node)
+    for key, (key_node, _) in found.items():
+        if key not in keys + optional:
+            raise err(
+                source,
+                key_node,
+                f"{what}unknown key {key!r}; the keys are {', '.join(keys + optional)}",
+                error,
+            )
+    missing = [k for k in keys if k not in found]
+    if missing:
+        raise err(source, node, f"{what}missing {', '.join(missing)}", error)
+    return found

@@ -37,7 +37,7 @@ from typing import Any
 import yaml
 
 from clarc_agents.exceptions import DefinitionError
-from clarc_agents.yaml_lines import compose, err, mapping, scalar
+from clarc_agents.yaml_lines import compose, err, fields, mapping, scalar
 
 SENTENCES = ("greet", "explain", "goodbye")
 TOP = ("format", "version", "test", "title", "scoring", "sentences", "bands", "items")
@@ -231,19 +231,7 @@ def _err(source: str, node: Any, message: str) -> DefinitionError:
 def _fields(
     source: str, node: Any, keys: tuple[str, ...], what: str, optional: tuple[str, ...] = ()
 ) -> dict[str, tuple[Any, Any]]:
-    """A mapping's fields, refusing a key it may not have or one it lacks (``what``: where)."""
-    fields = mapping(node)
-    for key, (key_node, _) in fields.items():
-        if key not in keys + optional:
-            raise _err(
-                source,
-                key_node,
-                f"{what}unknown key {key!r}; the keys are {', '.join(keys + optional)}",
-            )
-    missing = [k for k in keys if k not in fields]
-    if missing:
-        raise _err(source, node, f"{what}missing {', '.join(missing)}")
-    return fields
+    return fields(source, node, keys, what, optional, DefinitionError)
 
 
 def _value(fields: dict[str, tuple[Any, Any]], key: str) -> Any:

@@ -57,7 +57,7 @@ import yaml
 from clarc_agents import definitions
 from clarc_agents.definitions import Definition
 from clarc_agents.exceptions import ScenarioError
-from clarc_agents.yaml_lines import compose
+from clarc_agents.yaml_lines import compose, fields
 from clarc_agents.yaml_lines import err as _err
 from clarc_agents.yaml_lines import scalar as _scalar
 from clarc_sim.patient.gait_motion import Motion
@@ -150,16 +150,10 @@ def _item(source: str, definition: Definition, item: str, node: Any) -> ItemPlan
     spec = definition.item(item)
     if not isinstance(node, yaml.MappingNode):
         raise _err(source, node, f"{item}: expected a mapping like {{answer: 10, via: voice}}")
-    values: dict[str, Any] = {}
-    for key_node, value_node in node.value:
-        key = _scalar(key_node)
-        if key not in ITEM_KEYS:
-            raise _err(
-                source,
-                key_node,
-                f"{item}: unknown key {key!r}; the keys are {', '.join(ITEM_KEYS)}",
-            )
-        values[key] = (_scalar(value_node), value_node)
+    values = {
+        key: (_scalar(value_node), value_node)
+        for key, (_, value_node) in fields(source, node, (), f"{item}: ", ITEM_KEYS).items()
+    }
     if "answer" in values and "points" in values:
         raise _err(source, node, f"{item}: answer and points are the same key; give one")
     via, via_node = values.get("via", (spec.via[0], node))
@@ -225,20 +219,11 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
             motion_node or root,
             f'"motion" maps {", ".join(MOTION_KEYS)} to seconds of the patient\'s time',
         )
-    seconds: dict[str, float] = {}
-    for key_node, value_node in motion_node.value:
-        key = _scalar(key_node)
-        if key not in MOTION_KEYS:
-            raise _err(
-                source,
-                key_node,
-                f"motion: unknown key {key!r}; the keys are {', '.join(MOTION_KEYS)}",
-            )
-        # a patient may start to rise as "go" ends; every movement takes some time
-        seconds[key] = _number(source, value_node, f"motion: {key}", positive=key != "reaction")
-    missing = [k for k in MOTION_KEYS if k not in seconds]
-    if missing:
-        raise _err(source, motion_node, f"motion: missing {', '.join(missing)}")
+    # a patient may start to rise as "go" ends; every movement takes some time
+    seconds = {
+        key: _number(source, value_node, f"motion: {key}", positive=key != "reaction")
+        for key, (_, value_node) in fields(source, motion_node, MOTION_KEYS, "motion: ").items()
+    }
     scenario = Scenario(patient.strip(), source=source, test="get_up_and_go")
     scenario.motion = Motion(**seconds)
     if "noise_mm" in values:
