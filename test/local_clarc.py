@@ -8,6 +8,7 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -237,14 +238,16 @@ class Robot:
         self.screen.append(content)
 
     # ------------------------------------------------------------------ the patient
+    @cached_property
     def definition(self):
-        """The test as the patient knows it: filled for the robot's today and its place."""
+        """The test as the patient knows it: filled for the robot's today (a test lasts minutes
+        of virtual time, within one day) and its place."""
         today = datetime.fromtimestamp(self.epoch()).date()
         return definitions.load(self.test).filled(orientation.values(today))
 
     def _maybe_leave(self, text: str) -> None:
         for item, seconds in self.patient.leaves.items():
-            position = self.definition().order.index(item) + 1
+            position = self.definition.order.index(item) + 1
             if text.startswith(f"Question {position} of") and item not in self.left:
                 self.left.add(item)
                 self.bus.after(0.5, lambda: self.person.signal("lost"))
@@ -255,7 +258,7 @@ class Robot:
         self.speech.listen(ctx)
         item = ctx["item"]
         self.windows[item] = self.windows.get(item, 0) + 1
-        spec = self.definition().item(item)
+        spec = self.definition.item(item)
         way = {"voice": "voice", "touch": "touch", "camera": "eyes"}[spec.via[0]]
         responses = self.patient.answers.get(item, [(way, spec.max)])
         response = responses[min(self.windows[item], len(responses)) - 1]
@@ -271,7 +274,7 @@ class Robot:
         elif response == "skip":
             self.speech.on_heard("skip this one please")
         else:
-            self._answer(self.definition().item(item), *response)
+            self._answer(self.definition.item(item), *response)
 
     def _answer(self, spec, way: str, points: int) -> None:
         graph = self.panel_link.graph
