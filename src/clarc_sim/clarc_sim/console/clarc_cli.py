@@ -17,7 +17,12 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.hospital.results_store import ResultsStore, default_db, tests_known
+from clarc_sim.hospital.results_store import (
+    ResultsStore,
+    default_db,
+    tests_known,
+    waiting_for_clinician,
+)
 from clarc_sim.patient.scenario import load
 from dsr_graph.cli.api import split_ros_args
 
@@ -56,10 +61,7 @@ def results(args: argparse.Namespace) -> int:
             if on
         ]
         definition = definitions.load(t["test"])
-        scored_later = {i.key for i in definition.items if i.needs_clinician}
-        waiting = [
-            i["item"] for i in t["items"] if i["item"] in scored_later and i["points"] is None
-        ]
+        waiting = waiting_for_clinician(definition, t["items"])
         if waiting:
             flags.append(f"the clinician scores {', '.join(waiting)}")
         title = definition.title
@@ -69,7 +71,7 @@ def results(args: argparse.Namespace) -> int:
         )
         for i in t["items"]:
             if i["points"] is None:
-                got = "drawn, to score" if i["via"] and i["item"] in scored_later else "unanswered"
+                got = "drawn, to score" if i["via"] and i["item"] in waiting else "unanswered"
             else:
                 got = f"{i['points']:>2}/{definition.item(i['item']).max} by {i['via']}"
             print(f"    {i['item']:<17} {got}  ({i['attempts']} tries)")
