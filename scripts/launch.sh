@@ -31,6 +31,7 @@
 #
 # See the results later: clarc results [--db PATH].
 set -euo pipefail
+umask 077  # logs, the run's DSR state, recordings and the results store hold patients' data
 # Started as a background job of a non-interactive shell, this script inherits SIGINT ignored,
 # and bash cannot trap a signal ignored at entry: restore its default so that Ctrl-C (SIGINT)
 # always stops the run cleanly.

@@ -16,6 +16,7 @@
 # Needs root (network namespaces). The namespaces, the link and every process are removed on
 # every exit, Ctrl-C included.
 set -euo pipefail
+umask 077  # the runs' logs and states hold patients' data
 if (( 0x$(awk '/^SigIgn/ {print $2}' /proc/$$/status) & 0x2 )); then
   exec env --default-signal=INT "$0" "$@"  # (see launch.sh: Ctrl-C must reach us)
 fi

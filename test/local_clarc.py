@@ -18,7 +18,9 @@ from clarc_agents.behaviours.panel import PanelBehaviour
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire import orientation
+from clarc_sim.hospital.results_store import InvalidResult, check_result
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.protocol.local_bus import LocalBus
@@ -62,7 +64,8 @@ EVERY_PATH = Patient(
 
 
 class Port:
-    """PELEA's Port on the bus; CGAmed's store can be made to fail ``store_failures`` times."""
+    """PELEA's Port on the bus; CGAmed's store can be made to fail ``store_failures`` times, and
+    refuses what the results store refuses (``check_result``) or anything while ``refuse``."""
 
     def __init__(self, robot: Robot, link, events=None, stored=None):
         self.robot = robot
@@ -71,6 +74,8 @@ class Port:
         self.notifications: list[str] = []
         self.stored: list[dict[str, Any]] = [] if stored is None else stored  # CGAmed's store
         self.store_failures = 0
+        self.refuse = ""  # CGAmed's answer: refused, with this reason
+        self.store_calls = 0
 
     def send(self, tx, on_done=None):
         self.link.send(tx, on_done)
@@ -86,14 +91,24 @@ class Port:
         self.notifications.append(message)
 
     def store_result(self, result, on_done):
+        self.store_calls += 1
+        if self.refuse:
+            self.robot.bus.soon(lambda: on_done(REFUSED, f"result refused: {self.refuse}"))
+            return
         if self.store_failures > 0:
             self.store_failures -= 1
-            self.robot.bus.soon(lambda: on_done(False, "CGAmed did not answer"))
+            self.robot.bus.soon(lambda: on_done(NOT_YET, "CGAmed did not answer"))
+            return
+        try:
+            check_result(result)
+        except InvalidResult as e:
+            error = f"result refused: {e}"
+            self.robot.bus.soon(lambda: on_done(REFUSED, error))
             return
         key = (result["patient"], result["started"])
         if key not in {(r["patient"], r["started"]) for r in self.stored}:  # stored once
             self.stored.append(result)
-        self.robot.bus.soon(lambda: None if self.link.closed else on_done(True, ""))
+        self.robot.bus.soon(lambda: None if self.link.closed else on_done(STORED, ""))
 
     def dsr_boot(self):
         return self.robot.dsr_boot

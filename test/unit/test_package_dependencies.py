@@ -17,6 +17,8 @@ ROSDEP = {
     "transforms3d": "python3-transforms3d",
     "yaml": "python3-yaml",
     "aiohttp": "python3-aiohttp",
+    "jsonschema": "python3-jsonschema",
+    "cryptography": "python3-cryptography",
 }
 ROS_PACKAGES = {
     "rclpy",

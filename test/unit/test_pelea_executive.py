@@ -2,6 +2,8 @@
 Panel and Person's real grammars and processes on a LocalBus (test/local_clarc.py), every
 deviation and the replan it causes, and its action table against the PDDL domain."""
 
+import contextlib
+
 import pytest
 from pyperplan.pddl.parser import Parser
 
@@ -9,6 +11,7 @@ from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.hle import HighLevelExecutive
+from dsr_graph.exceptions import TimedOutError
 
 from local_clarc import EVERY_PATH, Patient, Robot
 
@@ -128,12 +131,26 @@ def test_nobody_there_at_start_asks_to_sit_first():
     assert result["total"] == 100
 
 
-def test_a_result_cgamed_refused_is_sent_again_and_stored_once():
+def test_a_result_cgamed_did_not_answer_is_sent_again_and_stored_once():
     robot = Robot()
     robot.port.store_failures = 2
     result = robot.run_test()
     assert robot.port.stored == [result]
     assert [e["event"] for e in robot.port.events].count("finished") == 1
+
+
+def test_a_result_cgamed_refused_is_told_to_the_clinician_once_and_not_sent_again():
+    robot = Robot()
+    robot.port.refuse = "result.items[2]: 'attempts' is a required property"
+    robot.hle.start(robot.pelea_link.graph, "Carlos")
+    robot.bus.run(until=lambda: not robot.hle.running and robot.port.store_calls > 0, limit=3600)
+    with contextlib.suppress(TimedOutError):  # a minute more: nothing is sent again
+        robot.bus.run(limit=60)
+    assert robot.port.store_calls == 1 and robot.port.stored == []
+    [told] = [n for n in robot.port.notifications if "refused" in n]
+    assert "'attempts' is a required property" in told and "Carlos" in told
+    assert [e["event"] for e in robot.port.events].count("refused") == 1
+    assert robot.pelea_link.graph.node("test").attrs.get("status") == "finished"
 
 
 def test_a_second_start_while_running_is_ignored():

@@ -202,3 +202,28 @@ def test_a_request_on_an_unproven_topic_is_refused_keeping_its_id():
     result = core.unattributed('{"id": "x1", "ops": []}', Violation("identity", T, "two publish"))
     assert result.to_json()["id"] == "x1" and result.violation.rule == "identity"
     assert core.unattributed("not json", Violation("identity", T, "?")).id == ""
+
+
+@pytest.mark.parametrize(
+    ("agent", "target", "named"),
+    [
+        ("/intruder", {"node": "test"}, "no entry of policy names '/intruder'"),
+        ("/speech", {"node": "test"}, "may not claim node type 'test'"),
+        ("/pelea", {"from": "robot", "to": "speaking", "type": "is"}, "edge type 'is'"),
+        ("/clarc_start", {"from": "test", "to": "test_part"}, "edge type '(some type)'"),
+        ("/pelea", {"from": "robot", "to": "speaking"}, None),
+        ("/speech", {"from": "robot", "to": "speaking"}, None),
+        ("/pelea", {"node": "test_part"}, "node type 'test_part'"),
+    ],
+)
+def test_an_agent_may_claim_only_what_it_may_write(agent, target, named):
+    core = ServerCore(graph(), policy=Policy.from_doc(POLICY))
+    before = snapshot_text(core)
+    result = send(core, agent, [], claim=[target], lease=10)
+    if named is None:
+        assert not isinstance(result, Rejection), result.violation
+        assert result["claims"]["granted"][0]["agent"] == agent
+        return
+    assert isinstance(result, Rejection)
+    assert result.violation.rule == "policy" and named in str(result.violation)
+    assert snapshot_text(core) == before and core.claims.all() == []

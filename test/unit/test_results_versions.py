@@ -105,7 +105,7 @@ def test_a_get_up_and_go_result_is_stored_with_its_time_and_phases(tmp_path):
     [
         ({"band": "normal"}, "do not match"),
         ({"fall_risk": False}, "do not match"),
-        ({"tug_seconds": -3}, "positive number"),
+        ({"tug_seconds": -3}, "result.tug_seconds: -3 is less than or equal to the minimum of 0"),
         ({"phases": {"rise": 1.0}}, "rise, walk_out, turn, walk_back, sit"),
         ({"test": "tug"}, "unknown test 'tug'"),
     ],
@@ -161,3 +161,59 @@ def test_a_store_of_version_2_migrates_keeping_its_validations_and_gains_patient
         store.validate(2, "Dr. Gil")
     store.close()
     assert rows(path) == before  # every row as it was
+
+
+def barthel_result(**changes):
+    from clarc_agents.barthel.items import DEFINITION, ORDER
+    from clarc_agents.questionnaire.record import QuestionnaireRecord
+
+    r = QuestionnaireRecord(DEFINITION, "Carlos", "2026-11-24T10:00:00")
+    for k in ORDER:
+        r.answer(k, 0, "voice")
+        r.items[k].attempts = 1
+    doc = r.to_json()
+    doc.update(changes)
+    return doc
+
+
+@pytest.mark.parametrize(
+    "result, named",
+    [
+        (
+            barthel_result(
+                items=[
+                    {k: v for k, v in i.items() if k != "attempts"}
+                    for i in barthel_result()["items"]
+                ]
+            ),
+            "result.items[0]: 'attempts' is a required property",
+        ),
+        (
+            barthel_result(patient={"name": "Carlos"}),
+            "result.patient: {'name': 'Carlos'} is not of type 'string'",
+        ),
+        (barthel_result(patient=""), "result.patient: '' should be non-empty"),
+        (
+            barthel_result(forged=True),
+            "Additional properties are not allowed ('forged' was unexpected)",
+        ),
+        (barthel_result(total="0"), "result.total: '0' is not of type 'integer'"),
+        (gug(phases={**gug()["phases"], "rise": float("nan")}), "not finite"),
+        (gug(tug_seconds=float("inf")), "not finite"),
+        (gug(trials=0), "result.trials: 0 is less than the minimum of 1"),
+        ([1, 2], "a result is a JSON object"),
+    ],
+)
+def test_a_result_that_breaks_the_schema_is_refused_by_name_and_nothing_is_stored(
+    tmp_path, result, named
+):
+    store = ResultsStore(tmp_path / "cgamed.sqlite")
+    with pytest.raises(InvalidResult) as refused:
+        store.store(result)
+    assert named in str(refused.value)
+    assert store.tests() == [] and store.patients() == []
+
+
+def test_the_results_store_is_its_user_s_alone(tmp_path):
+    ResultsStore(tmp_path / "cgamed.sqlite").close()
+    assert (tmp_path / "cgamed.sqlite").stat().st_mode & 0o777 == 0o600

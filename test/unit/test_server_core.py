@@ -236,3 +236,43 @@ def test_a_restarted_server_still_knows_the_requests_it_accepted():
     assert [restarted.submit(t).duplicate_of for t in texts] == [d["seq"] for d in deltas]
     assert restarted.submit(insert("a:9", "m")).duplicate_of == 4
     assert restarted.seq == 4
+
+
+@pytest.mark.parametrize(
+    ("doc", "limit"),
+    [
+        (
+            {
+                "ops": [
+                    {"op": "set_node_attrs", "node": "robot", "attrs": {"n": i}} for i in range(4)
+                ]
+            },
+            "max_ops (3)",
+        ),
+        (
+            {"ops": [{"op": "insert_node", "name": f"n{i}", "type": "object"} for i in range(2)]},
+            "max_nodes (5)",
+        ),
+        ({"claim": [{"node": "robot"}], "lease": 301}, "max_lease (300.0 s)"),
+        (
+            {"ops": [{"op": "set_node_attrs", "node": "robot", "attrs": {"t": "é" * 6000}}]},
+            "max_request_bytes (10000)",
+        ),
+    ],
+)
+def test_server_limits_are_named_and_change_nothing(doc, limit):
+    c = core()
+    c.max_ops, c.max_nodes = 3, 5
+    before = json.dumps(c.snapshot(), sort_keys=True)
+    result = submit(c, {"agent": "/pelea", **doc})
+    assert isinstance(result, Rejection), result
+    assert limit in str(result.violation)
+    assert json.dumps(c.snapshot(), sort_keys=True) == before and c.seq == 0
+
+
+def test_an_infinite_lease_is_not_json_and_a_finite_one_within_the_limit_holds():
+    c = core()
+    text = '{"agent": "/pelea", "claim": [{"node": "robot"}], "lease": 1e309}'
+    assert "infinity" in str(c.submit(text, now=1.0).violation)
+    delta = submit(c, {"agent": "/pelea", "claim": [{"node": "robot"}], "lease": 300})
+    assert delta["claims"]["granted"][0]["expires"] == 400.0

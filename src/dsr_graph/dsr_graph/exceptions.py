@@ -98,3 +98,7 @@ class CorruptState(DsrError):
 
 class RecordingError(DsrError):
     """A file that is not a DSR recording (dsr record), or one that cannot be read."""
+
+
+class JsonRefused(DsrError, ValueError):
+    """A JSON text from outside was refused (too many bytes, too deep, NaN, a huge number)."""

@@ -31,8 +31,11 @@ from clarc_agents import definitions, topics
 from clarc_agents.pelea import high_to_low, low_to_high
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, place_values
 from dsr_graph.formats.default_paths import state_path
+from dsr_graph.formats.private_files import private_dir
+from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.formats.world_files import write_json_atomically
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -99,7 +102,7 @@ class PeleaNode(DsrNode):
         self.outbox = Path(param(self, "outbox_dir"))
 
     def setup(self) -> None:
-        self.outbox.mkdir(parents=True, exist_ok=True)
+        private_dir(self.outbox)
         self._events = self.create_publisher(String, topics.PELEA_EVENTS, qos_stream())
         self._notify = self.create_publisher(String, topics.CGAMED_NOTIFY, qos_stream())
         self._store = self.create_client(StoreResult, topics.CGAMED_STORE)
@@ -160,7 +163,7 @@ class PeleaNode(DsrNode):
     def now(self) -> str:
         return datetime.now(UTC).isoformat(timespec="milliseconds")
 
-    def store_result(self, result: dict[str, Any], on_done: Callable[[bool, str], None]) -> None:
+    def store_result(self, result: dict[str, Any], on_done: Callable[[str, str], None]) -> None:
         # Kept on disk until CGAmed acknowledges it: a crash of PELEA or CGAmed loses nothing.
         path = self.outbox / f"{result['patient']}-{result['started']}.json".replace(
             ":", ""
@@ -169,10 +172,10 @@ class PeleaNode(DsrNode):
         self._send_stored(path, result, on_done)
 
     def _send_stored(
-        self, path: Path, result: dict[str, Any], on_done: Callable[[bool, str], None]
+        self, path: Path, result: dict[str, Any], on_done: Callable[[str, str], None]
     ) -> None:
         if not self._store.service_is_ready():
-            on_done(False, "the CGAmed results service is not available")
+            on_done(NOT_YET, "the CGAmed results service is not available")
             return
         future = self._store.call_async(StoreResult.Request(result_json=json.dumps(result)))
         # An unanswered call (CGAmed restarting) is withdrawn and reported, so the HLE retries.
@@ -181,7 +184,7 @@ class PeleaNode(DsrNode):
             STORE_TIMEOUT,
             lambda: (
                 self._store.remove_pending_request(future),
-                on_done(False, f"no answer within {STORE_TIMEOUT} s"),
+                on_done(NOT_YET, f"no answer within {STORE_TIMEOUT} s"),
             ),
         )
 
@@ -192,26 +195,44 @@ class PeleaNode(DsrNode):
             try:
                 response = f.result()
             except Exception as e:  # noqa: BLE001 - any failure means: not stored, try again
-                on_done(False, repr(e))
+                on_done(NOT_YET, repr(e))
                 return
             if response.stored:
                 path.unlink(missing_ok=True)
                 self.get_logger().info(f"result stored in CGAmed as test {response.test_id}")
-            on_done(response.stored, response.error)
+                on_done(STORED, "")
+                return
+            # CGAmed read it and refused it: sending it again would be refused again. Kept
+            # aside (never lost), out of the outbox that is sent again at every start.
+            refused = self.outbox / "refused" / path.name
+            private_dir(refused.parent)
+            if path.exists():
+                path.replace(refused)
+            on_done(REFUSED, response.error)
 
         future.add_done_callback(answered)
 
     def _flush_outbox(self) -> None:
-        """Results left by an earlier run (crash before CGAmed answered) are sent again."""
+        """Results left by an earlier run (crash before CGAmed answered) are sent again; one
+        CGAmed refuses is moved to refused/ and the clinician told, once."""
         if any(executive.running for executive in self.executives):
             return
         for path in sorted(self.outbox.glob("*.json")):
             try:
-                result = json.loads(path.read_text())
+                result = loads_object(path.read_bytes(), None)
             except (OSError, ValueError) as e:
                 self.get_logger().error(f"unreadable result in the outbox {path}: {e}")
                 continue
-            self._send_stored(path, result, lambda ok, error: None)
+            self._send_stored(
+                path, result, lambda outcome, error, r=result: self._leftover(r, outcome, error)
+            )
+
+    def _leftover(self, result: dict[str, Any], outcome: str, error: str) -> None:
+        if outcome == REFUSED:
+            self.notify_clinician(
+                f"CGAmed refused the result of {result.get('patient')!r} started "
+                f"{result.get('started')}: {error}. It is kept in PELEA's outbox (refused/)."
+            )
 
 
 main = main_for(PeleaNode)

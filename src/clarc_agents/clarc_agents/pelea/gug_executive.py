@@ -23,6 +23,7 @@ from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
+from clarc_agents.pelea.result_delivery import STORED, deliver
 from clarc_agents.questionnaire.sentences import Sentence
 from dsr_graph.model.graph import Graph
 
@@ -260,25 +261,24 @@ class GugExecutive(HighLevelExecutive):
         token = self._token
         finished = self.port.now()
 
-        def stored(doc: dict[str, Any], ok: bool, error: str) -> None:
-            if token != self._token:
-                return
-            if not ok:  # the hospital server is down or refused: keep it and try again
-                self.log.warning(f"result not stored yet ({error}); retrying")
-                self._timer = self.port.after(
-                    self.times.store_retry,
-                    lambda: self.port.store_result(doc, lambda ok, e: stored(doc, ok, e)),
-                )
-                return
+        def ended(doc: dict[str, Any], outcome: str) -> None:
             self.port.send(high_to_low.finish_test(self.graph))
-            self.port.event(event="finished", result=doc)
+            self.port.event(event="finished" if outcome == STORED else "refused", result=doc)
             self._complete(token)
 
         def written(r) -> None:
             if token != self._token:
                 return
             doc = result(self.graph, self.record)
-            self.port.store_result(doc, lambda ok, error: stored(doc, ok, error))
+            deliver(
+                self.port,
+                doc,
+                self.times.store_retry,
+                self.log,
+                lambda: token == self._token,
+                lambda outcome: ended(doc, outcome),
+                self._set_timer,
+            )
 
         self.record.finished = finished
         self.port.send(high_to_low.record_test(finished=finished), written)

@@ -26,6 +26,7 @@ from clarc_agents import definitions
 from clarc_agents.definitions import Definition
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
+from clarc_agents.pelea.result_delivery import STORED, deliver
 from clarc_agents.questionnaire import orientation, sentences
 from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
@@ -114,8 +115,8 @@ class Port(Protocol):
     def after(self, seconds: float, callback: Callable[[], None]) -> Timer: ...
     def event(self, **fields: Any) -> None: ...
     def notify_clinician(self, message: str) -> None: ...
-    def store_result(
-        self, result: dict[str, Any], on_done: Callable[[bool, str], None]
+    def store_result(  # on_done(result_delivery.STORED | REFUSED | NOT_YET, error)
+        self, result: dict[str, Any], on_done: Callable[[str, str], None]
     ) -> None: ...
     def now(self) -> str: ...
     def epoch(self) -> float: ...  # seconds since the epoch, as the DSR's stamps
@@ -626,6 +627,9 @@ class HighLevelExecutive:
     def _say_goodbye(self, step: Step, item: str) -> None:
         self._say(sentences.goodbye(self.definition, self.record.patient))
 
+    def _set_timer(self, timer: Timer) -> None:
+        self._timer = timer
+
     def _store_result(self, step: Step) -> None:
         """The result, as the DSR holds it, to CGAmed (which stores a test once, however often
         it is sent); the test is finished in the DSR once CGAmed acknowledged it."""
@@ -643,20 +647,19 @@ class HighLevelExecutive:
                 return
             result = low_to_high.record(self.graph, self.definition).to_json()
             self.record.finished = finished
-            self.port.store_result(result, lambda ok, error: stored(result, ok, error))
+            deliver(
+                self.port,
+                result,
+                self.times.store_retry,
+                self.log,
+                lambda: token == self._token,
+                lambda outcome: ended(result, outcome),
+                self._set_timer,
+            )
 
-        def stored(result: dict[str, Any], ok: bool, error: str) -> None:
-            if token != self._token:
-                return
-            if not ok:  # the hospital server is down or refused: keep the result and try again
-                self.log.warning(f"result not stored yet ({error}); retrying")
-                self._timer = self.port.after(
-                    self.times.store_retry,
-                    lambda: self.port.store_result(result, lambda ok, e: stored(result, ok, e)),
-                )
-                return
+        def ended(result: dict[str, Any], outcome: str) -> None:
             self.port.send(high_to_low.finish_test(self.graph))
-            self.port.event(event="finished", result=result)
+            self.port.event(event="finished" if outcome == STORED else "refused", result=result)
             self._complete(token)
 
         self.port.send(high_to_low.record_test(finished=finished), written)

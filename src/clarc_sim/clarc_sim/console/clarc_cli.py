@@ -25,6 +25,7 @@ from clarc_sim.hospital.results_store import (
 )
 from clarc_sim.patient.scenario import load
 from dsr_graph.cli.api import split_ros_args
+from dsr_graph.formats.private_files import set_private_umask
 
 
 def now() -> str:
@@ -141,6 +142,7 @@ def start(args: argparse.Namespace) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    set_private_umask()  # the results store holds patients' data
     parser = argparse.ArgumentParser(
         prog="clarc", description="CLARC: the clinical test robot's tools"
     )

@@ -14,7 +14,7 @@ clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics (it wr
 
 from __future__ import annotations
 
-import json
+import sqlite3
 from datetime import UTC, datetime
 from typing import Any
 
@@ -26,6 +26,7 @@ from clarc_agents.exceptions import InvalidResult
 from clarc_agents.pelea.high_to_low import request_start
 from clarc_sim.hospital.dashboard_app import TestStatus, make_app
 from clarc_sim.hospital.results_store import ResultsStore, default_db
+from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
@@ -133,11 +134,16 @@ class CgamedStandIn(DsrNode):
 
     def on_store(self, request: StoreResult.Request, response: StoreResult.Response):
         try:
-            result = json.loads(request.result_json)
+            result = loads_object(request.result_json)
             response.test_id = self.store.store(result)
             response.stored = True
-        except (ValueError, InvalidResult) as e:
+        except (ValueError, InvalidResult) as e:  # nothing stored: each refusal named
             response.stored, response.error = False, f"result refused: {e}"
+            self.get_logger().warning(f"refused a result on {topics.CGAMED_STORE}: {e}")
+            return response
+        except sqlite3.Error as e:  # the store itself failed: not stored, PELEA sends it again
+            response.stored, response.error = False, f"the results store failed: {e}"
+            self.get_logger().error(response.error)
             return response
         if self.store.notified("result_stored", response.test_id):
             return response  # the same test sent again (PELEA or CGAmed restarted): stored once

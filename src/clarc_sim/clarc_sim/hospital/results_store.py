@@ -24,6 +24,7 @@ clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinic
 from __future__ import annotations
 
 import json
+import os
 import sqlite3
 from datetime import UTC, datetime
 from pathlib import Path
@@ -38,6 +39,7 @@ from clarc_agents.exceptions import (
 )
 from clarc_agents.gug.phases import PHASES, fall_risk
 from clarc_agents.gug.phases import band as gug_band
+from clarc_sim.hospital.result_schema import refusals
 from dsr_graph.formats.default_paths import data_path
 
 VERSION = 3
@@ -141,6 +143,13 @@ def check_result(result: Any) -> dict[str, Any]:
     test = result.get("test", "barthel")
     if test not in tests_known():
         raise InvalidResult(f"unknown test {test!r}; the tests are {', '.join(tests_known())}")
+    try:  # NaN and Infinity are not JSON: stored, they would break every reader of the store
+        json.dumps(result, allow_nan=False)
+    except ValueError:
+        raise InvalidResult("a number in the result is not finite (NaN or Infinity)") from None
+    broken = refusals(result, timed=test == TIMED)
+    if broken:
+        raise InvalidResult("; ".join(broken))
     if test == TIMED:
         return check_timed_result(result)
     for key in ("patient", "started", "items", "total", "band"):
@@ -224,6 +233,8 @@ class ResultsStore:
         self.path = str(path)
         Path(self.path).parent.mkdir(parents=True, exist_ok=True)
         self.db = sqlite3.connect(self.path, timeout=10, check_same_thread=not shared)
+        if self.path != ":memory:":  # patients' data: the file is its user's alone, even when an
+            os.chmod(self.path, 0o600)  # older version created it open
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=FULL")
         columns = [row[1] for row in self.db.execute("PRAGMA table_info(notifications)")]

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from dsr_graph.exceptions import CorruptState, StateDirLocked
+from dsr_graph.formats.private_files import private_dir
 from dsr_graph.formats.world_files import write_json_atomically
 
 log = logging.getLogger("dsr_graph.state_store")
@@ -69,7 +70,7 @@ class StateStore:
 
     # ------------------------------------------------------------------ lifetime
     def open(self) -> None:
-        self.dir.mkdir(parents=True, exist_ok=True)
+        private_dir(self.dir)  # the graph holds patients' names and answers
         self._lock_file = open(self.dir / LOCK, "a+")
         try:
             fcntl.flock(self._lock_file, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -10,6 +10,7 @@ from typing import Any, NamedTuple
 
 from dsr_graph.exceptions import FormatError, Violation, WorldLoadError
 from dsr_graph.formats import cortex, dsr_json
+from dsr_graph.formats.private_files import current_umask
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
@@ -74,9 +75,7 @@ def write_json_atomically(doc: Any, path: str | Path, indent: int | None = 2) ->
     """Write JSON so that a crash leaves either the old file or the new one, never half of one."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=str(path.parent or "."), prefix=f".{path.name}.", suffix=".tmp")
-    umask = os.umask(0)
-    os.umask(umask)
-    os.fchmod(fd, 0o666 & ~umask)  # mkstemp makes 0600; a world file is an ordinary file
+    os.fchmod(fd, 0o666 & ~current_umask())  # mkstemp makes 0600; the umask decides
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             json.dump(doc, f, indent=indent, separators=None if indent else (",", ":"))

@@ -30,6 +30,7 @@ from dsr_graph.model.vocabulary import RT
 
 VERSION = 1
 ANY = "*"
+SOME = "(some type)"  # claiming the edges of a pair that has none yet: any edge type allowed
 RULE_KEYS = {"name", "priority", "nodes", "edges", "attributes"}
 
 
@@ -43,7 +44,7 @@ class AgentRule:
 
     def may(self, kind: str, what: str) -> bool:
         allowed = getattr(self, kind)
-        return ANY in allowed or what in allowed
+        return ANY in allowed or what in allowed or (what == SOME and bool(allowed))
 
 
 class Policy:
@@ -83,6 +84,30 @@ class Policy:
                     f"{agent!r} may not write {_KIND_TEXT[kind]} {what!r} "
                     f"({self.source}: entry {rule.name!r} allows {_allowed(rule, kind)})",
                 )
+
+    def check_claims(self, graph: Graph, agent: str, targets: list[Any]) -> None:
+        """An agent may claim only what it may write: a node whose type it may write (insert
+        or delete), an edge whose type it may write, every edge between two nodes only when it
+        may write each type joining them now (and some edge type at all). ``TransactionRejected``
+        (rule ``policy``) for the first target it may not claim; malformed targets are left to
+        the claims' own check."""
+        if self is OPEN:
+            return
+        rule = self.rule_for(agent)
+        for i, target in enumerate(targets):
+            at = f"claim {i}"
+            if not isinstance(target, dict):
+                continue
+            if rule is None:
+                _refuse(agent, at, f"no entry of {self.source} names {agent!r}")
+            for kind, what in _claimed(graph, target):
+                if not rule.may(kind, what):
+                    _refuse(
+                        agent,
+                        at,
+                        f"{agent!r} may not claim {_KIND_TEXT[kind]} {what!r}: it may not write "
+                        f"it ({self.source}: entry {rule.name!r} allows {_allowed(rule, kind)})",
+                    )
 
     # ------------------------------------------------------------------ loading
     @classmethod
@@ -149,6 +174,21 @@ def observe_writes(seen: dict[str, dict[str, set[str]]], graph: Graph, delta: di
     for _i, _op, kind, what in _writes(graph, ops):
         mine[kind].add(what)
     apply_ops(graph, ops)
+
+
+def _claimed(graph: Graph, target: dict[str, Any]) -> list[tuple[str, str]]:
+    """What a claim target covers, as (kind, name) pairs the claimer's rule must allow."""
+    if set(target) == {"node"}:
+        node = graph.find(target["node"]) if isinstance(target["node"], str) else None
+        return [("nodes", node.type)] if node is not None else []
+    if "type" in target:
+        return [("edges", target["type"])] if isinstance(target["type"], str) else []
+    src, dst = target.get("from"), target.get("to")
+    if not (isinstance(src, str) and isinstance(dst, str)):
+        return []
+    a, b = graph.find(src), graph.find(dst)
+    joining = {e.type for e in graph.out_edges(a.id) if e.dst == b.id} if a and b else set()
+    return [("edges", t) for t in sorted(joining)] or [("edges", SOME)]
 
 
 def _writes(graph: Graph, ops: list[dict[str, Any]]):

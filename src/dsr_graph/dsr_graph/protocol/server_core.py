@@ -9,7 +9,6 @@ Delta (JSON, one per accepted transaction, in sequence order; see docs/FORMAT.md
 
 from __future__ import annotations
 
-import json
 import time
 from collections import OrderedDict
 from collections.abc import Iterable
@@ -17,7 +16,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from dsr_graph.exceptions import TransactionRejected, Violation
-from dsr_graph.formats import dsr_json, units
+from dsr_graph.formats import dsr_json, safe_json, units
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
@@ -26,7 +25,10 @@ from dsr_graph.model.transaction import apply_ops, parse_transaction
 SERVER_AGENT = "dsr_server"
 REMEMBERED_IDS = 100_000  # request ids kept in memory to recognise a request sent again
 SNAPSHOT_IDS = 2_000  # of them, kept in the persisted snapshot (the journal holds the rest)
-DEFAULT_MAX_REQUEST_BYTES = 4 * 1024 * 1024
+DEFAULT_MAX_REQUEST_BYTES = 4 * 1024 * 1024  # UTF-8 bytes
+DEFAULT_MAX_OPS = 10_000  # operations in one transaction
+DEFAULT_MAX_NODES = 1_000_000  # nodes in the graph
+DEFAULT_MAX_LEASE = 300.0  # seconds a claim may last before it must be taken again
 
 
 @dataclass
@@ -83,12 +85,18 @@ class ServerCore:
         claims: ClaimTable | None = None,
         max_request_bytes: int = DEFAULT_MAX_REQUEST_BYTES,
         policy: Policy = OPEN,
+        max_ops: int = DEFAULT_MAX_OPS,
+        max_nodes: int = DEFAULT_MAX_NODES,
+        max_lease: float = DEFAULT_MAX_LEASE,
     ):
         self.graph = graph
         self.policy = policy  # who may write what, and every claim's priority
         self.seq = seq
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
+        self.max_ops = max_ops
+        self.max_nodes = max_nodes
+        self.max_lease = max_lease
         # request id -> seq, for the most recent requests: a request sent again (the agent
         # did not hear the verdict, e.g. the server restarted) is answered, not applied twice
         self.accepted_ids: OrderedDict[str, int] = OrderedDict()
@@ -102,20 +110,7 @@ class ServerCore:
         now = time.time() if now is None else now
         ident, agent = "", sender or ""
         try:
-            if len(text) > self.max_request_bytes:
-                raise TransactionRejected(
-                    Violation(
-                        "too-large",
-                        "transaction",
-                        f"request of {len(text)} bytes exceeds {self.max_request_bytes}",
-                    )
-                )
-            try:
-                doc = json.loads(text)
-            except (json.JSONDecodeError, RecursionError) as e:
-                raise TransactionRejected(
-                    Violation("malformed", "transaction", f"not JSON: {e}")
-                ) from None
+            doc = self._read(text)
             ident = _id_of(doc)
             if isinstance(doc, dict):
                 if sender is None:
@@ -125,17 +120,29 @@ class ServerCore:
             return Rejection(ident, agent, e.violation, duplicate_of=e.seq)
         except TransactionRejected as e:
             return Rejection(ident, agent, e.violation)
-        except RecursionError:
-            return Rejection(
-                ident, agent, Violation("malformed", "transaction", "nested too deeply")
+
+    def _read(self, text: str | bytes) -> Any:
+        """The request's JSON (safe_json: bytes, depth, numbers bounded), or a rejection."""
+        size = len(text.encode("utf-8", "surrogatepass") if isinstance(text, str) else text)
+        if size > self.max_request_bytes:
+            raise TransactionRejected(
+                Violation(
+                    "too-large",
+                    "transaction",
+                    f"request of {size} bytes exceeds max_request_bytes ({self.max_request_bytes})",
+                )
             )
+        try:
+            return safe_json.loads(text, None)
+        except ValueError as e:
+            raise TransactionRejected(Violation("malformed", "transaction", str(e))) from None
 
     def unattributed(self, text: str, violation: Violation) -> Rejection:
         """The answer to a request whose sender cannot be proven: refused, its id kept (when it
         has one) so that the agent that sent it hears why."""
         try:
-            doc = json.loads(text) if len(text) <= self.max_request_bytes else None
-        except (ValueError, RecursionError):
+            doc = self._read(text)
+        except TransactionRejected:
             doc = None
         return Rejection(_id_of(doc), "", violation)
 
@@ -153,11 +160,13 @@ class ServerCore:
                 )
             doc = {**doc, "agent": sender}
         tx = parse_transaction(doc)
+        self._check_limits(tx)
         # a request's own priority is never trusted: it comes from the policy
         tx.priority = self.policy.priority_of(tx.agent)
         if tx.id and tx.id in self.accepted_ids:
             raise Duplicate(tx.id, self.accepted_ids[tx.id])
         self.policy.check(self.graph, tx.agent, tx.ops)
+        self.policy.check_claims(self.graph, tx.agent, tx.claim)
         claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
         for key in claim_keys:
             for name in [key[1]] if key[0] == "node" else [key[1], key[2]]:
@@ -182,6 +191,37 @@ class ServerCore:
 
         changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
         return self._commit(tx.agent, tx.id, canonical, changes, now)
+
+    def _check_limits(self, tx) -> None:
+        """The server's limits, each refusal naming the limit (the graph is not touched)."""
+        if len(tx.ops) > self.max_ops:
+            raise TransactionRejected(
+                Violation(
+                    "too-large",
+                    "transaction",
+                    f"{len(tx.ops)} operations exceed max_ops ({self.max_ops})",
+                )
+            )
+        if tx.lease is not None and not tx.lease <= self.max_lease:
+            raise TransactionRejected(
+                Violation(
+                    "lease",
+                    "transaction",
+                    f"a lease of {tx.lease} s exceeds max_lease ({self.max_lease} s)",
+                    "claim",
+                )
+            )
+        added = sum(op.get("op") == "insert_node" for op in tx.ops)
+        removed = sum(op.get("op") == "delete_node" for op in tx.ops)
+        if added > removed and len(self.graph) + added - removed > self.max_nodes:
+            raise TransactionRejected(
+                Violation(
+                    "too-large",
+                    "transaction",
+                    f"the graph would hold {len(self.graph) + added - removed} nodes, more than "
+                    f"max_nodes ({self.max_nodes})",
+                )
+            )
 
     def _claim_changes(
         self,

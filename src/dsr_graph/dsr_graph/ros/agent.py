@@ -22,15 +22,16 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
-import orjson
 from std_msgs.msg import String
 
 from dsr_graph.exceptions import TimedOutError
+from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Result
+from dsr_graph.ros.json_topics import READING_ERRORS
 from dsr_graph.ros.qos import qos_latched, qos_requests, qos_stream
 from dsr_msgs.srv import GetSnapshot
 
@@ -157,9 +158,9 @@ class DsrAgent:
     # ------------------------------------------------------------------ receiving
     def _on_delta(self, msg: String) -> None:
         try:
-            delta = json.loads(msg.data)
+            delta = loads_object(msg.data, None)
             applied = self.replica.receive(delta)
-        except (ValueError, KeyError, TypeError) as e:
+        except READING_ERRORS as e:
             self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
             return
         self._deliver(applied, resynced=False)
@@ -182,24 +183,24 @@ class DsrAgent:
 
     def _on_rejection(self, msg: String) -> None:
         try:
-            doc = json.loads(msg.data)
+            doc = loads_object(msg.data)
         except ValueError:
             return
         ident = doc.get("id", "")
-        if ident not in self._pending:
+        if not isinstance(ident, str) or ident not in self._pending:
             return
         self._unanswered.pop(ident, None)
         if isinstance(doc.get("duplicate_of"), int):  # an earlier send of it was accepted
             self._accepted_before[ident] = doc["duplicate_of"]
             self._deliver([], resynced=False)
             return
-        if ident in self._pending:
-            callback = self._pending.pop(ident)
-            rule = (doc.get("reason") or {}).get("rule")
-            if callback is None and rule in LOUD_RULES:  # a set-up mistake, not a lost race
-                self.node.get_logger().error(f"request {ident} refused: {doc.get('error', '')}")
-            if callback is not None:
-                callback(Result(ident, False, reason=doc.get("reason"), error=doc.get("error", "")))
+        callback = self._pending.pop(ident)
+        reason = doc.get("reason") if isinstance(doc.get("reason"), dict) else {}
+        error = doc.get("error") if isinstance(doc.get("error"), str) else ""
+        if callback is None and reason.get("rule") in LOUD_RULES:  # a set-up mistake, not a race
+            self.node.get_logger().error(f"request {ident} refused: {error}")
+        if callback is not None:
+            callback(Result(ident, False, reason=reason, error=error))
 
     @property
     def heard(self) -> float | None:
@@ -212,9 +213,9 @@ class DsrAgent:
             self.server_gap = (self._heard, now)  # a cut (or a dead server) ended
         self._heard = now
         try:
-            beat = json.loads(msg.data)
+            beat = loads_object(msg.data)
             self.replica.observe_server_seq(int(beat["seq"]))
-        except (ValueError, KeyError, TypeError):
+        except READING_ERRORS:
             return
         listed = beat.get("unreachable", [])
         listed = listed if isinstance(listed, list) else []
@@ -271,7 +272,7 @@ class DsrAgent:
         self._snapshot_future = None
         try:
             response = future.result()
-            applied = self.replica.load_snapshot(orjson.loads(response.snapshot_json))
+            applied = self.replica.load_snapshot(loads_object(response.snapshot_json, None))
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return

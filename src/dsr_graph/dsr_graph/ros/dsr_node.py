@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import os
 import sys
+import traceback
 from collections.abc import Callable
 
 import rclpy
@@ -25,6 +26,7 @@ from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
+from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros.parameters import check_required, help_text
 
 
@@ -51,8 +53,37 @@ class DsrNode(Node):
     def close(self) -> None:
         """Release what ``setup()`` took (files, locks); called once, also after a failure."""
 
+    # No input kills a node: a callback that raises on a message or a request (a bug the
+    # message revealed) is logged with its traceback, and the node goes on.
+    def create_subscription(self, msg_type, topic, callback, qos_profile, **kwargs):
+        def guarded(msg):
+            try:
+                callback(msg)
+            except Exception:
+                self.get_logger().error(
+                    f"internal error on a message on {topic} (ignored): {traceback.format_exc()}"
+                )
+
+        return super().create_subscription(msg_type, topic, guarded, qos_profile, **kwargs)
+
+    def create_service(self, srv_type, srv_name, callback, **kwargs):
+        def guarded(request, response):
+            try:
+                return callback(request, response)
+            except Exception as e:
+                self.get_logger().error(
+                    f"internal error on a request to {srv_name}: {traceback.format_exc()}"
+                )
+                response = srv_type.Response()
+                if hasattr(response, "error"):
+                    response.error = f"internal error (nothing changed): {e!r}"[:1000]
+                return response
+
+        return super().create_service(srv_type, srv_name, guarded, **kwargs)
+
 
 def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) -> int:
+    set_private_umask()  # whatever the node writes is its user's alone
     rclpy.init(args=args)
     node: DsrNode | None = None
     try:

@@ -1,9 +1,11 @@
 """Our device and event topics carry JSON objects in ``std_msgs/String``. A malformed message
-never kills a node: it is refused with one warning that names the topic and what is wrong."""
+never kills a node: it is refused with one warning that names the topic and what is wrong
+(read by ``formats/safe_json``: size in bytes, depth, NaN and huge numbers bounded)."""
 
 from __future__ import annotations
 
 import json
+import traceback
 from collections.abc import Callable
 from typing import Any
 
@@ -11,26 +13,36 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from std_msgs.msg import String
 
+from dsr_graph.formats.safe_json import DEFAULT_MAX_BYTES, loads_object
+
 MAX_QUOTED = 200  # characters of a bad message quoted in the warning
+# what a callback raises when a message does not have the shape it reads
+READING_ERRORS = (ValueError, KeyError, TypeError, AttributeError, IndexError)
 
 
 def subscribe_json(
-    node: Node, topic: str, callback: Callable[[dict[str, Any]], None], qos: QoSProfile
+    node: Node,
+    topic: str,
+    callback: Callable[[dict[str, Any]], None],
+    qos: QoSProfile,
+    max_bytes: int = DEFAULT_MAX_BYTES,
 ):
     """Subscribe ``callback(doc)`` to a topic of JSON objects. A message that is not a JSON
     object, or that the callback cannot read (a missing field, a wrong type: ``KeyError``,
-    ``TypeError``, ``ValueError``), is refused with a warning."""
+    ``TypeError``, ``ValueError``, ``AttributeError``, ``IndexError``), is refused with a
+    warning; any other exception is a bug, logged with its traceback, and the node goes on."""
 
     def on_message(msg: String) -> None:
         try:
-            doc = json.loads(msg.data)
-            if not isinstance(doc, dict):
-                raise ValueError(f"a JSON object was expected, got {type(doc).__name__}")
-            callback(doc)
-        except (ValueError, KeyError, TypeError) as e:
+            callback(loads_object(msg.data, max_bytes))
+        except READING_ERRORS as e:
             reason = f"missing field {e}" if isinstance(e, KeyError) else str(e)
             node.get_logger().warning(
                 f"ignored a message on {topic}: {reason}: {msg.data[:MAX_QUOTED]!r}"
+            )
+        except Exception:  # a bug must not let one message kill the node
+            node.get_logger().error(
+                f"internal error on a message on {topic} (ignored): {traceback.format_exc()}"
             )
 
     return node.create_subscription(String, topic, on_message, qos)

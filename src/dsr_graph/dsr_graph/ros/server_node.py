@@ -8,7 +8,10 @@ ROS Parameters:
     state_dir (str): where the state persists (default $XDG_STATE_HOME/dsr/<node name>);
         a second server on the same directory, or a corrupt one, exits 1 naming it.
     compact_every (int): journaled deltas between snapshots (default 1000).
-    max_request_bytes (int): larger requests are rejected (default 4 MiB).
+    max_request_bytes (int): requests of more UTF-8 bytes are rejected (default 4 MiB).
+    max_ops (int): transactions of more operations are rejected (default 10000).
+    max_nodes (int): a transaction that would grow the graph beyond it is rejected (1000000).
+    max_lease (float): longest claim lease in seconds; a longer one is rejected (default 300).
     publish_poses (bool): publish a PoseStamped per geometric node (default true).
     markers_period (float): seconds between checks for a changed graph to draw on dsr/markers
         (default 1.0; 0: no markers). Graphs above 1000 nodes are not drawn.
@@ -64,7 +67,14 @@ from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
-from dsr_graph.protocol.server_core import DEFAULT_MAX_REQUEST_BYTES, Rejection, ServerCore
+from dsr_graph.protocol.server_core import (
+    DEFAULT_MAX_LEASE,
+    DEFAULT_MAX_NODES,
+    DEFAULT_MAX_OPS,
+    DEFAULT_MAX_REQUEST_BYTES,
+    Rejection,
+    ServerCore,
+)
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
@@ -123,9 +133,33 @@ class DsrServer(DsrNode):
             node,
             "max_request_bytes",
             DEFAULT_MAX_REQUEST_BYTES,
-            "larger requests are rejected",
+            "requests of more UTF-8 bytes are rejected",
             read_only=True,
             minimum=1024,
+        )
+        declare(
+            node,
+            "max_ops",
+            DEFAULT_MAX_OPS,
+            "transactions of more operations are rejected",
+            read_only=True,
+            minimum=1,
+        )
+        declare(
+            node,
+            "max_nodes",
+            DEFAULT_MAX_NODES,
+            "a transaction that would grow the graph beyond this many nodes is rejected",
+            read_only=True,
+            minimum=1,
+        )
+        declare(
+            node,
+            "max_lease",
+            DEFAULT_MAX_LEASE,
+            "longest claim lease in seconds; a longer one is rejected",
+            read_only=True,
+            minimum=0.001,
         )
         declare(
             node,
@@ -215,8 +249,8 @@ class DsrServer(DsrNode):
                 snapshot,
                 self.store.replay_journal,
                 vocabulary,
-                max_request_bytes=param(self, "max_request_bytes"),
                 policy=policy,
+                **self._limits(),
             )
             if legacy:
                 self.store.write_snapshot(self.core.durable_snapshot())
@@ -239,9 +273,7 @@ class DsrServer(DsrNode):
                 for violation in world.violations:
                     self.get_logger().warning(f"world file: left out: {violation}")
                 graph = world.graph
-            self.core = ServerCore(
-                graph, 0, max_request_bytes=param(self, "max_request_bytes"), policy=policy
-            )
+            self.core = ServerCore(graph, 0, policy=policy, **self._limits())
             self.store.write_origin(origin)
             self.store.write_snapshot(self.core.durable_snapshot())
             self.get_logger().info(
@@ -269,6 +301,14 @@ class DsrServer(DsrNode):
                 if edge.type == RT:
                     self._publish_pose(self.core.graph.node(edge.dst).name)
         self.on_heartbeat()
+
+    def _limits(self) -> dict[str, Any]:
+        return {
+            "max_request_bytes": param(self, "max_request_bytes"),
+            "max_ops": param(self, "max_ops"),
+            "max_nodes": param(self, "max_nodes"),
+            "max_lease": float_param(self, "max_lease"),
+        }
 
     def close(self) -> None:
         if self.store is not None:
