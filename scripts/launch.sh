@@ -25,6 +25,9 @@
 #   --record FILE    record the run to an MCAP file (dsr record: the DSR from its first state,
 #                    /tf, markers, every device topic); open it with dsr view --replay FILE or
 #                    in Foxglove. The recorder starts before the robot and stops after it.
+#   --keystore DIR   sign the DSR's traffic with this keystore (dsr keystore init/add; every
+#                    node of the suite needs its key); default: a new one in the run's folder
+#   --security MODE  enforce (default), permissive or off (DSR_SECURITY; README "Who may do what")
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -49,6 +52,8 @@ viewer_port=8080
 dashboard_port=8081
 respawn=1
 record=""
+keystore=""
+security=enforce
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
@@ -64,6 +69,8 @@ while [ $# -gt 0 ]; do
     --dashboard-port) dashboard_port="$2"; shift 2 ;;
     --no-respawn) respawn=0; shift ;;
     --record) record=$(realpath -m "$2"); shift 2 ;;
+    --keystore) keystore=$(realpath -m "$2"); shift 2 ;;
+    --security) security="$2"; shift 2 ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -89,6 +96,23 @@ mkdir -p "$run/log"
 # Our own ROS domain unless the caller chose one, so two runs on one machine do not meet.
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
+
+case "$security" in enforce|permissive|off) ;;
+  *) echo "launch.sh: --security is enforce, permissive or off, not $security" >&2; exit 2 ;;
+esac
+# Signed DSR traffic: a keystore with a key for every node of the run (kept if given and there).
+export DSR_SECURITY="$security"
+if [ "$security" = off ]; then
+  unset DSR_KEYSTORE
+else
+  [ -n "$keystore" ] || keystore="$run/keystore"
+  dsr keystore init "$keystore" > /dev/null &&
+    dsr keystore add "$keystore" /tts /microphone /touchscreen /kinect /person /gait_analyser \
+      /speech /panel /pelea /patient /dsr_viewer /cgamed /clarc_monitor /dsr_recorder \
+      /clarc_start > /dev/null ||
+    { echo "[launch] could not make the keystore $keystore" >&2; exit 1; }
+  export DSR_KEYSTORE="$keystore"
+fi
 
 # Each node runs under a supervisor (a background subshell of this script) that restarts it
 # when it dies. $sup holds each node's current pid (<node>.pid: scripts/chaos.sh kills by it) and
@@ -194,6 +218,7 @@ start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run
 
 echo "[launch] $test_name test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
 echo "[launch] logs: $run/log; results store: $db"
+echo "[launch] DSR security: $security${DSR_KEYSTORE:+ (keystore $DSR_KEYSTORE)}"
 # The policy says who may write what (and with which claim priority); see docs/FORMAT.md.
 start dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" -p state_dir:="$run/dsr_state" \
   -p policy_file:="$root/src/clarc_bringup/policy/clarc.yaml"
@@ -225,7 +250,8 @@ since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
 if [ "$wait_start" = 1 ]; then
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
-  clarc start "$patient" --test "$test_kind" --timeout 60 >> "$run/log/start.log" 2>&1 ||
+  clarc start "$patient" --test "$test_kind" --timeout 60 --ros-args -r __node:=clarc_start \
+    >> "$run/log/start.log" 2>&1 ||
     { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 fi
 echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"

@@ -102,3 +102,11 @@ class RecordingError(DsrError):
 
 class JsonRefused(DsrError, ValueError):
     """A JSON text from outside was refused (too many bytes, too deep, NaN, a huge number)."""
+
+
+class SignatureRefused(DsrError, ValueError):
+    """A DSR message not signed, signed by someone unknown or not allowed, or changed since."""
+
+
+class KeystoreError(DsrError):
+    """A keystore that cannot be used (missing, malformed, a node without its key)."""

@@ -10,7 +10,12 @@ Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a 
 with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
 
 Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat. Publishers: dsr/transactions/<node
-name> (protocol/identity.py).
+name> (protocol/identity.py), dsr/alarms (a message the server did not sign, at most one per
+topic every 5 s).
+
+With DSR_KEYSTORE (protocol/security.py) the agent signs its requests with its node's key, and
+reads the deltas, rejections, heartbeats and snapshots only when the server's key signed them:
+under enforce anything else is dropped (logged, alarmed), under permissive only logged.
 Clients: dsr/get_snapshot.
 """
 
@@ -30,6 +35,7 @@ from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
+from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros.json_topics import READING_ERRORS
 from dsr_graph.ros.qos import qos_latched, qos_requests, qos_stream
@@ -74,11 +80,21 @@ class DsrAgent:
             0.0,
         )  # (seq, when it was reached): a replica still advancing is behind, not broken
         self.resyncs = 0
+        self.security = Security()
+        self.forged = 0  # messages dropped because the server did not sign them
 
     # ------------------------------------------------------------------ set-up
     def setup(self, node, timeout_sec: float = 10.0) -> None:
         self.node = node
         self.name = node.get_fully_qualified_name()
+        self.security = Security.from_environment(self.name)
+        if self.security.checks and self.security.signer is None:
+            node.get_logger().warning(
+                f"{self.security.mode}: the keystore {self.security.keystore.root} has no key "
+                f"for {self.name}, so the DSR server will refuse its requests (read-only; "
+                f"dsr keystore add {self.security.keystore.root} {self.name})"
+            )
+        self._alarm_pub = node.create_publisher(String, topic_names.ALARMS, qos_stream())
         # a request topic of our own: the server knows who we are from the ROS graph
         self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_requests())
         self._delta_sub = node.create_subscription(
@@ -132,7 +148,7 @@ class DsrAgent:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         doc.setdefault("id", self.next_id())
-        text = json.dumps(doc)
+        text = self.security.sign(topic_names.TRANSACTIONS, json.dumps(doc))
         self._pending[doc["id"]] = on_done
         self._unanswered[doc["id"]] = (text, time.monotonic())
         self._outbox.append(text)
@@ -156,9 +172,30 @@ class DsrAgent:
             self._outbox.clear()
 
     # ------------------------------------------------------------------ receiving
+    def _from_server(self, channel: str, text: str) -> str | None:
+        """The text of a message the server signed (or any, with security off); None: drop it."""
+        opened, problem = self.security.from_server(channel, text)
+        if problem:
+            self._forged_message(channel, problem, dropped=opened is None)
+        return opened
+
+    def _forged_message(self, channel: str, problem: str, dropped: bool) -> None:
+        self.forged += dropped
+        if not self.security.should_alarm((channel, problem), time.monotonic()):
+            return
+        verdict = "dropped" if dropped else "taken (permissive)"
+        self.node.get_logger().error(f"a message the DSR server did not sign, {verdict}: {problem}")
+        alarm = {"kind": "signature", "topic": channel, "node": self.name, "message": problem}
+        self._alarm_pub.publish(
+            String(data=self.security.sign(topic_names.ALARMS, json.dumps(alarm)))
+        )
+
     def _on_delta(self, msg: String) -> None:
+        text = self._from_server(topic_names.DELTAS, msg.data)
+        if text is None:
+            return
         try:
-            delta = loads_object(msg.data, None)
+            delta = loads_object(text, None)
             applied = self.replica.receive(delta)
         except READING_ERRORS as e:
             self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
@@ -182,8 +219,11 @@ class DsrAgent:
                     callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
 
     def _on_rejection(self, msg: String) -> None:
+        text = self._from_server(topic_names.REJECTIONS, msg.data)
+        if text is None:
+            return
         try:
-            doc = loads_object(msg.data)
+            doc = loads_object(text)
         except ValueError:
             return
         ident = doc.get("id", "")
@@ -208,12 +248,15 @@ class DsrAgent:
         return self._heard
 
     def _on_heartbeat(self, msg: String) -> None:
+        text = self._from_server(topic_names.HEARTBEAT, msg.data)
+        if text is None:
+            return  # a forged heartbeat must not make a dead server look alive
         now = time.monotonic()
         if self._heard is not None and now - self._heard > SERVER_SILENCE:
             self.server_gap = (self._heard, now)  # a cut (or a dead server) ended
         self._heard = now
         try:
-            beat = loads_object(msg.data)
+            beat = loads_object(text)
             self.replica.observe_server_seq(int(beat["seq"]))
         except READING_ERRORS:
             return
@@ -272,7 +315,10 @@ class DsrAgent:
         self._snapshot_future = None
         try:
             response = future.result()
-            applied = self.replica.load_snapshot(loads_object(response.snapshot_json, None))
+            text = self._from_server(topic_names.GET_SNAPSHOT, response.snapshot_json)
+            if text is None:
+                return  # not the server's: the tick asks again
+            applied = self.replica.load_snapshot(loads_object(text, None))
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return

@@ -26,6 +26,7 @@ HOLD = 3.0
 STRING = "std_msgs/msg/String"
 
 Batch = Callable[[list[str], Sender, str], None]  # (request texts, sender verdict, topic)
+NO_VERDICT = Sender(None, "the ROS graph is not asked: requests must be signed")
 
 
 class RequestTopics:
@@ -35,8 +36,11 @@ class RequestTopics:
         on_batch: Batch,
         discovery_period: float = 0.2,
         on_presence: Callable[[], None] = lambda: None,
+        trust_graph: bool = True,
     ):
         self.node = node
+        self.trust_graph = trust_graph  # False: requests are signed, no verdict is waited for
+        self.signers: dict[str, str] = {}  # topic -> the agent whose signed requests came on it
         self.on_batch = on_batch
         self.presence = Presence()
         self.on_presence = on_presence
@@ -90,7 +94,7 @@ class RequestTopics:
 
     def _on_liveliness(self, topic: str, info) -> None:
         owner = self._subs[topic][1]
-        agent = self.sender(topic).agent or f"/{owner}"
+        agent = self.signers.get(topic) or self.sender(topic).agent or f"/{owner}"
         self.presence.observe(topic, agent, info.alive_count, info.not_alive_count)
         self.on_presence()
 
@@ -110,6 +114,9 @@ class RequestTopics:
         self._deliver(topic, texts, time.monotonic())
 
     def _deliver(self, topic: str, texts: list[str], since: float) -> None:
+        if not self.trust_graph:
+            self.on_batch(texts, NO_VERDICT, topic)
+            return
         verdict = self.sender(topic)
         if verdict.pending and time.monotonic() - since < HOLD:
             self._held[topic] = (since, texts)
@@ -120,6 +127,24 @@ class RequestTopics:
     def _release_held(self) -> None:
         for topic, (since, texts) in list(self._held.items()):
             self._deliver(topic, texts, since)
+
+    def owner_of(self, topic: str) -> str | None:
+        """The node name a per-agent request topic belongs to (None: the shared topic)."""
+        return self._subs[topic][1]
+
+    def strangers(self, topic: str) -> tuple[str, ...]:
+        """The nodes the ROS graph shows publishing on ``topic`` that are not its owner (for an
+        alarm: a hint, not a proof)."""
+        owner = self.owner_of(topic)
+        return tuple(
+            sorted(
+                {
+                    f"{info.node_namespace.rstrip('/')}/{info.node_name}"
+                    for info in self.node.get_publishers_info_by_topic(topic)
+                    if info.node_name != owner
+                }
+            )
+        )
 
     def sender(self, topic: str) -> Sender:
         sub, owner = self._subs[topic]

@@ -57,7 +57,7 @@ from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from dsr_graph.exceptions import StateMismatch, Violation
+from dsr_graph.exceptions import KeystoreError, StateMismatch, Violation
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
@@ -67,6 +67,7 @@ from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
+from dsr_graph.protocol.security import ENFORCE, OFF, Security
 from dsr_graph.protocol.server_core import (
     DEFAULT_MAX_LEASE,
     DEFAULT_MAX_NODES,
@@ -75,6 +76,7 @@ from dsr_graph.protocol.server_core import (
     Rejection,
     ServerCore,
 )
+from dsr_graph.protocol.signing import Verified
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
@@ -206,12 +208,13 @@ class DsrServer(DsrNode):
         self._pose_pubs: dict[str, Any] = {}
         self._snapshot_cache = (-1, "")
         self._missing_since: dict[str, float] = {}
-        self._alarmed: dict[tuple[str, tuple[str, ...]], float] = {}  # (topic, intruders) -> when
+        self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
 
     # ------------------------------------------------------------------ start
     def setup(self) -> None:
         """Load the state (or the world), then open the topics and services."""
+        self.security = self._security()
         vocabulary = Vocabulary.load(param(self, "vocabulary_file"))
         policy = Policy.load(param(self, "policy_file")) if param(self, "policy_file") else OPEN
         if policy is OPEN:
@@ -285,7 +288,14 @@ class DsrServer(DsrNode):
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
         self._alarms = self.create_publisher(String, topic_names.ALARMS, qos_stream())
-        self.requests = RequestTopics(self, self.on_requests, on_presence=self.on_presence)
+        self.requests = RequestTopics(
+            self,
+            self.on_requests,
+            on_presence=self.on_presence,
+            # signed requests prove their sender: the ROS graph's word is not needed (nor held
+            # for: a participant found again after a cut may come back without its name)
+            trust_graph=self.security.mode != ENFORCE,
+        )
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
@@ -302,6 +312,35 @@ class DsrServer(DsrNode):
                     self._publish_pose(self.core.graph.node(edge.dst).name)
         self.on_heartbeat()
 
+    def _security(self) -> Security:
+        me = self.get_fully_qualified_name()
+        security = Security.from_environment(me)
+        if security.mode == OFF:
+            self.get_logger().warning(
+                "DSR security off (no DSR_KEYSTORE): any process on the ROS domain can take a "
+                "stopped agent's name and publish on the DSR's topics"
+            )
+            return security
+        if security.server != me:
+            raise KeystoreError(
+                f"the keystore {security.keystore.root} is for the server {security.server!r}; "
+                f"this server is {me!r}"
+            )
+        if security.signer is None:
+            raise KeystoreError(
+                f"the keystore {security.keystore.root} has no key for {me}: "
+                f"dsr keystore init {security.keystore.root}"
+            )
+        self.get_logger().info(
+            f"DSR security {security.mode}: keystore {security.keystore.root}, "
+            f"{len(security.verifier.keys)} keys; every message of the server signed"
+        )
+        return security
+
+    def _publish(self, publisher, channel: str, doc: dict[str, Any]) -> None:
+        text = json.dumps(doc, separators=(",", ":"))
+        publisher.publish(String(data=self.security.sign(channel, text)))
+
     def _limits(self) -> dict[str, Any]:
         return {
             "max_request_bytes": param(self, "max_request_bytes"),
@@ -317,22 +356,19 @@ class DsrServer(DsrNode):
     # ------------------------------------------------------------------ transactions
     def on_requests(self, texts: list[str], sender: Sender, topic: str) -> None:
         """A batch of requests from one topic (one fdatasync covers the accepted ones)."""
-        if sender.agent is None:
-            self._alarm(topic, sender)
         accepted = []
         for text in texts:
             try:
-                if sender.agent is None:
-                    result = self.core.unattributed(
-                        text, Violation("identity", topic, sender.problem)
-                    )
+                agent, refusal, payload = self._attribute(text, sender, topic)
+                if agent is None:
+                    result = self.core.unattributed(payload, refusal)
                 else:
-                    result = self.core.submit(text, sender=sender.agent)
+                    result = self.core.submit(payload, sender=agent)
             except Exception as e:  # a bug must not take the server down with it
                 self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
                 continue
             if isinstance(result, Rejection):
-                self._rejections.publish(String(data=json.dumps(result.to_json())))
+                self._publish(self._rejections, topic_names.REJECTIONS, result.to_json())
                 self.get_logger().debug(
                     f"rejected {result.id or '?'} from {result.agent or '?'}: {result.violation}"
                 )
@@ -341,20 +377,46 @@ class DsrServer(DsrNode):
         if accepted:
             self._accept(accepted)
 
-    def _alarm(self, topic: str, sender: Sender) -> None:
-        key = (topic, sender.intruders)
+    def _attribute(self, text: str, sender: Sender, topic: str):
+        """(the agent a request is from or None, the refusal if None, the request's text).
+        Signed: the signer, who must be the topic's owner; unsigned or forged: refused under
+        enforce, the ROS graph's word (with a warning) under permissive or off."""
+        if self.security.mode != OFF:
+            signed = self.security.request(text)
+            owner = self.requests.owner_of(topic)
+            if isinstance(signed, Verified):
+                if owner is None or signed.signer.rsplit("/", 1)[-1] == owner:
+                    if owner is not None:
+                        self.requests.signers[topic] = signed.signer
+                    return signed.signer, None, signed.payload
+                problem = f"signed by {signed.signer}, but published on {owner!r}'s topic"
+                self._alarm(topic, "identity", problem, (signed.signer,))
+                return None, Violation("identity", topic, problem), signed.payload
+            problem = f"a request on {topic} is refused: {signed}"
+            if self.security.mode == ENFORCE:
+                self._alarm(topic, "signature", problem, self.requests.strangers(topic))
+                return None, Violation("signature", topic, problem), text
+            self._alarm(topic, "signature", problem, (), refused=False)
+        if sender.agent is None:
+            self._alarm(topic, "identity", sender.problem, sender.intruders)
+            return None, Violation("identity", topic, sender.problem), text
+        return sender.agent, None, text
+
+    def _alarm(
+        self, topic: str, kind: str, message: str, intruders: tuple[str, ...], refused=True
+    ) -> None:
+        """Logged and sent on dsr/alarms, at most every ALARM_EVERY s per topic and cause."""
+        key = (topic, kind, intruders)
         now = time.monotonic()
         if now - self._alarmed.get(key, -ALARM_EVERY) < ALARM_EVERY:
             return
         self._alarmed[key] = now
-        self.get_logger().error(f"refusing requests on {topic}: {sender.problem}")
-        alarm = {
-            "kind": "identity",
-            "topic": topic,
-            "intruders": list(sender.intruders),
-            "message": sender.problem,
-        }
-        self._alarms.publish(String(data=json.dumps(alarm)))
+        if refused:
+            self.get_logger().error(f"refusing requests on {topic}: {message}")
+        else:
+            self.get_logger().warning(f"taking requests on {topic} (permissive): {message}")
+        alarm = {"kind": kind, "topic": topic, "intruders": list(intruders), "message": message}
+        self._publish(self._alarms, topic_names.ALARMS, alarm)
 
     def _accept(self, deltas: list[dict[str, Any]]) -> None:
         """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
@@ -369,7 +431,7 @@ class DsrServer(DsrNode):
             )
             raise SystemExit(3) from e
         for delta in deltas:
-            self._deltas.publish(String(data=json.dumps(delta, separators=(",", ":"))))
+            self._publish(self._deltas, topic_names.DELTAS, delta)
             self._tf.on_delta(self.core.graph, delta)
             if self._publish_poses:
                 for name in moved_nodes(delta):
@@ -439,7 +501,7 @@ class DsrServer(DsrNode):
             "boot": self._boot,
             "unreachable": self.requests.presence.away,
         }
-        self._heartbeat.publish(String(data=json.dumps(beat)))
+        self._publish(self._heartbeat, topic_names.HEARTBEAT, beat)
 
     def _check_presence(self, now: float):
         """The claims of agents out of reach end (protocol/presence.py): a delta, or None."""
@@ -495,7 +557,11 @@ class DsrServer(DsrNode):
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
         # Late joiners often come together (a launch): encode a seq's snapshot once.
         if self._snapshot_cache[0] != self.core.seq:
-            self._snapshot_cache = (self.core.seq, orjson.dumps(self.core.snapshot()).decode())
+            text = orjson.dumps(self.core.snapshot()).decode()
+            self._snapshot_cache = (
+                self.core.seq,
+                self.security.sign(topic_names.GET_SNAPSHOT, text),
+            )
         response.seq, response.snapshot_json = self._snapshot_cache
         return response
 

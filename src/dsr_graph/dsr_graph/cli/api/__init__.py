@@ -4,7 +4,6 @@ fetching the live graph (the only helper that needs ROS, imported when called)."
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from dsr_graph.exceptions import DsrError
@@ -57,15 +56,21 @@ def split_ros_args(argv: list[str]) -> tuple[list[str], list[str]]:
 
 
 def fetch_snapshot(timeout: float, ros_args: list[str] | None = None) -> dict:
+    from dsr_graph.exceptions import SignatureRefused
+    from dsr_graph.formats.safe_json import loads_object
+    from dsr_graph.protocol.security import Security
     from dsr_graph.protocol.topic_names import GET_SNAPSHOT
     from dsr_graph.ros.session import RosSession
     from dsr_msgs.srv import GetSnapshot
 
     with RosSession(ros_args=ros_args) as ros:
+        security = Security.from_environment(ros.node.get_fully_qualified_name())
         client = ros.node.create_client(GetSnapshot, GET_SNAPSHOT)
-        return json.loads(
-            ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json
-        )
+        text = ros.call(client, GetSnapshot.Request(), timeout, "the snapshot").snapshot_json
+        opened, problem = security.from_server(GET_SNAPSHOT, text)
+        if opened is None:
+            raise SignatureRefused(f"the snapshot was not the DSR server's: {problem}")
+        return loads_object(opened, None)
 
 
 __all__ = [
