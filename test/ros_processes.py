@@ -57,13 +57,13 @@ class Processes:
             args += ["-p", f"{key}:={value}"]
         return self.start(name, args)
 
-    def run(self, *argv, timeout=30, input=None):
-        """Run a command to completion (e.g. `dsr apply`), bounded."""
+    def run(self, *argv, timeout=30, input=None, **env):
+        """Run a command to completion (e.g. `dsr apply`), bounded; ``env``: more variables."""
         return subprocess.run(
             [shutil.which(argv[0]), *map(str, argv[1:])],
             capture_output=True,
             text=True,
-            env=self.env(),
+            env=self.env(**env),
             timeout=timeout,
             input=input,
         )
@@ -110,13 +110,15 @@ def wait_for(predicate, timeout, what, session=None):
 
 
 def snapshot_via(session, timeout=15):
+    """The server's snapshot, without its signature (when it signs)."""
+    from dsr_graph.protocol.signing import MARK
     from dsr_msgs.srv import GetSnapshot
 
     client = session.node.create_client(GetSnapshot, "dsr/get_snapshot")
     try:
-        return json.loads(
-            session.call(client, GetSnapshot.Request(), timeout, "a snapshot").snapshot_json
-        )
+        text = session.call(client, GetSnapshot.Request(), timeout, "a snapshot").snapshot_json
+        cut = text.rfind(MARK)
+        return json.loads(text if cut < 0 else text[:cut] + "}")
     finally:
         session.node.destroy_client(client)
 
