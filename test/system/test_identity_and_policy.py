@@ -1,14 +1,20 @@
 """Who writes what, through the real topics: a node cannot write as another running node, a
 write outside the policy is refused with the graph unchanged, and hostile requests on a real
-request topic leave the server up and the graph as it was."""
+request topic leave the server up and the graph as it was. Each test runs twice: with DSR
+security off (identity from the ROS graph) and enforced (DSR_KEYSTORE: identity from
+signatures; this test's own requests signed with its node's key)."""
 
 import json
 import math
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from std_msgs.msg import String
+
+from dsr_graph.formats.keystore import Keystore
+from dsr_graph.protocol.security import Security
 
 from ros_processes import snapshot_via, wait_for
 
@@ -21,6 +27,19 @@ agents:
     priority: 1
     attributes: [text]
 """
+
+
+@pytest.fixture(params=["off", "enforce"], autouse=True)
+def security(request, tmp_path, monkeypatch):
+    if request.param == "enforce":
+        keystore, _ = Keystore.init(tmp_path / "keystore")
+        for name in ("/test_client", "/speech", "/writer"):
+            keystore.add(name)
+        monkeypatch.setenv("DSR_KEYSTORE", str(keystore.root))
+    else:
+        monkeypatch.delenv("DSR_KEYSTORE", raising=False)
+    monkeypatch.setenv("DSR_SECURITY", request.param)
+    return request.param
 
 
 def canonical(doc):
@@ -36,6 +55,7 @@ class Requests:
 
         self.ros = ros
         node = ros.session.node
+        self.security = Security.from_environment(node.get_fully_qualified_name())
         self.verdicts = {}
         self.alarms = []
         node.create_subscription(String, "dsr/deltas", self._verdict, qos_stream())
@@ -56,13 +76,21 @@ class Requests:
         )
 
     def _verdict(self, msg):
-        doc = json.loads(msg.data)
+        doc = json.loads(msg.data)  # (a signature member, if any, is one more field)
         if doc.get("id"):
             self.verdicts[doc["id"]] = doc
 
+    def publish(self, text):
+        """Signed with this test's key when the suite runs enforced (and the text can be)."""
+        try:
+            text = self.security.sign("dsr/transactions", text)
+        except ValueError:
+            pass  # not a JSON object's text: sent as it is (and refused as not signed)
+        self.pub.publish(String(data=text))
+
     def send(self, doc_or_text, ident, timeout=10):
         text = doc_or_text if isinstance(doc_or_text, str) else json.dumps(doc_or_text)
-        self.pub.publish(String(data=text))
+        self.publish(text)
         wait_for(lambda: ident in self.verdicts, timeout, f"a verdict on {ident}", self.ros.session)
         return self.verdicts[ident]
 
@@ -223,9 +251,7 @@ def test_hostile_requests_leave_the_server_up_and_the_graph_unchanged(ros):
             text = json.dumps({**doc, "id": ident}, allow_nan=True, ensure_ascii=False)
         else:  # not an object: the server cannot read an id from it; a marker follows
             text = doc if isinstance(doc, str) else json.dumps(doc, allow_nan=True)
-        requests.pub.publish(
-            String(data=text.encode("utf-8", "surrogatepass").decode("utf-8", "replace"))
-        )
+        requests.publish(text.encode("utf-8", "surrogatepass").decode("utf-8", "replace"))
         marker = f"m{ident}"
         verdict = requests.send(
             {"id": marker, "ops": [{"op": "delete_node", "node": "nobody"}]}, marker
