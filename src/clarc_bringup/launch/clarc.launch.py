@@ -2,7 +2,8 @@
 
     ros2 launch clarc_bringup clarc.launch.py [scenario:=FILE] [time_scale:=0.1] [start:=true]
         [state_dir:=DIR] [db:=FILE] [viewer_port:=8080] [dashboard_port:=8081]
-        [record:=FILE.mcap] [policy_file:=FILE.yaml]
+        [record:=FILE.mcap] [policy_file:=FILE.yaml] [keystore:=DIR] [security:=enforce]
+        [discovery:=localhost]
 
 Every node is respawned when it dies (``respawn=True``, as launch.sh supervises them); the
 monitor prints the test read from the DSR and, when it exits (the test is finished, or it gave
@@ -10,6 +11,12 @@ up), the launch shuts down. With ``start:=true`` (the default) Start is pressed 
 scenario's patient (a request in the DSR, which PELEA takes whenever it runs); with
 ``start:=false`` press it on the clinician's dashboard. ``record:=FILE.mcap`` records the run
 with dsr_recorder (it starts with the others here; launch.sh starts it first and stops it last).
+
+The DSR's traffic is signed (README "Who may do what"): ``keystore:=DIR`` names a keystore
+(``dsr keystore init/add``), made or completed with a key for every node of the suite; by
+default a new one per launch under ``$XDG_STATE_HOME/dsr/keystores``. ``security:=permissive``
+or ``off`` relaxes it. Discovery stays on this machine (``discovery:=localhost``, as launch.sh);
+``discovery:=subnet`` opens it to a second host on the same network.
 """
 
 from datetime import UTC, datetime
@@ -20,6 +27,7 @@ from launch.actions import (
     OpaqueFunction,
     SetEnvironmentVariable,
     Shutdown,
+    UnsetEnvironmentVariable,
 )
 from launch.conditions import IfCondition, LaunchConfigurationNotEquals
 from launch.substitutions import LaunchConfiguration, PathJoinSubstitution
@@ -27,6 +35,25 @@ from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
 
 RESPAWN_DELAY = 0.5  # seconds, as launch.sh
+# every node of the suite that may sign (launch.sh gives the same names a key)
+SIGNERS = (
+    "/dsr_server",
+    "/tts",
+    "/microphone",
+    "/touchscreen",
+    "/kinect",
+    "/person",
+    "/gait_analyser",
+    "/speech",
+    "/panel",
+    "/pelea",
+    "/patient",
+    "/dsr_viewer",
+    "/cgamed",
+    "/clarc_monitor",
+    "/dsr_recorder",
+    "/clarc_start",
+)
 
 
 def supervised(package: str, executable: str, **parameters) -> Node:
@@ -48,7 +75,42 @@ def press_start(context):
 
     scenario = load(LaunchConfiguration("scenario").perform(context))
     arguments = ["start", scenario.patient, "--test", scenario.test]
-    return [Node(package="clarc_sim", executable="clarc", arguments=arguments)]
+    # named as the policy and the keystore know it
+    return [Node(package="clarc_sim", executable="clarc", name="clarc_start", arguments=arguments)]
+
+
+def secure(context):
+    """The keystore of this launch (made or completed: every node of the suite a key) and the
+    variables every node reads (DSR_KEYSTORE, DSR_SECURITY); nothing with security:=off."""
+    from dsr_graph.formats.default_paths import state_path
+    from dsr_graph.formats.keystore import Keystore
+
+    mode = LaunchConfiguration("security").perform(context)
+    if mode not in ("enforce", "permissive", "off"):
+        raise ValueError(f"security:={mode}: it is enforce, permissive or off")
+    if mode == "off":
+        return [
+            UnsetEnvironmentVariable("DSR_KEYSTORE"),
+            SetEnvironmentVariable("DSR_SECURITY", mode),
+        ]
+    root = LaunchConfiguration("keystore").perform(context) or state_path(
+        "dsr", f"keystores/{datetime.now(UTC).strftime('%Y%m%d-%H%M%S')}"
+    )
+    keystore, _ = Keystore.init(root)
+    for name in SIGNERS:
+        keystore.add(name)
+    return [
+        SetEnvironmentVariable("DSR_KEYSTORE", str(keystore.root)),
+        SetEnvironmentVariable("DSR_SECURITY", mode),
+    ]
+
+
+def discovery(context):
+    """Who this launch's nodes find: this machine only (the default), or the subnet."""
+    wanted = LaunchConfiguration("discovery").perform(context).upper()
+    if wanted not in ("LOCALHOST", "SUBNET"):
+        raise ValueError(f"discovery:={wanted.lower()}: it is localhost or subnet")
+    return [SetEnvironmentVariable("ROS_AUTOMATIC_DISCOVERY_RANGE", wanted)]
 
 
 def generate_launch_description() -> LaunchDescription:
@@ -83,6 +145,15 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument("timeout", default_value="600.0", description="seconds"),
         DeclareLaunchArgument(
             "record", default_value="", description="record the run to this MCAP file"
+        ),
+        DeclareLaunchArgument(
+            "keystore", default_value="", description="the DSR's keystore (empty: a new one)"
+        ),
+        DeclareLaunchArgument(
+            "security", default_value="enforce", description="enforce, permissive or off"
+        ),
+        DeclareLaunchArgument(
+            "discovery", default_value="localhost", description="localhost, or subnet (2 hosts)"
         ),
     ]
     nodes = [
@@ -141,4 +212,5 @@ def generate_launch_description() -> LaunchDescription:
         "FASTRTPS_DEFAULT_PROFILES_FILE",
         PathJoinSubstitution([FindPackageShare("dsr_graph"), "config", "fastdds_profile.xml"]),
     )
-    return LaunchDescription([profile, *arguments, *nodes])
+    setting = [OpaqueFunction(function=secure), OpaqueFunction(function=discovery)]
+    return LaunchDescription([profile, *arguments, *setting, *nodes])
