@@ -242,7 +242,8 @@ start speech speech "${scaled[@]}"
 start panel panel "${scaled[@]}"
 start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
-start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port"
+viewer_token=$(python -c 'import secrets; print(secrets.token_urlsafe(24))')
+start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port" -p token:="$viewer_token"
 start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
 # A test started from now on is this run's: the monitor tells it from its start, even when it
 # joins (or is restarted) after the test began, and ends when the DSR says it is finished.
@@ -254,7 +255,11 @@ else  # Start is a request in the DSR: PELEA takes it whenever it is up, even af
     >> "$run/log/start.log" 2>&1 ||
     { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 fi
-echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/   clinician's dashboard: http://127.0.0.1:$dashboard_port/"
+echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/?token=$viewer_token"
+echo "[launch] clinician's dashboard: http://127.0.0.1:$dashboard_port/ (log in)"
+if [ -z "$(clarc user list --db "$db" 2>/dev/null)" ]; then
+  echo "[launch] the dashboard has no user yet: clarc user add NAME --role admin --db $db (then clinicians and technicians: --role clinician, --role technician)"
+fi
 
 # The monitor prints the test as it goes, read from the DSR, and exits 0 when the DSR says the
 # test is finished (its result is stored), 1 on PELEA's error or when the time is up; killed,

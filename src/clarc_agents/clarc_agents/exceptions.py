@@ -37,6 +37,14 @@ class AlreadyValidated(InvalidResult):
     """A clinician validated this result already; the message says who and when."""
 
 
+class ResultChanged(InvalidResult):
+    """A result changed (a score) since the version a clinician validates."""
+
+
+class AccountError(InvalidResult):
+    """A user account cannot be made or changed as asked; the message says why."""
+
+
 class NotATrial(DsrError, ValueError):
     """Skeleton samples that do not hold a whole Get Up & Go trial (no rise, no walk, no turn,
     not seated again); the message says which."""

@@ -5,6 +5,7 @@ clarc scenario FILE [--patient|--test]  check a scenario file and show what the 
 clarc start PATIENT [--test TEST] [--patient-id N]
                                      press Start for a test (barthel, mmse, lawton,
                                      get_up_and_go), for a patient's record if given
+clarc user add|list|disable|enable   the dashboard's users (console/user_cli.py)
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
+from clarc_sim.console import user_cli
 from clarc_sim.hospital.results_store import (
     ResultsStore,
     default_db,
@@ -162,6 +164,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--patient-id", type=int, help="the patient's record in CGAmed's store")
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
+    user_cli.add_parser(sub)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args

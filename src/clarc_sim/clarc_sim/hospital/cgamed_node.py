@@ -7,9 +7,11 @@ the test from the DSR (clarc_agents/course.py), so it stays right across a resta
 of CGAmed; from PELEA's own stream it shows only PELEA's errors.
 
 ROS Parameters: db (SQLite path, default $XDG_DATA_HOME/clarc/cgamed.sqlite), dashboard (true),
-host (127.0.0.1), port (8081), setup_timeout (20 s). Subscriptions: clarc/cgamed/notify,
-clarc/pelea/events, clarc/speaker/events. Publishers: clarc/cgamed/notifications. Services:
-clarc/cgamed/store_result (dsr_msgs/srv/StoreResult). Plus the DSR topics (it writes Start).
+host (127.0.0.1), port (8081), setup_timeout (20 s), allowed_hosts (Host names the dashboard
+serves besides the loopback ones, comma-separated), session_idle (seconds, 900).
+Subscriptions: clarc/cgamed/notify, clarc/pelea/events, clarc/speaker/events. Publishers:
+clarc/cgamed/notifications. Services: clarc/cgamed/store_result (dsr_msgs/srv/StoreResult).
+Plus the DSR topics (it writes Start).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from clarc_agents import topics
 from clarc_agents.course import Course, test_name
 from clarc_agents.exceptions import InvalidResult
 from clarc_agents.pelea.high_to_low import request_start
-from clarc_sim.hospital.dashboard_app import TestStatus, make_app
+from clarc_sim.hospital.dashboard_app import DEFAULT_IDLE, TestStatus, make_app, session_key
 from clarc_sim.hospital.results_store import ResultsStore, default_db
 from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.ros.agent import DsrAgent
@@ -34,6 +36,7 @@ from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.guard import allowed_hosts
 from dsr_msgs.srv import StoreResult
 
 
@@ -56,6 +59,21 @@ class CgamedStandIn(DsrNode):
             read_only=True,
             minimum=0,
             maximum=65535,
+        )
+        declare(
+            node,
+            "allowed_hosts",
+            "",
+            "Host names served besides 127.0.0.1, localhost and ::1 (comma-separated)",
+            read_only=True,
+        )
+        declare(
+            node,
+            "session_idle",
+            DEFAULT_IDLE,
+            "seconds without a request before a dashboard session ends",
+            read_only=True,
+            minimum=10.0,
         )
 
     def __init__(self):
@@ -172,7 +190,15 @@ class CgamedStandIn(DsrNode):
     def run(self) -> int:
         if not param(self, "dashboard"):
             return super().run() or 0
-        app = make_app(self.db, self.status, self.events, self.press_start)
+        app = make_app(
+            self.db,
+            self.status,
+            self.events,
+            self.press_start,
+            secret_key=session_key(self.db),
+            hosts=allowed_hosts(param(self, "allowed_hosts").split(",")),
+            idle=float_param(self, "session_idle"),
+        )
         served = self.bridge.serve(
             app,
             param(self, "host"),

@@ -1,8 +1,23 @@
-"""The clinician's dashboard (part of the CGAmed stand-in; aiohttp, no ROS): pick a patient (a
-record) and a test and press Start, follow the running test, see the results, score what the
-clinician scores, validate, follow a patient's history, print a report.
+"""The clinician's dashboard (part of the CGAmed stand-in; aiohttp, no ROS): log in, pick a
+patient (a record) and a test and press Start, follow the running test, see the results, score
+what the clinician scores, validate, follow a patient's history, print a report; an admin
+manages the users and reads the audit trail.
 
-    GET  /                    the page
+Who may do what (clarc_sim/hospital/accounts.py): a technician adds patients and presses Start;
+a clinician also scores and validates; an admin manages users and reads the audit trail. Every
+request but the login page and the login itself needs a session (an encrypted, HttpOnly,
+SameSite=Strict cookie that ends after ``idle`` seconds without a request); every state-changing
+request needs the session's CSRF token (``X-CSRF-Token``), a JSON body and this origin; every
+request needs an allowed Host (dsr_graph/web/guard.py). ``scored_by`` and ``validated_by`` are
+the logged-in user, never a field of the request. Every login (and failed one), Start, score,
+validation and change of a user is in the audit trail.
+
+    GET  /login               the login page
+    POST /api/login           {"name", "password"}: {"name", "role", "csrf"} (401 wrong name or
+                              password, or disabled; 429 after too many failures, Retry-After)
+    POST /api/logout          ends the session
+    GET  /api/me              {"name", "role", "csrf"} (401 without a session)
+    GET  /                    the page (a redirect to /login without a session)
     GET  /report/{id}         a stored test's one-page printable report
     GET  /api/tests           the tests Start offers, each questionnaire with its items
                               (key, title, question, kind, max, needs_clinician, options)
@@ -12,13 +27,18 @@ clinician scores, validate, follow a patient's history, print a report.
                               404 no such patient, 409 while a test runs); {"patient": name}
                               starts a Barthel test for a name (as `clarc start` does)
     GET  /api/status          {"running", "patient", "test", "item", "position", "of"}
-    GET  /api/results         the stored tests, as `clarc results --json`
-    POST /api/results/{id}/score  {"item", "points", "clinician"}: score an item that needs the
-                              clinician (400 not such an item or score, 404 no such test,
-                              409 validated already); the result as it is now
-    POST /api/results/{id}/validate  {"clinician": name}: validate a stored result, once
-                              (400 without a name or while an item waits for its score, 404 no
-                              such test, 409 validated already)
+    GET  /api/results         the stored tests, as `clarc results --json` (with "version" and
+                              "scores", every score given)
+    POST /api/results/{id}/score  {"item", "points"}: score an item that needs the clinician,
+                              as the logged-in clinician (400 not such an item or score, 404 no
+                              such test, 409 validated already); the result as it is now
+    POST /api/results/{id}/validate  {"version": N}: validate the version of the result you saw,
+                              once (400 while an item waits for its score, 404 no such test,
+                              409 validated already or changed since version N)
+    GET  /api/users           the accounts (admin)
+    POST /api/users           {"name", "role", "password"}: a new account (admin)
+    POST /api/users/{name}/disable, /enable   (admin; you cannot disable yourself)
+    GET  /api/audit           the audit trail, newest first (admin)
     GET  /api/events          Server-Sent Events: "status" (the test node), "step" (a step of
                               the test read from the DSR, clarc_agents/course.py), "pelea"
                               (PELEA's errors), "speaker" (what CLARC says), "notification"
@@ -27,20 +47,49 @@ clinician scores, validate, follow a patient's history, print a report.
 
 from __future__ import annotations
 
+import hmac
+import os
+import secrets
+import time
 from collections.abc import Callable
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from aiohttp import web
+from aiohttp_session import get_session, new_session
+from aiohttp_session import setup as setup_sessions
+from aiohttp_session.cookie_storage import EncryptedCookieStorage
 
 from clarc_agents import definitions
 from clarc_agents.course import TestView, items_in, position, test_name
-from clarc_agents.exceptions import AlreadyValidated, InvalidResult, UnknownPatient, UnknownTest
+from clarc_agents.exceptions import (
+    AccountError,
+    AlreadyValidated,
+    InvalidResult,
+    ResultChanged,
+    UnknownPatient,
+    UnknownTest,
+)
+from clarc_sim.hospital import accounts
 from clarc_sim.hospital.results_store import ResultsStore, tests_known
 from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.guard import LOOPBACK, protect
 
 WEB = Path(str(resources.files("clarc_sim").joinpath("hospital/web")))
+PAGE_FILES = (  # all that /static/ serves
+    "dashboard.css",
+    "dashboard.js",
+    "results_view.js",
+    "report.css",
+    "report.js",
+    "login.css",
+    "login.js",
+)
+COOKIE = "cgamed_session"
+DEFAULT_IDLE = 900.0  # seconds without a request before a session ends
+OPEN_PATHS = ("/login", "/api/login", "/static/login.css", "/static/login.js")
+USER = web.RequestKey("user", dict)  # the logged-in user of a request: {"name", "role"}
 
 
 class TestStatus:
@@ -118,22 +167,52 @@ def tests_offered() -> list[dict[str, Any]]:
     return offered
 
 
+def session_key(db_path: str) -> bytes:
+    """The key that encrypts the dashboard's session cookies: 32 random bytes kept beside the
+    results store (``<db>.session-key``, 0600), made the first time; a restart of CGAmed keeps
+    the sessions. Remove the file to end every session."""
+    path = Path(f"{db_path}.session-key")
+    try:
+        key = path.read_bytes()
+        if len(key) == 32:
+            return key
+    except FileNotFoundError:
+        pass
+    key = secrets.token_bytes(32)
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    try:
+        os.write(fd, key)
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+    os.replace(tmp, path)
+    return key
+
+
 # press_start(patient's name, test, patient's record id or None)
 PressStart = Callable[[str, str, "int | None"], None]
 
 
 def make_app(
-    db_path: str, status: TestStatus, events: Broadcaster, press_start: PressStart
+    db_path: str,
+    status: TestStatus,
+    events: Broadcaster,
+    press_start: PressStart,
+    secret_key: bytes,
+    hosts: frozenset[str] = LOOPBACK,
+    idle: float = DEFAULT_IDLE,
+    throttle: accounts.LoginThrottle | None = None,
 ) -> web.Application:
+    """``secret_key``: 32 bytes that encrypt the session cookies (CGAmed keeps it in a file, so
+    a restart keeps everyone logged in)."""
     store: dict[str, ResultsStore] = {}
+    throttle = throttle or accounts.LoginThrottle()
 
     def db() -> ResultsStore:
         if "db" not in store:  # this thread's own connection (SQLite connections are per thread)
             store["db"] = ResultsStore(db_path)
         return store["db"]
-
-    def results() -> list:
-        return db().tests()
 
     async def body(request: web.Request, *keys: str) -> list[Any]:
         try:
@@ -143,12 +222,90 @@ def make_app(
             fields = ", ".join(f'"{k}": ...' for k in keys)
             raise web.HTTPBadRequest(text=f"send {{{fields}}}") from None
 
+    # ------------------------------------------------------------------ sessions
+    @web.middleware
+    async def logged_in(request: web.Request, handler):
+        """A session for everything but the login; the CSRF token for every change."""
+        if request.path in OPEN_PATHS:
+            return await handler(request)
+        session = await get_session(request)
+        now = time.time()
+        user = session.get("user")
+        if user is not None and now - session.get("seen", 0) > idle:
+            session.invalidate()
+            user = None
+        if user is None or db().user(user["name"]) is None or db().user(user["name"])["disabled"]:
+            if request.path.startswith("/api/"):
+                raise web.HTTPUnauthorized(text="log in first (your session ended, or never began)")
+            raise web.HTTPFound("/login")
+        if request.method in ("POST", "PUT", "PATCH", "DELETE"):
+            token = request.headers.get("X-CSRF-Token", "")
+            if not hmac.compare_digest(token, session.get("csrf", "")):
+                raise web.HTTPForbidden(text="missing or wrong CSRF token (reload the page)")
+        session["seen"] = now
+        request[USER] = user
+        return await handler(request)
+
+    def allowed(request: web.Request, action: str) -> dict[str, Any]:
+        user = request[USER]
+        if not accounts.may(user["role"], action):
+            raise web.HTTPForbidden(text=f"a {user['role']} may not {action.replace('_', ' ')}")
+        return user
+
+    def audit(request: web.Request, action: str, test_id: int | None = None, detail="") -> None:
+        db().audit(request[USER]["name"], action, test_id, detail)
+
+    async def login_page(request: web.Request) -> web.FileResponse:
+        return web.FileResponse(WEB / "login.html")
+
+    async def login(request: web.Request) -> web.Response:
+        name, password = await body(request, "name", "password")
+        name = str(name)
+        keys = [f"name:{name}", f"address:{request.remote}"]
+        wait = throttle.wait(keys)
+        if wait > 0:
+            raise web.HTTPTooManyRequests(
+                text=f"too many failed logins: try again in {wait:.0f} s",
+                headers={"Retry-After": str(int(wait) + 1)},
+            )
+        account = db().user(name)
+        outcome = accounts.verify_login(account, password)
+        if outcome.user is None:
+            throttle.failed(keys)
+            db().audit(name[:100], "login failed", None, f"from {request.remote}")
+            raise web.HTTPUnauthorized(text="wrong name or password (or the account is disabled)")
+        throttle.succeeded(keys[0])
+        if outcome.new_hash is not None:
+            db().set_password(name, outcome.new_hash)
+        session = await new_session(request)  # a new session id: no fixation
+        csrf = secrets.token_urlsafe(32)
+        session.update(user=outcome.user, csrf=csrf, seen=time.time())
+        db().audit(name, "logged in", None, f"from {request.remote}")
+        return web.json_response({**outcome.user, "csrf": csrf})
+
+    async def logout(request: web.Request) -> web.Response:
+        audit(request, "logged out")
+        (await get_session(request)).invalidate()
+        return web.json_response({"logged_out": True})
+
+    async def me(request: web.Request) -> web.Response:
+        session = await get_session(request)
+        return web.json_response({**request[USER], "csrf": session["csrf"]})
+
+    # ------------------------------------------------------------------ pages
     async def index(request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "dashboard.html")
 
     async def report(request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "report.html")
 
+    async def page_file(request: web.Request) -> web.FileResponse:
+        name = request.match_info["name"]
+        if name not in PAGE_FILES:
+            raise web.HTTPNotFound()
+        return web.FileResponse(WEB / name)
+
+    # ------------------------------------------------------------------ the test
     async def get_tests(request: web.Request) -> web.Response:
         return web.json_response(tests_offered())
 
@@ -156,13 +313,17 @@ def make_app(
         return web.json_response(db().patients())
 
     async def add_patient(request: web.Request) -> web.Response:
+        allowed(request, "add_patient")
         [name] = await body(request, "name")
         try:
-            return web.json_response(db().add_patient(str(name)), status=201)
+            patient = db().add_patient(str(name))
         except InvalidResult as e:
             raise web.HTTPBadRequest(text=str(e)) from None
+        audit(request, "added a patient", None, f"record {patient['id']}")
+        return web.json_response(patient, status=201)
 
     async def start(request: web.Request) -> web.Response:
+        allowed(request, "start")
         try:
             doc = await request.json()
             test = str(doc.get("test", "barthel"))
@@ -179,7 +340,7 @@ def make_app(
         if patient_id not in (None, ""):
             try:
                 name = db().patient(int(patient_id))["name"]
-            except (ValueError, TypeError):
+            except (ValueError, TypeError, OverflowError):
                 raise web.HTTPBadRequest(
                     text=f"a patient id is a number, got {patient_id!r}"
                 ) from None
@@ -191,41 +352,82 @@ def make_app(
         if status.running:
             raise web.HTTPConflict(text=f"a test with {status.patient} is running")
         press_start(name, test, patient_id)
+        audit(request, "started", None, f"{test} for record {patient_id}")
         return web.json_response({"started": name, "test": test, "patient_id": patient_id})
 
+    # ------------------------------------------------------------------ results
     def test_id(request: web.Request) -> int:
         try:
             return int(request.match_info["id"])
         except ValueError:
             raise web.HTTPNotFound(text=f"no test {request.match_info['id']!r}") from None
 
-    def clinician_change(change: Callable[[], Any]) -> web.Response:
+    def clinician_change(change: Callable[[], Any]) -> Any:
         """A change the clinician asked of a stored result, as the store answers it: 404 no such
-        test, 409 validated already, 400 anything else wrong."""
+        test, 409 validated already or changed since, 400 anything else wrong."""
         try:
-            return web.json_response(change())
+            return change()
         except UnknownTest as e:
             raise web.HTTPNotFound(text=str(e)) from None
-        except AlreadyValidated as e:
+        except (AlreadyValidated, ResultChanged) as e:
             raise web.HTTPConflict(text=str(e)) from None
         except InvalidResult as e:
             raise web.HTTPBadRequest(text=str(e)) from None
 
     async def score(request: web.Request) -> web.Response:
-        item, points, clinician = await body(request, "item", "points", "clinician")
+        clinician = allowed(request, "score")["name"]
+        item, points = await body(request, "item", "points")
         number = test_id(request)
-        return clinician_change(lambda: db().score(number, str(item), points, str(clinician)))
+        done = clinician_change(lambda: db().score(number, str(item), points, clinician))
+        audit(request, "scored", number, f"{item} = {points} (version {done['version']})")
+        return web.json_response(done)
+
+    async def validate(request: web.Request) -> web.Response:
+        clinician = allowed(request, "validate")["name"]
+        [version] = await body(request, "version")
+        if isinstance(version, bool) or not isinstance(version, int):
+            raise web.HTTPBadRequest(text="send the version of the result you saw (a number)")
+        number = test_id(request)
+        done = clinician_change(lambda: db().validate(number, clinician, version=version))
+        audit(request, "validated", number, f"version {version}")
+        return web.json_response(done)
 
     async def get_status(request: web.Request) -> web.Response:
         return web.json_response(status.to_json())
 
     async def get_results(request: web.Request) -> web.Response:
-        return web.json_response(results())
+        return web.json_response(db().tests())
 
-    async def validate(request: web.Request) -> web.Response:
-        [clinician] = await body(request, "clinician")
-        number = test_id(request)
-        return clinician_change(lambda: db().validate(number, str(clinician)))
+    # ------------------------------------------------------------------ users, audit
+    async def get_users(request: web.Request) -> web.Response:
+        allowed(request, "manage_users")
+        return web.json_response(db().users())
+
+    async def add_user(request: web.Request) -> web.Response:
+        allowed(request, "manage_users")
+        name, role, password = await body(request, "name", "role", "password")
+        try:
+            made = db().add_user(str(name), str(role), accounts.hash_password(password))
+        except AccountError as e:
+            raise web.HTTPBadRequest(text=str(e)) from None
+        audit(request, "added a user", None, f"{made['name']} ({made['role']})")
+        return web.json_response({k: made[k] for k in ("name", "role", "created")}, status=201)
+
+    async def set_user(request: web.Request) -> web.Response:
+        allowed(request, "manage_users")
+        name, disable = request.match_info["name"], request.match_info["change"] == "disable"
+        if disable and name == request[USER]["name"]:
+            raise web.HTTPBadRequest(text="you cannot disable yourself")
+        try:
+            db().set_disabled(name, disable)
+        except AccountError as e:
+            raise web.HTTPNotFound(text=str(e)) from None
+        audit(request, "disabled a user" if disable else "enabled a user", None, name)
+        return web.json_response({"name": name, "disabled": disable})
+
+    async def get_audit(request: web.Request) -> web.Response:
+        allowed(request, "read_audit")
+        return web.json_response(db().audit_trail())
 
     async def stream(request: web.Request) -> web.StreamResponse:
         return await events.stream(request, first=lambda: [("status", status.to_json())])
@@ -234,10 +436,24 @@ def make_app(
         if "db" in store:
             store["db"].close()
 
-    app = web.Application()
+    app = web.Application(client_max_size=64 * 1024)  # no request of ours is larger
+    protect(app, hosts)
+    storage = EncryptedCookieStorage(
+        secret_key,
+        cookie_name=COOKIE,
+        httponly=True,
+        samesite="Strict",
+        max_age=int(idle),  # the cookie (and its encrypted stamp) ends with the idle time
+    )
+    setup_sessions(app, storage)
+    app.middlewares.append(logged_in)
+    app.router.add_get("/login", login_page)
+    app.router.add_post("/api/login", login)
+    app.router.add_post("/api/logout", logout)
+    app.router.add_get("/api/me", me)
     app.router.add_get("/", index)
     app.router.add_get("/report/{id}", report)
-    app.router.add_static("/static/", WEB, show_index=False)
+    app.router.add_get("/static/{name}", page_file)
     app.router.add_get("/api/tests", get_tests)
     app.router.add_get("/api/patients", get_patients)
     app.router.add_post("/api/patients", add_patient)
@@ -246,6 +462,10 @@ def make_app(
     app.router.add_get("/api/results", get_results)
     app.router.add_post("/api/results/{id}/score", score)
     app.router.add_post("/api/results/{id}/validate", validate)
+    app.router.add_get("/api/users", get_users)
+    app.router.add_post("/api/users", add_user)
+    app.router.add_post(r"/api/users/{name}/{change:disable|enable}", set_user)
+    app.router.add_get("/api/audit", get_audit)
     app.router.add_get("/api/events", stream)
     app.on_cleanup.append(close)
     return app

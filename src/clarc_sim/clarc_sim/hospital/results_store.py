@@ -14,7 +14,11 @@ migrated when it is opened, in one transaction, keeping every row (``MIGRATIONS`
 the store before versions (Barthel only); 1 adds ``tests.test`` and lets a test have no total
 (a timed test, the Get Up & Go, has a time instead); 2 adds the clinician's validation
 (``validated_by``, ``validated_at``), after which a result cannot change; 3 adds patients as
-records (``patients``, ``tests.patient_id``: one record per name already stored).
+records (``patients``, ``tests.patient_id``: one record per name already stored); 4 adds who may
+do what: the dashboard's accounts (``users``: name, role, Argon2 password hash, disabled), an
+append-only audit trail (``audit``: SQLite triggers refuse any UPDATE or DELETE), every score a
+clinician gave (``scores``: a re-score keeps the earlier one) and a version per result
+(``tests.version``, one more at each score) that a validation names.
 
 Questionnaire results are checked against their test definition (any test in
 clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinician's score
@@ -32,8 +36,10 @@ from typing import Any
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import (
+    AccountError,
     AlreadyValidated,
     InvalidResult,
+    ResultChanged,
     UnknownPatient,
     UnknownTest,
 )
@@ -42,7 +48,8 @@ from clarc_agents.gug.phases import band as gug_band
 from clarc_sim.hospital.result_schema import refusals
 from dsr_graph.formats.default_paths import data_path
 
-VERSION = 3
+VERSION = 4
+ROLES = ("technician", "clinician", "admin")
 TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
 # data files: its results are unchanged for whoever reads them.
@@ -69,6 +76,7 @@ CREATE TABLE IF NOT EXISTS tests (
     validated_by TEXT,
     validated_at TEXT,
     patient_id INTEGER REFERENCES patients(id),
+    version INTEGER NOT NULL DEFAULT 1,
     UNIQUE (patient, started)
 );
 CREATE TABLE IF NOT EXISTS items (
@@ -87,7 +95,38 @@ CREATE TABLE IF NOT EXISTS notifications (
     message TEXT NOT NULL,
     test_id INTEGER REFERENCES tests(id)
 );
+{{ACCOUNTS}}
 """
+ACCOUNTS = """CREATE TABLE IF NOT EXISTS users (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    name TEXT NOT NULL UNIQUE,
+    role TEXT NOT NULL CHECK (role IN ('technician', 'clinician', 'admin')),
+    password_hash TEXT NOT NULL,
+    disabled INTEGER NOT NULL DEFAULT 0,
+    created TEXT NOT NULL
+);
+CREATE TABLE IF NOT EXISTS audit (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    time TEXT NOT NULL,
+    user TEXT NOT NULL,
+    action TEXT NOT NULL,
+    test_id INTEGER,
+    detail TEXT NOT NULL DEFAULT ''
+);
+CREATE TRIGGER IF NOT EXISTS audit_no_update BEFORE UPDATE ON audit
+    BEGIN SELECT RAISE(ABORT, 'the audit trail is append-only'); END;
+CREATE TRIGGER IF NOT EXISTS audit_no_delete BEFORE DELETE ON audit
+    BEGIN SELECT RAISE(ABORT, 'the audit trail is append-only'); END;
+CREATE TABLE IF NOT EXISTS scores (
+    id INTEGER PRIMARY KEY AUTOINCREMENT,
+    test_id INTEGER NOT NULL REFERENCES tests(id),
+    item TEXT NOT NULL,
+    points INTEGER NOT NULL,
+    scored_by TEXT NOT NULL,
+    scored_at TEXT NOT NULL,
+    version INTEGER NOT NULL
+)"""
+SCHEMA = SCHEMA.replace("{ACCOUNTS}", ACCOUNTS)
 
 
 # version reached -> the statements that reach it from the one before (run in one transaction)
@@ -124,7 +163,23 @@ MIGRATIONS = {
             SELECT patient, MIN(stored) FROM tests GROUP BY patient ORDER BY MIN(id)""",
         "UPDATE tests SET patient_id = (SELECT id FROM patients WHERE name = tests.patient)",
     ],
+    4: [
+        "ALTER TABLE tests ADD COLUMN version INTEGER NOT NULL DEFAULT 1",
+        # (users, audit and scores come with SCHEMA's CREATE ... IF NOT EXISTS)
+    ],
 }
+
+
+def statements(script: str) -> list[str]:
+    """A SQL script's statements, each whole (a trigger's body holds semicolons of its own)."""
+    found, current = [], ""
+    for piece in script.split(";"):
+        current += piece + ";"
+        if sqlite3.complete_statement(current):
+            if current.strip(" \n;"):
+                found.append(current.strip())
+            current = ""
+    return found
 
 
 def default_db() -> str:
@@ -212,7 +267,7 @@ def migrate(db: sqlite3.Connection) -> int:
         raise InvalidResult(f"store schema version {had} is newer than this CLARC's ({VERSION})")
     fresh = db.execute("SELECT 1 FROM sqlite_master WHERE name = 'tests'").fetchone() is None
     steps = [] if fresh else [m for v in range(had + 1, VERSION + 1) for m in MIGRATIONS[v]]
-    steps += [stmt for stmt in SCHEMA.split(";") if stmt.strip()]  # and tables a version added
+    steps += statements(SCHEMA)  # and the tables a version added
     # one transaction, DDL included (Python's sqlite3 would commit DDL on its own)
     db.execute("BEGIN IMMEDIATE")
     try:
@@ -374,7 +429,7 @@ class ResultsStore:
             if result.get("unanswered") and entry.get("via") is None:
                 result["unanswered"] = [k for k in result["unanswered"] if k != item]
             self.db.execute(
-                "UPDATE tests SET total = ?, band = ?, result_json = ? "
+                "UPDATE tests SET total = ?, band = ?, result_json = ?, version = version + 1 "
                 "WHERE id = ? AND validated_by IS NULL",
                 (result["total"], result["band"], json.dumps(result), test_id),
             )
@@ -382,11 +437,20 @@ class ResultsStore:
                 "UPDATE items SET points = ? WHERE test_id = ? AND item = ?",
                 (points, test_id, item),
             )
+            # every score is kept: a re-score adds one, the result shows the latest
+            self.db.execute(
+                "INSERT INTO scores (test_id, item, points, scored_by, scored_at, version) "
+                "SELECT ?, ?, ?, ?, ?, version FROM tests WHERE id = ?",
+                (test_id, item, points, clinician, when, test_id),
+            )
         return self.test(test_id)
 
-    def validate(self, test_id: int, clinician: str, when: str | None = None) -> dict[str, str]:
+    def validate(
+        self, test_id: int, clinician: str, when: str | None = None, version: int | None = None
+    ) -> dict[str, Any]:
         """The clinician validates a stored result: stored with their name and the time, once;
-        after it the result cannot change. ``InvalidResult`` says why it cannot be done."""
+        after it the result cannot change. ``version``: the version of the result they saw
+        (``ResultChanged`` if it changed since). ``InvalidResult`` says why it cannot be done."""
         clinician = clinician.strip()
         if not clinician:
             raise InvalidResult("a validation needs the clinician's name")
@@ -403,12 +467,89 @@ class ResultsStore:
                 waiting = waiting_for_clinician(definitions.load(result["test"]), result["items"])
             if waiting:
                 raise InvalidResult(f"test {test_id}: score {', '.join(waiting)} first")
+            if version is not None and version != result["version"]:
+                raise ResultChanged(
+                    f"test {test_id} changed since you saw it (version {version}, now "
+                    f"{result['version']}): look at it again before validating"
+                )
             self.db.execute(
                 "UPDATE tests SET validated_by = ?, validated_at = ? "
                 "WHERE id = ? AND validated_by IS NULL",
                 (clinician, when, test_id),
             )
-        return {"validated_by": clinician, "validated_at": when}
+        return {"validated_by": clinician, "validated_at": when, "version": result["version"]}
+
+    # ------------------------------------------------------------------ who may do what
+    def add_user(self, name: str, role: str, password_hash: str) -> dict[str, Any]:
+        """A dashboard account (the hash from ``accounts.hash_password``); ``AccountError`` for
+        a taken name, an unknown role, or a name that is not one."""
+        name = " ".join(str(name).split())
+        if not name or len(name) > 100:
+            raise AccountError("a user needs a name (at most 100 characters)")
+        if role not in ROLES:
+            raise AccountError(f"role {role!r}: it is one of {', '.join(ROLES)}")
+        now = datetime.now(UTC).isoformat(timespec="seconds")
+        try:
+            with self.db:
+                self.db.execute(
+                    "INSERT INTO users (name, role, password_hash, created) VALUES (?, ?, ?, ?)",
+                    (name, role, password_hash, now),
+                )
+        except sqlite3.IntegrityError:
+            raise AccountError(f"there is a user {name!r} already") from None
+        return self.user(name)
+
+    def user(self, name: str) -> dict[str, Any] | None:
+        """An account with its hash (for logging in), None if there is none."""
+        row = self.db.execute(
+            "SELECT name, role, password_hash, disabled, created FROM users WHERE name = ?",
+            (name,),
+        ).fetchone()
+        if row is None:
+            return None
+        return dict(zip(("name", "role", "password_hash", "disabled", "created"), row, strict=True))
+
+    def users(self) -> list[dict[str, Any]]:
+        return [
+            {"name": n, "role": r, "disabled": bool(d), "created": c}
+            for n, r, d, c in self.db.execute(
+                "SELECT name, role, disabled, created FROM users ORDER BY id"
+            )
+        ]
+
+    def set_disabled(self, name: str, disabled: bool = True) -> None:
+        with self.db:
+            changed = self.db.execute(
+                "UPDATE users SET disabled = ? WHERE name = ?", (int(disabled), name)
+            ).rowcount
+        if not changed:
+            raise AccountError(f"there is no user {name!r}")
+
+    def set_password(self, name: str, password_hash: str) -> None:
+        """A new hash (Argon2's parameters changed since it was made)."""
+        with self.db:
+            self.db.execute(
+                "UPDATE users SET password_hash = ? WHERE name = ?", (password_hash, name)
+            )
+
+    def audit(self, user: str, action: str, test_id: int | None = None, detail: str = "") -> None:
+        """One more line of the audit trail (append-only: the store's triggers refuse any
+        change or deletion of a line)."""
+        with self.db:
+            self.db.execute(
+                "INSERT INTO audit (time, user, action, test_id, detail) VALUES (?, ?, ?, ?, ?)",
+                (datetime.now(UTC).isoformat(timespec="seconds"), user, action, test_id, detail),
+            )
+
+    def audit_trail(self, limit: int = 1000) -> list[dict[str, Any]]:
+        """The latest lines of the audit trail, newest first."""
+        return [
+            {"time": t, "user": u, "action": a, "test_id": i, "detail": d}
+            for t, u, a, i, d in self.db.execute(
+                "SELECT time, user, action, test_id, detail FROM audit ORDER BY id DESC LIMIT ?",
+                (limit,),
+            )
+        ]
 
     def notify(self, kind: str, message: str, test_id: int | None = None) -> None:
         with self.db:
@@ -461,14 +602,25 @@ def _item_fields(definition, item: dict[str, Any]) -> dict[str, Any]:
 
 
 # what ``tests`` and ``test`` read of a stored test
-LISTED = "SELECT id, test, result_json, validated_by, validated_at, patient_id FROM tests"
+LISTED = (
+    "SELECT id, test, result_json, validated_by, validated_at, patient_id, version, "
+    "(SELECT json_group_array(json_object('item', item, 'points', points, 'scored_by', "
+    "scored_by, 'scored_at', scored_at, 'version', version)) FROM "
+    "(SELECT * FROM scores WHERE scores.test_id = tests.id ORDER BY scores.id)) FROM tests"
+)
 
 
 def _as_listed(row: tuple) -> dict[str, Any]:
     """A stored test in the `clarc results --json` shape."""
-    test_id, test, result_json, by, at, patient_id = row
+    test_id, test, result_json, by, at, patient_id, version, scores = row
     result = json.loads(result_json)
-    validation = {"validated_by": by, "validated_at": at, "patient_id": patient_id}
+    validation = {
+        "validated_by": by,
+        "validated_at": at,
+        "patient_id": patient_id,
+        "version": version,
+        "scores": json.loads(scores),  # every score given, the earlier ones kept
+    }
     if test == TIMED:
         return {
             "id": test_id,

@@ -3,7 +3,9 @@ http://127.0.0.1:8080/ by default: the graph (nodes by type, labelled symbolic e
 tree drawn apart), each change highlighted as it happens, a timeline of deltas to scrub back to
 any past seq, and an inspector (attributes, version, pose in any other node's frame).
 
-ROS Parameters: host (127.0.0.1), port (8080), setup_timeout (20 s).
+ROS Parameters: host (127.0.0.1), port (8080), setup_timeout (20 s), token (the access token
+every request needs; empty: a new one at each start, printed in the address it logs),
+allowed_hosts (Host names served besides the loopback ones, comma-separated).
 Subscriptions and clients: those of DsrAgent.
 """
 
@@ -20,6 +22,7 @@ from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.guard import allowed_hosts, new_token
 from dsr_graph.web.viewer_app import make_app
 
 
@@ -39,6 +42,20 @@ class Viewer(DsrNode):
             maximum=65535,
         )
         declare_setup_timeout(node, 20.0)
+        declare(
+            node,
+            "token",
+            "",
+            "access token of the page (empty: a new one, printed at start)",
+            read_only=True,
+        )
+        declare(
+            node,
+            "allowed_hosts",
+            "",
+            "Host names served besides 127.0.0.1, localhost and ::1 (comma-separated)",
+            read_only=True,
+        )
 
     def __init__(self) -> None:
         super().__init__()
@@ -72,11 +89,13 @@ class Viewer(DsrNode):
             self.events.publish("delta", dict(delta, text=delta_text(delta)))
 
     def run(self) -> int:
+        token = param(self, "token") or new_token()
+        hosts = allowed_hosts(param(self, "allowed_hosts").split(","))
         served = self.bridge.serve(
-            make_app(self.history, self.events),
+            make_app(self.history, self.events, token=token, hosts=hosts),
             param(self, "host"),
             param(self, "port"),
-            on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}"),
+            on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}?token={token}"),
         )
         return 0 if served else 1
 

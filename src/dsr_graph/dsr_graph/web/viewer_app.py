@@ -10,6 +10,9 @@
                                         resynchronisation
     GET /api/info                       {"replay": null} live, or {"replay": "FILE.mcap"} when
                                         the history is a recording (``dsr view --replay``)
+
+Protected as web/guard.py says: an allowed Host, the access token (printed at start), a CSP;
+it serves its page, its two files and the one library file it uses, nothing else.
 """
 
 from __future__ import annotations
@@ -25,9 +28,11 @@ from dsr_graph.model import rigid
 from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.guard import LOOPBACK, protect
 
 WEB = Path(str(resources.files("dsr_graph").joinpath("web")))
 VENDOR = {"cytoscape.min.js": WEB / "node_modules" / "cytoscape" / "dist" / "cytoscape.min.js"}
+PAGE_FILES = ("viewer.css", "viewer.js")  # all that /static/ serves
 
 
 def _seq(request: web.Request, history: History) -> int:
@@ -50,12 +55,25 @@ def _graph(request: web.Request, history: History):
         raise web.HTTPNotFound(text=str(e)) from None
 
 
-def make_app(history: History, events: Broadcaster, replay: str | None = None) -> web.Application:
+def make_app(
+    history: History,
+    events: Broadcaster,
+    replay: str | None = None,
+    token: str | None = None,
+    hosts: frozenset[str] = LOOPBACK,
+) -> web.Application:
     """The viewer over ``history``: live (fed as the DSR changes) or a ``replay`` (the name of
-    the recording it was read from)."""
+    the recording it was read from). ``token``: the access token every request needs (None:
+    none, for tests of the API alone); ``hosts``: the Host names served."""
 
     async def index(request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "viewer.html")
+
+    async def page_file(request: web.Request) -> web.FileResponse:
+        name = request.match_info["name"]
+        if name not in PAGE_FILES:
+            raise web.HTTPNotFound()
+        return web.FileResponse(WEB / name)
 
     async def vendor(request: web.Request) -> web.FileResponse:
         path = VENDOR.get(request.match_info["name"])
@@ -105,8 +123,9 @@ def make_app(history: History, events: Broadcaster, replay: str | None = None) -
         return web.json_response({"replay": replay})
 
     app = web.Application()
+    protect(app, hosts, token)
     app.router.add_get("/", index)
-    app.router.add_static("/static/", WEB, show_index=False)
+    app.router.add_get("/static/{name}", page_file)
     app.router.add_get("/vendor/{name}", vendor)
     app.router.add_get("/api/graph", graph)
     app.router.add_get("/api/deltas", deltas)

@@ -1,10 +1,12 @@
 // The clinician's dashboard: Start for a patient and a test, the running test live, the results
 // (each item's question and answer, the clinician's scores, validation), a patient's history as
-// a chart, and a printable report. results_view.js draws a result.
+// a chart, and a printable report; an admin's users and audit trail. results_view.js draws a
+// result. Who may do what is the server's word: the page only hides what a role cannot use.
 "use strict";
 
 const $ = (id) => document.getElementById(id);
 let results = [];
+let me = null;  // {name, role, csrf}: the logged-in user and the session's CSRF token
 
 function setRunning(running, finished) {
   document.body.dataset.running = String(running);
@@ -52,18 +54,24 @@ function onStep(e) {
 }
 
 async function post(url, doc) {
-  return fetch(url, { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(doc) });
+  const r = await fetch(url, {
+    method: "POST",
+    headers: { "Content-Type": "application/json", "X-CSRF-Token": me.csrf },
+    body: JSON.stringify(doc),
+  });
+  if (r.status === 401) location.assign("/login");  // the session ended
+  return r;
 }
 
-// -- the clinician's part of a result: scores, then validation --------------------------------
-function clinicianName() {
-  const name = document.createElement("input");
-  name.id = "clinician";
-  name.placeholder = "your name";
-  name.value = sessionStorage.getItem("clinician") || "";
-  name.addEventListener("change", () => sessionStorage.setItem("clinician", name.value));
-  return name;
+async function getJson(url) {
+  const r = await fetch(url);
+  if (r.status === 401) { location.assign("/login"); throw new Error("logged out"); }
+  return r.json();
 }
+
+const CLINICIAN = () => me !== null && me.role === "clinician";  // scores and validates
+
+// -- the clinician's part of a result: scores, then validation --------------------------------
 
 async function refresh(id) {
   await loadResults();
@@ -71,7 +79,7 @@ async function refresh(id) {
 }
 
 function scoring(t, table) {
-  if (t.validated_by) return;
+  if (t.validated_by || !CLINICIAN()) return;
   for (const i of t.items || []) {
     if (!i.needs_clinician || i.points !== null) continue;
     const row = table.querySelector(`tr[data-item='${i.item}']`);
@@ -82,7 +90,7 @@ function scoring(t, table) {
     button.className = "score-button";
     button.textContent = "Score";
     button.addEventListener("click", async () => {
-      const r = await post(`/api/results/${t.id}/score`, { item: i.item, points: Number(select.value), clinician: $("clinician").value });
+      const r = await post(`/api/results/${t.id}/score`, { item: i.item, points: Number(select.value) });
       if (!r.ok) { $("validate-error").textContent = await r.text(); return; }
       await refresh(t.id);
     });
@@ -98,18 +106,25 @@ function validation(t) {
     p.textContent = `Validated by ${t.validated_by}, ${localTime(t.validated_at)}. This result can no longer change.`;
     return p;
   }
-  const button = document.createElement("button");
-  button.id = "validate";
-  button.textContent = "Validate";
+  const waiting = (t.items || []).filter((i) => i.needs_clinician && i.points === null).map((i) => i.item);
+  p.append(waiting.length ? `To score: ${waiting.join(", ")}. ` : "Not validated yet. ");
   const error = document.createElement("span");
   error.id = "validate-error";
-  button.addEventListener("click", async () => {
-    const r = await post(`/api/results/${t.id}/validate`, { clinician: $("clinician").value });
-    if (!r.ok) { error.textContent = await r.text(); return; }
-    await refresh(t.id);
-  });
-  const waiting = (t.items || []).filter((i) => i.needs_clinician && i.points === null).map((i) => i.item);
-  p.append(waiting.length ? `To score: ${waiting.join(", ")}. ` : "Not validated yet. ", clinicianName(), button, error);
+  if (CLINICIAN()) {
+    const button = document.createElement("button");
+    button.id = "validate";
+    button.textContent = `Validate as ${me.name}`;
+    button.addEventListener("click", async () => {
+      // the version seen: a result scored again meanwhile is not validated unseen
+      const r = await post(`/api/results/${t.id}/validate`, { version: t.version });
+      if (!r.ok) { error.textContent = await r.text(); return; }
+      await refresh(t.id);
+    });
+    p.append(button);
+  } else {
+    p.append("A clinician validates it.");
+  }
+  p.append(error);
   return p;
 }
 
@@ -177,7 +192,7 @@ function showResult(t) {
 }
 
 async function loadResults() {
-  results = await (await fetch("/api/results")).json();
+  results = await getJson("/api/results");
   const body = $("results").tBodies[0];
   body.innerHTML = "";
   for (const t of [...results].reverse()) {
@@ -202,7 +217,7 @@ async function loadResults() {
 }
 
 async function loadPatients(chosen) {
-  const patients = await (await fetch("/api/patients")).json();
+  const patients = await getJson("/api/patients");
   const select = $("patient-id");
   select.length = 1;
   for (const p of patients) select.append(new Option(`${p.name} (#${p.id})`, String(p.id)));
@@ -230,7 +245,58 @@ function showStatus(s) {
   if (s.item) $("live-item").textContent = `${s.position}/${s.of} ${s.item}`;
 }
 
+// -- an admin's part: the users and the audit trail ------------------------------------------
+async function loadAdmin() {
+  const users = await getJson("/api/users");
+  const body = $("users").tBodies[0];
+  body.innerHTML = "";
+  for (const u of users) {
+    const tr = body.insertRow();
+    tr.dataset.user = u.name;
+    cell(tr, u.name);
+    cell(tr, u.role);
+    cell(tr, u.disabled ? "disabled" : "active");
+    const button = document.createElement("button");
+    button.textContent = u.disabled ? "Enable" : "Disable";
+    button.disabled = u.name === me.name;
+    button.addEventListener("click", async () => {
+      const r = await post(`/api/users/${encodeURIComponent(u.name)}/${u.disabled ? "enable" : "disable"}`, {});
+      if (!r.ok) { $("user-error").textContent = await r.text(); return; }
+      await loadAdmin();
+    });
+    tr.insertCell().append(button);
+  }
+  const trail = $("audit").tBodies[0];
+  trail.innerHTML = "";
+  for (const a of await getJson("/api/audit")) {
+    const tr = trail.insertRow();
+    for (const v of [localTime(a.time), a.user, a.action, a.test_id === null ? "" : `#${a.test_id}`, a.detail]) cell(tr, v);
+  }
+}
+
+$("add-user").addEventListener("click", async () => {
+  $("user-error").textContent = "";
+  const doc = { name: $("user-name").value, role: $("user-role").value, password: $("user-password").value };
+  const r = await post("/api/users", doc);
+  if (!r.ok) { $("user-error").textContent = await r.text(); return; }
+  $("user-name").value = $("user-password").value = "";
+  await loadAdmin();
+});
+
+$("logout").addEventListener("click", async () => {
+  await post("/api/logout", {});
+  location.assign("/login");
+});
+
 async function main() {
+  me = await getJson("/api/me");
+  $("who").textContent = `${me.name} (${me.role})`;
+  document.body.dataset.role = me.role;
+  if (me.role === "admin") {
+    $("admin-panel").hidden = false;
+    $("start-panel").hidden = true;
+    await loadAdmin();
+  }
   for (const t of await loadTests()) $("test").append(new Option(t.title, t.test));
   await Promise.all([loadResults(), loadPatients()]);
   const events = new EventSource("/api/events");

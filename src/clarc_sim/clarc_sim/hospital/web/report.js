@@ -11,7 +11,9 @@ function fact(list, name, value) {
 async function main() {
   const id = Number(location.pathname.split("/").pop());
   await loadTests();
-  const results = await (await fetch("/api/results")).json();
+  const answer = await fetch("/api/results");
+  if (answer.status === 401) { location.assign("/login"); return; }
+  const results = await answer.json();
   const t = results.find((r) => r.id === id);
   if (!t) { document.getElementById("score").textContent = `There is no test ${id}.`; return; }
   document.title = `${testName(t)}: ${t.patient} (test ${t.id})`;

@@ -43,6 +43,7 @@ def _replay(args: argparse.Namespace) -> int:
 
     from dsr_graph.formats.mcap_recording import RecordingError, replay_history
     from dsr_graph.web.events import Broadcaster
+    from dsr_graph.web.guard import LOOPBACK, new_token
     from dsr_graph.web.viewer_app import make_app
 
     try:
@@ -50,14 +51,15 @@ def _replay(args: argparse.Namespace) -> int:
     except RecordingError as e:
         return error(str(e))
     name = Path(args.replay).name
+    token = new_token()
     print(
         f"replay of {name}: seq {history.first_seq} to {history.seq}; "
-        f"DSR viewer on http://{args.host}:{args.port}/ (Ctrl-C to stop)",
+        f"DSR viewer on http://{args.host}:{args.port}/?token={token} (Ctrl-C to stop)",
         flush=True,
     )
     try:
         web.run_app(
-            make_app(history, Broadcaster(), replay=name),
+            make_app(history, Broadcaster(), replay=name, token=token, hosts=LOOPBACK),
             host=args.host,
             port=args.port,
             print=None,
