@@ -28,6 +28,7 @@
 #   --keystore DIR   sign the DSR's traffic with this keystore (dsr keystore init/add; every
 #                    node of the suite needs its key); default: a new one in the run's folder
 #   --security MODE  enforce (default), permissive or off (DSR_SECURITY; README "Who may do what")
+#   --viewer-token T the DSR viewer's access token (default: a new one, printed)
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -54,6 +55,7 @@ respawn=1
 record=""
 keystore=""
 security=enforce
+viewer_token=""
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
@@ -71,6 +73,7 @@ while [ $# -gt 0 ]; do
     --record) record=$(realpath -m "$2"); shift 2 ;;
     --keystore) keystore=$(realpath -m "$2"); shift 2 ;;
     --security) security="$2"; shift 2 ;;
+    --viewer-token) viewer_token="$2"; shift 2 ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -242,7 +245,7 @@ start speech speech "${scaled[@]}"
 start panel panel "${scaled[@]}"
 start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
-viewer_token=$(python -c 'import secrets; print(secrets.token_urlsafe(24))')
+[ -n "$viewer_token" ] || viewer_token=$(python -c 'import secrets; print(secrets.token_urlsafe(24))')
 start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port" -p token:="$viewer_token"
 start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
 # A test started from now on is this run's: the monitor tells it from its start, even when it

@@ -6,6 +6,7 @@ import subprocess
 import sys
 import tempfile
 import time
+import urllib.error
 import urllib.request
 from pathlib import Path
 
@@ -16,12 +17,18 @@ from browser import chromium_page, free_port  # noqa: E402  (the browser tests' 
 OUT = ROOT / "docs" / "images"
 
 
+PASSWORD = "screenshots only, a long passphrase"
+TOKEN = "screenshots-token"
+
+
 def wait_http(url: str, seconds: float) -> None:
     deadline = time.monotonic() + seconds
     while True:
         try:
             urllib.request.urlopen(url, timeout=2).read()
             return
+        except urllib.error.HTTPError:
+            return  # it answers (a 401 before logging in)
         except OSError:
             if time.monotonic() > deadline:
                 raise
@@ -32,6 +39,12 @@ def main() -> int:
     OUT.mkdir(parents=True, exist_ok=True)
     viewer_port, dashboard_port = free_port(), free_port()
     with tempfile.TemporaryDirectory() as tmp:
+        subprocess.run(
+            ["clarc", "user", "add", "Dr. Ruiz", "--role", "clinician", "--db", f"{tmp}/db.sqlite"],
+            input=f"{PASSWORD}\n{PASSWORD}\n",
+            text=True,
+            check=True,
+        )
         launch = subprocess.Popen(
             [
                 str(ROOT / "scripts" / "launch.sh"),
@@ -46,6 +59,8 @@ def main() -> int:
                 str(dashboard_port),
                 "--scale",
                 "0.3",
+                "--viewer-token",
+                TOKEN,
             ],
             stdout=subprocess.DEVNULL,
             env=dict(os.environ),
@@ -55,10 +70,13 @@ def main() -> int:
                 f"http://127.0.0.1:{dashboard_port}/",
                 f"http://127.0.0.1:{viewer_port}/",
             )
-            wait_http(dashboard + "api/status", 60)
+            wait_http(dashboard + "login", 60)
             wait_http(viewer + "api/graph", 60)
             with chromium_page(1280, 860) as page:
-                page.goto(dashboard)
+                page.goto(dashboard + "login")
+                page.fill("#name", "Dr. Ruiz")
+                page.fill("#password", PASSWORD)
+                page.click("#log-in")
                 page.wait_for_selector("body[data-ready=true]")
                 page.fill("#new-patient", "Carlos")  # the scenario's patient, as a record
                 page.click("#add-patient")
@@ -70,7 +88,7 @@ def main() -> int:
                     timeout=60000,
                 )
                 view = page.context.browser.new_page(viewport={"width": 1280, "height": 860})
-                view.goto(viewer)
+                view.goto(viewer + "?token=" + TOKEN)
                 view.wait_for_function("Number(document.body.dataset.nodes) > 20", timeout=20000)
                 view.wait_for_timeout(1500)
                 view.evaluate("window.dsrViewer.cy.getElementById('n:person').emit('tap')")

@@ -15,6 +15,24 @@ CHROMIUM_ARGS = [
 ]
 
 
+def http_get(url, token=None, timeout=5):
+    """(status, body) of a GET, with the viewer's access token if given (errors included; 0
+    when nothing answered)."""
+    import urllib.error
+    import urllib.request
+
+    headers = {"Authorization": f"Bearer {token}"} if token else {}
+    try:
+        with urllib.request.urlopen(
+            urllib.request.Request(url, headers=headers), timeout=timeout
+        ) as r:
+            return r.status, r.read()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read()
+    except OSError as e:  # not up (yet): no status
+        return 0, str(e).encode()
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -22,7 +40,12 @@ def free_port() -> int:
 
 
 @contextmanager
-def chromium_page(width=1280, height=860):
+def chromium_page(width=1280, height=860, resolve=None, csp=False):
+    """A page of a fresh headless Chromium; ``resolve``: host names the browser maps to
+    addresses of this machine (a DNS rebinding, without a DNS server). Our pages' CSP forbids
+    eval, which Playwright's ``wait_for_function`` and ``evaluate`` use: it is bypassed unless
+    ``csp`` (then drive the page with selectors only; ``csp_violations(page)`` lists what the
+    policy refused)."""
     from playwright.sync_api import sync_playwright
 
     exe = shutil.which("chromium")
@@ -30,8 +53,18 @@ def chromium_page(width=1280, height=860):
         "Debian's chromium is missing: scripts/test.sh installs it (setup.sh --with-browser)"
     )
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=exe, args=CHROMIUM_ARGS)
+        rules = ", ".join(f"MAP {name} {address}" for name, address in (resolve or {}).items())
+        args = CHROMIUM_ARGS + ([f"--host-resolver-rules={rules}"] if rules else [])
+        browser = p.chromium.launch(executable_path=exe, args=args)
         try:
-            yield browser.new_page(viewport={"width": width, "height": height})
+            page = browser.new_page(viewport={"width": width, "height": height}, bypass_csp=not csp)
+            page.refused = []
+            page.on(
+                "console",
+                lambda m: (
+                    page.refused.append(m.text) if "Content Security Policy" in m.text else None
+                ),
+            )
+            yield page
         finally:
             browser.close()

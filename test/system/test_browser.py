@@ -1,10 +1,10 @@
-"""The viewer and the clinician's dashboard in a real browser (headless Chromium + Playwright)."""
+"""The viewer and the clinician's dashboard in a real browser (headless Chromium + Playwright):
+what they show, and who may do what (a login, roles, another origin's page, a wrong Host)."""
 
 import json
 import os
 import subprocess
 import time
-import urllib.request
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -12,7 +12,7 @@ import pytest
 
 from clarc_agents.gug.skeleton import JOINTS, parse_skeleton, skeleton_tx
 
-from browser import chromium_page, free_port
+from browser import chromium_page, free_port, http_get
 from ros_processes import (
     agent_in_session,
     fresh_domain_id,
@@ -26,9 +26,15 @@ REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
 
 
-def http_json(url):
-    with urllib.request.urlopen(url, timeout=5) as r:
-        return json.loads(r.read())
+VIEWER_TOKEN = "a-test-token-of-the-viewer"
+PASSWORD = "a long enough passphrase"
+
+
+def http_json(url, token=VIEWER_TOKEN):
+    status, body = http_get(url, token)
+    if status != 200:
+        raise OSError(f"{url}: {status or 'no answer'} {body[:200]!r}")
+    return json.loads(body)
 
 
 @pytest.fixture
@@ -36,7 +42,10 @@ def viewer(ros):
     ros.procs.start_server(ros.tmp / "state", world=WORLD)
     snapshot_via(ros.session, timeout=20)
     port = free_port()
-    ros.procs.start("viewer", ["dsr_viewer", "--ros-args", "-p", f"port:={port}"])
+    ros.procs.start(
+        "viewer",
+        ["dsr_viewer", "--ros-args", "-p", f"port:={port}", "-p", f"token:={VIEWER_TOKEN}"],
+    )
     url = f"http://127.0.0.1:{port}/"
 
     def up():
@@ -47,6 +56,25 @@ def viewer(ros):
 
     wait_for(up, 20, "the viewer to serve the graph")
     return url
+
+
+def test_the_viewer_needs_its_token_and_an_allowed_host_and_serves_only_its_files(ros, viewer):
+    assert http_get(viewer + "api/graph")[0] == 401
+    assert http_get(viewer + "api/graph", "another token")[0] == 401
+    for name in ("viewer_app.py", "package.json", "node_modules/cytoscape/package.json"):
+        assert http_get(viewer + "static/" + name, VIEWER_TOKEN)[0] == 404, name
+    assert http_get(viewer + "static/viewer.js", VIEWER_TOKEN)[0] == 200
+    with chromium_page(csp=True) as page:
+        answer = page.goto(viewer)  # without the token: nothing
+        assert answer.status == 401 and "access token" in page.inner_text("body")
+        page.goto(viewer + "?token=" + VIEWER_TOKEN)  # the address printed at start
+        page.wait_for_selector("body[data-nodes='14']", timeout=15000)
+        assert "token" not in page.url  # it became a cookie, out of the address bar
+        assert page.refused == []  # the page works under its own CSP
+    rebound = viewer.replace("127.0.0.1", "rebind.example")
+    with chromium_page(resolve={"rebind.example": "127.0.0.1"}) as page:
+        answer = page.goto(rebound + "?token=" + VIEWER_TOKEN)
+        assert answer.status == 403  # DNS rebinding: a wrong Host gets nothing
 
 
 def test_api_graph_is_the_current_snapshot(ros, viewer):
@@ -64,7 +92,7 @@ def test_api_graph_is_the_current_snapshot(ros, viewer):
 def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
     agent = agent_in_session(ros)
     with chromium_page() as page:
-        page.goto(viewer)
+        page.goto(viewer + "?token=" + VIEWER_TOKEN)
         page.wait_for_function("Number(document.body.dataset.nodes) === 14", timeout=15000)
         assert (
             page.evaluate("window.dsrViewer.cy.edges('.rt').length") == 7
@@ -175,10 +203,31 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
         )
 
 
+def add_user(db, name, role, env=None):
+    """``clarc user add`` as a script does it: the password twice on stdin."""
+    subprocess.run(
+        ["clarc", "user", "add", name, "--role", role, "--db", str(db)],
+        input=f"{PASSWORD}\n{PASSWORD}\n",
+        text=True,
+        check=True,
+        timeout=60,
+        env=env,
+    )
+
+
+def log_in(page, url, name, password=PASSWORD):
+    page.goto(url + "login")
+    page.fill("#name", name)
+    page.fill("#password", password)
+    page.click("#log-in")
+    page.wait_for_selector("body[data-ready=true]", timeout=15000)
+
+
 def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
     db = tmp_path / "cgamed.sqlite"
     port = free_port()
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
+    add_user(db, "Dr. Ruiz", "clinician", env)
     launch = subprocess.Popen(
         [
             str(REPO / "scripts" / "launch.sh"),
@@ -202,15 +251,9 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
     try:
         url = f"http://127.0.0.1:{port}/"
 
-        def up():
-            try:
-                return http_json(url + "api/status")["running"] is False
-            except OSError:
-                return False
-
-        wait_for(up, 60, "the dashboard")
+        wait_for(lambda: http_get(url + "login")[0] == 200, 60, "the dashboard")
         with chromium_page() as page:
-            page.goto(url)
+            log_in(page, url, "Dr. Ruiz")
             page.click("#start")  # no patient chosen yet
             page.wait_for_function(
                 "document.getElementById('start-error').textContent.includes('choose a patient')"
@@ -256,12 +299,24 @@ def dashboard_serving(db):
 
     from aiohttp import web
 
+    from clarc_sim.hospital import accounts
     from clarc_sim.hospital.dashboard_app import TestStatus, make_app
+    from clarc_sim.hospital.results_store import ResultsStore
     from dsr_graph.web.events import Broadcaster
 
+    store = ResultsStore(db)
+    for name, role in (("Dr. Ruiz", "clinician"), ("Tess", "technician")):
+        store.add_user(name, role, accounts.hash_password(PASSWORD))
+    store.close()
     port, loop, ready = free_port(), asyncio.new_event_loop(), threading.Event()
     pressed = []
-    app = make_app(str(db), TestStatus(), Broadcaster(), lambda *start: pressed.append(start))
+    app = make_app(
+        str(db),
+        TestStatus(),
+        Broadcaster(),
+        lambda *start: pressed.append(start),
+        secret_key=b"s" * 32,
+    )
 
     def serve() -> None:
         asyncio.set_event_loop(loop)
@@ -288,29 +343,21 @@ def test_the_clinician_validates_a_result_once_and_sees_local_times(tmp_path):
     db = tmp_path / "cgamed.sqlite"  # two Barthel results, stored before versions
     shutil.copy(REPO / "test" / "fixtures" / "cgamed_before_versions.sqlite", db)
     with dashboard_serving(db) as (url, _), chromium_page() as page:
-        page.goto(url)
+        log_in(page, url, "Dr. Ruiz")
         page.wait_for_function("Number(document.body.dataset.results) === 2", timeout=10000)
         page.click("#results tbody tr[data-id='1']")
         page.wait_for_selector("#validation")
         # times in the browser's local time, with the zone (this Chromium runs in UTC)
         assert "Nov 20, 2026" in page.inner_text("#result-detail")
         assert "UTC" in page.inner_text("#result-detail")
-        page.click("#validate")  # no name yet
-        page.wait_for_function(
-            "document.getElementById('validate-error').textContent.includes('name')"
-        )
-        page.fill("#clinician", "Dr. Ruiz")
+        assert page.inner_text("#validate") == "Validate as Dr. Ruiz"  # the logged-in user
         page.click("#validate")
         page.wait_for_function(
             "document.getElementById('validation').textContent.includes('Validated by Dr. Ruiz')",
             timeout=10000,
         )
         assert "validated by Dr. Ruiz" in page.inner_text("#results")
-        again = page.evaluate(
-            "fetch('/api/results/1/validate', {method: 'POST', headers: {'Content-Type': "
-            "'application/json'}, body: JSON.stringify({clinician: 'Dr. Gil'})})"
-            ".then(async (r) => [r.status, await r.text()])"
-        )
+        again = page.evaluate(SAME_ORIGIN_POST, ["/api/results/1/validate", {"version": 1}])
         assert again[0] == 409 and "validated by Dr. Ruiz" in again[1]
         page.reload()  # stored: the page says so when it is opened again
         page.wait_for_function("Number(document.body.dataset.results) === 2", timeout=10000)
@@ -318,6 +365,15 @@ def test_the_clinician_validates_a_result_once_and_sees_local_times(tmp_path):
     [first, second] = stored_tests(db)
     assert first["validated_by"] == "Dr. Ruiz" and first["validated_at"]
     assert second["validated_by"] is None
+
+
+# a POST as the dashboard's own page sends it (its CSRF token from /api/me)
+SAME_ORIGIN_POST = """async ([url, doc]) => {
+  const me = await (await fetch('/api/me')).json();
+  const r = await fetch(url, {method: 'POST', body: JSON.stringify(doc),
+    headers: {'Content-Type': 'application/json', 'X-CSRF-Token': me.csrf}});
+  return [r.status, await r.text()];
+}"""
 
 
 def mmse_store(db):
@@ -347,8 +403,7 @@ def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(
     db = tmp_path / "cgamed.sqlite"
     ana = mmse_store(db)
     with dashboard_serving(db) as (url, pressed), chromium_page() as page:
-        page.goto(url)
-        page.wait_for_selector("body[data-ready=true]")
+        log_in(page, url, "Dr. Ruiz")
         # Start: a patient's record and a test
         page.select_option("#patient-id", str(ana))
         page.select_option("#test", "mmse")
@@ -364,7 +419,6 @@ def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(
         assert "2/3\tvoice" in recall
         assert page.locator("#items tr[data-item='copying'] svg.drawing path").count() == 1
         assert "To score: writing, copying" in page.inner_text("#validation")
-        page.fill("#clinician", "Dr. Ruiz")
         page.click("#validate")  # not while the drawings wait for their scores
         page.wait_for_function(
             "document.getElementById('validate-error').textContent.includes('score writing')"
@@ -386,9 +440,7 @@ def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(
         )
         assert page.locator("#items select.score").count() == 0  # it can no longer change
         again = page.evaluate(
-            "fetch('/api/results/2/score', {method: 'POST', headers: {'Content-Type': "
-            "'application/json'}, body: JSON.stringify({item: 'copying', points: 1, "
-            "clinician: 'Dr. Gil'})}).then(async (r) => [r.status, await r.text()])"
+            SAME_ORIGIN_POST, ["/api/results/2/score", {"item": "copying", "points": 1}]
         )
         assert again[0] == 409 and "cannot change" in again[1]
         # the history of Ana's MMSE: two points in time, this one marked
@@ -414,3 +466,105 @@ def test_the_clinician_scores_the_drawings_sees_the_history_and_prints_a_report(
     writing = next(i for i in second["items"] if i["item"] == "writing")
     assert writing["points"] == 1 and writing["scored_by"] == "Dr. Ruiz"
     assert first["validated_by"] is None and barthel["test"] == "barthel"
+
+
+ATTACKER_PAGE = """<!doctype html><html><body>
+<form id="f" method="POST" enctype="text/plain" action="{dashboard}api/results/1/validate">
+<input name='{{"version": 1, "x": "' value='"}}'><input id="go" type="submit"></form>
+<script>
+const dashboard = "{dashboard}";
+async function attack() {{
+  const out = [];
+  for (const [url, doc] of [["api/start", {{patient_id: 1, test: "mmse"}}],
+                            ["api/results/1/score", {{item: "writing", points: 1}}],
+                            ["api/results/1/validate", {{version: 1}}]]) {{
+    for (const type of ["text/plain", "application/json"]) {{
+      try {{
+        const r = await fetch(dashboard + url, {{method: "POST", credentials: "include",
+          mode: type === "text/plain" ? "no-cors" : "cors",
+          headers: {{"Content-Type": type}}, body: JSON.stringify(doc)}});
+        out.push(url + " " + type + " " + r.type + " " + r.status);
+      }} catch (e) {{ out.push(url + " " + type + " blocked"); }}
+    }}
+  }}
+  document.body.dataset.done = out.join("; ");
+}}
+attack();
+</script></body></html>"""
+
+
+@contextmanager
+def page_server(html):
+    """Another origin (this machine, another port) serving one page."""
+    import http.server
+    import threading
+
+    class Page(http.server.BaseHTTPRequestHandler):
+        def do_GET(self):
+            body = html.encode()
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            self.wfile.write(body)
+
+        def log_message(self, *args):
+            pass
+
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", free_port()), Page)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}/"
+    finally:
+        server.shutdown()
+        thread.join(timeout=10)
+
+
+def test_a_page_of_another_origin_cannot_start_score_or_validate(tmp_path):
+    db = tmp_path / "cgamed.sqlite"
+    mmse_store(db)
+    with dashboard_serving(db) as (url, pressed), chromium_page(csp=True) as page:
+        log_in(page, url, "Dr. Ruiz")  # the clinician is logged in, in this very browser
+        assert page.refused == []  # the dashboard works under its own CSP
+        before = stored_tests(db)
+        # the same site (127.0.0.1), another port: the session cookie is even sent along
+        with page_server(ATTACKER_PAGE.format(dashboard=url)) as evil:
+            page.goto(evil)
+            page.wait_for_selector("body[data-done]", timeout=15000)
+            tried = page.get_attribute("body", "data-done")
+            # none answered in a way the page can read (a "simple" POST reaches the server,
+            # whose refusal the browser keeps from the page; a JSON one fails its preflight)
+            assert all(t.endswith(("blocked", "opaque 0")) for t in tried.split("; ")), tried
+            with page.expect_navigation():
+                page.click("#go")  # a cross-site form POST, as text/plain "JSON"
+            assert "send JSON" in page.content() or "another origin" in page.content()
+        assert pressed == []
+        assert stored_tests(db) == before  # nothing scored, nothing validated
+        # nor can it show the dashboard in a frame (clickjacking)
+        with page_server(f'<iframe id="f" src="{url}"></iframe>') as framing:
+            page.goto(framing)
+            page.wait_for_timeout(1000)
+            frame = page.frame_locator("#f")
+            assert frame.locator("#start").count() == 0
+    actions = {a["action"] for a in audit_trail_of(db)}
+    assert not actions & {"started", "scored", "validated"}
+
+
+def audit_trail_of(db):
+    from clarc_sim.hospital.results_store import ResultsStore
+
+    store = ResultsStore(db)
+    try:
+        return store.audit_trail()
+    finally:
+        store.close()
+
+
+def test_a_wrong_host_gets_nothing_from_the_dashboard(tmp_path):
+    db = tmp_path / "cgamed.sqlite"
+    with dashboard_serving(db) as (url, _):
+        rebound = url.replace("127.0.0.1", "rebind.example")
+        with chromium_page(resolve={"rebind.example": "127.0.0.1"}) as page:
+            for path in ("login", "", "api/results", "api/patients"):
+                assert page.goto(rebound + path).status == 403, path

@@ -16,9 +16,13 @@ from ros_processes import wait_for
 REPO = Path(__file__).resolve().parents[2]
 
 
+TOKEN = "plain-install-token"
+
+
 def fetch(url: str) -> tuple[int, bytes]:
+    request = urllib.request.Request(url, headers={"Authorization": f"Bearer {TOKEN}"})
     try:
-        with urllib.request.urlopen(url, timeout=5) as response:
+        with urllib.request.urlopen(request, timeout=5) as response:
             return response.status, response.read()
     except OSError:
         return 0, b""
@@ -83,7 +87,10 @@ def test_a_plain_install_serves_the_viewer_with_its_assets(ros, tmp_path):
     port = free_port()
     ros.procs.start(
         "viewer",
-        [str(prefix / "lib" / "dsr_graph" / "dsr_viewer"), "--ros-args", "-p", f"port:={port}"],
+        [
+            str(prefix / "lib" / "dsr_graph" / "dsr_viewer"),
+            *("--ros-args", "-p", f"port:={port}", "-p", f"token:={TOKEN}"),
+        ],
         **env,
     )
     url = f"http://127.0.0.1:{port}"

@@ -6,12 +6,11 @@ import json
 import os
 import subprocess
 import time
-import urllib.request
 from pathlib import Path
 
 import pytest
 
-from browser import chromium_page, free_port
+from browser import chromium_page, free_port, http_get
 from ros_processes import run_robot, wait_for
 
 REPO = Path(__file__).resolve().parents[2]
@@ -109,7 +108,10 @@ def test_the_recording_replays_in_the_viewer(recorded_run, tmp_path):
     port = free_port()
     url = f"http://127.0.0.1:{port}/"
     viewer = subprocess.Popen(
-        ["dsr", "view", "--replay", str(recorded_run / "run.mcap"), "--port", str(port)],
+        [
+            *("dsr", "view", "--replay", str(recorded_run / "run.mcap")),
+            *("--port", str(port), "--token", "replay-token"),
+        ],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
@@ -118,17 +120,14 @@ def test_the_recording_replays_in_the_viewer(recorded_run, tmp_path):
     try:
 
         def up():
-            try:
-                with urllib.request.urlopen(url + "api/info", timeout=2) as r:
-                    return json.loads(r.read())["replay"] == "run.mcap"
-            except OSError:
-                return False
+            status, body = http_get(url + "api/info", "replay-token")
+            return status == 200 and json.loads(body)["replay"] == "run.mcap"
 
         wait_for(up, 30, "the replay viewer to serve")
-        with urllib.request.urlopen(url + "api/graph", timeout=5) as r:
-            end = json.loads(r.read())
+        assert http_get(url + "api/graph")[0] == 401  # a recording is patients' data too
+        end = json.loads(http_get(url + "api/graph", "replay-token")[1])
         with chromium_page() as page:
-            page.goto(url)
+            page.goto(url + "?token=replay-token")
             # a recording opens at its start, on the timeline from its first seq to its last
             page.wait_for_function("document.body.dataset.shownSeq === '0'", timeout=15000)
             assert page.evaluate("document.body.dataset.replay") == "run.mcap"

@@ -15,6 +15,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8080)
     parser.add_argument(
+        "--token", default="", help="the page's access token (default: a new one, printed)"
+    )
+    parser.add_argument(
         "--replay",
         metavar="FILE.mcap",
         help="show a recording (dsr record) instead of the live DSR",
@@ -32,6 +35,7 @@ def run(args: argparse.Namespace) -> int:
             *(args.ros_args or ["--ros-args"]),
             *("-p", f"host:={args.host}"),
             *("-p", f"port:={args.port}"),
+            *("-p", f"token:={args.token}"),
         ]
     )
 
@@ -51,7 +55,7 @@ def _replay(args: argparse.Namespace) -> int:
     except RecordingError as e:
         return error(str(e))
     name = Path(args.replay).name
-    token = new_token()
+    token = args.token or new_token()
     print(
         f"replay of {name}: seq {history.first_seq} to {history.seq}; "
         f"DSR viewer on http://{args.host}:{args.port}/?token={token} (Ctrl-C to stop)",
