@@ -1,0 +1,250 @@
+"""A hostile node on the domain of a running CLARC (scripts/launch.sh, the keystore enforced,
+waiting for Start): it lists, from the ROS graph, every topic that a node of the suite subscribes
+to and every service one serves, sends each of them malformed and hostile payloads (deep
+nesting, huge, wrong types, NaN, unknown fields, valid JSON with forged fields: a delta, a
+heartbeat, a request, a result), and then every node is still alive (never restarted), the
+DSR's graph and the results store are as they were."""
+
+import importlib
+import json
+import math
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from browser import free_port
+from ros_processes import fresh_domain_id, new_session, snapshot_via, stored_tests, wait_for
+
+REPO = Path(__file__).resolve().parents[2]
+SUITE = (
+    "dsr_server tts microphone touchscreen kinect person gait_analyser speech panel pelea "
+    "patient dsr_viewer cgamed"
+).split()
+MIB = 1024 * 1024
+
+JSON_PAYLOADS = [
+    "[" * 100_000,
+    '{"a":' * 100_000,
+    "[" * 70 + "]" * 70,
+    "x" * (5 * MIB),
+    json.dumps({"text": "é" * (3 * MIB)}),
+    "not json at all",
+    "",
+    "null",
+    "[]",
+    '"a string"',
+    "12",
+    '{"seq": NaN, "x": Infinity}',
+    '{"lease": 1e309}',
+    '{"n": 123456789012345678901234567890}',
+    json.dumps({"event": 5, "text": ["x"], "item": {"a": 1}, "points": "ten", "joints": "x"}),
+    json.dumps({"unknown": True, "fields": [1, 2, 3], "\u202e": "\ud7ff"}),
+    # valid JSON with forged fields: a delta, a heartbeat, a request, a result
+    json.dumps(
+        {
+            "seq": 10**6,
+            "stamp": 0,
+            "agent": "/dsr_server",
+            "id": "forged",
+            "ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"requested": True}}],
+        }
+    ),
+    json.dumps({"seq": 10**9, "stamp": time.time(), "boot": "forged", "unreachable": ["/pelea"]}),
+    json.dumps(
+        {
+            "id": "forged-request",
+            "agent": "/cgamed",
+            "claim": [{"node": "test"}],
+            "lease": 10**9,
+            "ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"requested": True}}],
+        }
+    ),
+    json.dumps({"patient": {"name": "Mallory"}, "started": "x", "items": [], "total": 0}),
+]
+
+
+def interface(type_name):
+    """The class of "pkg/msg/Name" or "pkg/srv/Name"."""
+    package, kind, name = type_name.split("/")
+    return getattr(importlib.import_module(f"{package}.{kind}"), name)
+
+
+def hostile_messages(msg_type):
+    """Messages of ``msg_type`` with hostile contents: every JSON payload for a String; for
+    other types, fields set to NaN, infinities and extremes."""
+    if msg_type.__name__ == "String":
+        return [msg_type(data=p) for p in JSON_PAYLOADS]
+    extreme = []
+    for value in (math.nan, math.inf, -math.inf, 1e308):
+        msg = msg_type()
+        _fill(msg, value)
+        extreme.append(msg)
+    return extreme
+
+
+def _fill(msg, value):
+    for name, kind in msg.get_fields_and_field_types().items():
+        current = getattr(msg, name)
+        if kind in ("double", "float"):
+            setattr(msg, name, value)
+        elif kind == "string":
+            setattr(msg, name, "\u202e" * 1000)
+        elif hasattr(current, "get_fields_and_field_types"):
+            _fill(current, value)
+
+
+def hostile_requests(srv_type):
+    """Requests of a service type whose string fields carry the JSON payloads (and huge or
+    strange names), and whose numbers are extremes."""
+    fields = srv_type.Request.get_fields_and_field_types()
+    strings = [n for n, k in fields.items() if k == "string"]
+    requests = [srv_type.Request()]
+    for payload in JSON_PAYLOADS[:4] + JSON_PAYLOADS[11:] + ["\u202e" * 1000, "a" * MIB]:
+        request = srv_type.Request()
+        for name in strings:
+            setattr(request, name, payload)
+        requests.append(request)
+    return requests
+
+
+@pytest.fixture
+def suite(tmp_path):
+    """The whole suite, idle (waiting for Start), enforced, in its own ROS domain."""
+    db = tmp_path / "cgamed.sqlite"
+    domain = fresh_domain_id()
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
+    run = tmp_path / "run"
+    launch = subprocess.Popen(
+        [
+            *(str(REPO / "scripts" / "launch.sh"), "--wait-start", "--timeout", "600"),
+            *("--db", str(db), "--run-dir", str(run)),
+            *("--viewer-port", str(free_port()), "--dashboard-port", str(free_port())),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=env,
+        start_new_session=True,
+    )
+    session = new_session(domain, name="hostile")
+    try:
+        yield session, run, db, launch
+    finally:
+        session.close()
+        if launch.poll() is None:
+            os.killpg(launch.pid, signal.SIGINT)
+            try:
+                launch.wait(timeout=60)
+            except subprocess.TimeoutExpired:
+                os.killpg(launch.pid, signal.SIGKILL)
+                launch.wait(timeout=10)
+
+
+def pids(run):
+    return {name: (run / "launch" / f"{name}.pid").read_text().strip() for name in SUITE}
+
+
+def alive(pid):
+    try:
+        os.kill(int(pid), 0)
+        return True
+    except (OSError, ValueError):
+        return False
+
+
+def suite_endpoints(node):
+    """(topics with types that suite nodes subscribe to, services with types they serve)."""
+    topics, services = {}, {}
+    for name, namespace in node.get_node_names_and_namespaces():
+        if name not in SUITE:
+            continue
+        for topic, types in node.get_subscriber_names_and_types_by_node(name, namespace):
+            topics[topic] = types[0]
+        for service, types in node.get_service_names_and_types_by_node(name, namespace):
+            services[service] = types[0]
+    return topics, services
+
+
+def stable_graph(session, seconds=2.0, timeout=60):
+    """The DSR's snapshot once no delta came for ``seconds`` (the suite is idle)."""
+    deadline = time.monotonic() + timeout
+    last = snapshot_via(session)
+    since = time.monotonic()
+    while time.monotonic() - since < seconds:
+        assert time.monotonic() < deadline, "the DSR never stopped changing"
+        session.spin_for(0.5)
+        now = snapshot_via(session)
+        if now["seq"] != last["seq"]:
+            last, since = now, time.monotonic()
+    return last
+
+
+@pytest.mark.timeout(900)
+def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suite):
+    from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+
+    session, run, db, launch = suite
+    node = session.node
+    wait_for(
+        lambda: (
+            (run / "log" / "cgamed.log").exists()
+            and "clinician's dashboard on" in (run / "log" / "cgamed.log").read_text()
+        ),
+        120,
+        "the suite to start",
+    )
+    wait_for(lambda: len(suite_endpoints(node)[0]) >= 15, 60, "the suite's subscriptions", session)
+    session.spin_for(3.0)  # every node has set itself up
+    before_pids = pids(run)
+    before_graph = stable_graph(session)
+    before_store = stored_tests(db)
+    topics, services = suite_endpoints(node)
+    assert "/dsr/deltas" in topics and "/dsr/transactions/speech" in topics
+    assert "/dsr/get_snapshot" in services and "/clarc/cgamed/store_result" in services
+
+    sent = {}
+    # reliable and latched: it matches every reader (latched ones too), and what it sent
+    # would be sent again to a node restarted meanwhile
+    qos = QoSProfile(
+        depth=100,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.TRANSIENT_LOCAL,
+    )
+    for topic, type_name in sorted(topics.items()):
+        if topic.startswith("/parameter_events") or topic == "/rosout":
+            continue
+        msg_type = interface(type_name)
+        pub = node.create_publisher(msg_type, topic, qos)
+        wait_for(lambda p=pub: p.get_subscription_count() > 0, 10, f"{topic}'s readers", session)
+        for msg in hostile_messages(msg_type):
+            pub.publish(msg)
+            session.spin_for(0.01)
+        sent[topic] = len(hostile_messages(msg_type))
+    for service, type_name in sorted(services.items()):
+        if "/set_parameters" in service:  # a valid value would be a legitimate change
+            continue
+        srv_type = interface(type_name)
+        client = node.create_client(srv_type, service)
+        for request in hostile_requests(srv_type):
+            try:
+                session.call(client, request, 10, f"{service}'s answer")
+            except Exception as e:  # noqa: BLE001 - a request a type cannot carry is not sent
+                assert "no answer" not in str(e), f"{service} stopped answering: {e}"
+        sent[service] = len(hostile_requests(srv_type))
+    session.spin_for(5.0)  # what was sent is read
+
+    assert len(sent) >= 25, sorted(sent)
+    dead = [name for name, pid in before_pids.items() if not alive(pid)]
+    assert not dead, f"killed: {dead}"
+    assert pids(run) == before_pids, "a node was restarted"
+    assert launch.poll() is None
+    after = stable_graph(session)
+    assert json.dumps(after, sort_keys=True) == json.dumps(before_graph, sort_keys=True)
+    assert stored_tests(db) == before_store
+    logs = {p.stem: p.read_text(errors="replace") for p in (run / "log").glob("*.log")}
+    crashed = [name for name, text in logs.items() if "Traceback" in text]
+    assert not crashed, {name: logs[name][-2000:] for name in crashed}
