@@ -109,11 +109,7 @@ if [ "$security" = off ]; then
   unset DSR_KEYSTORE
 else
   [ -n "$keystore" ] || keystore="$run/keystore"
-  dsr keystore init "$keystore" > /dev/null &&
-    dsr keystore add "$keystore" /tts /microphone /touchscreen /kinect /person /gait_analyser \
-      /speech /panel /pelea /patient /dsr_viewer /cgamed /clarc_monitor /dsr_recorder \
-      /clarc_start > /dev/null ||
-    { echo "[launch] could not make the keystore $keystore" >&2; exit 1; }
+  clarc keystore "$keystore" > /dev/null || { echo "[launch] no keystore, no run" >&2; exit 1; }
   export DSR_KEYSTORE="$keystore"
 fi
 

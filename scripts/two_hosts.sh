@@ -7,11 +7,12 @@
 # it and its result, and exits 0 when the result was stored.
 #
 #   scripts/two_hosts.sh [--scenario FILE] [--partition SECONDS [--at SECONDS]] [--db PATH]
-#                        [--scale X] [--timeout S] [--run-dir DIR]
+#                        [--scale X] [--timeout S] [--run-dir DIR] [--security MODE]
 #
 #   --partition S   cut the link (both ends down) for S seconds in the middle of the test
 #   --at T          ... T seconds after Start (default 12: during the third item at the fast pace)
-#   --scenario, --db, --scale, --timeout, --run-dir: as scripts/launch.sh
+#   --scenario, --db, --scale, --timeout, --run-dir, --security: as scripts/launch.sh (the
+#                   keystore, in the run's folder, is the one both hosts read, as a copy would be)
 #
 # Needs root (network namespaces). The namespaces, the link and every process are removed on
 # every exit, Ctrl-C included.
@@ -28,6 +29,7 @@ timeout=300
 run=""
 partition=0
 at=12
+security=enforce
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario=$(realpath "$2"); shift 2 ;;
@@ -37,6 +39,7 @@ while [ $# -gt 0 ]; do
     --run-dir) run=$(realpath -m "$2"); shift 2 ;;
     --partition) partition="$2"; shift 2 ;;
     --at) at="$2"; shift 2 ;;
+    --security) security="$2"; shift 2 ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "two_hosts.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -54,6 +57,13 @@ patient=$(clarc scenario --patient "$scenario") || exit 2
 [ -n "$run" ] || run="$root/var/runs/two-hosts-$(date +%Y%m%d-%H%M%S)-$$"
 [ -n "$db" ] || db="$run/cgamed.sqlite"
 mkdir -p "$run/log"
+export DSR_SECURITY="$security"
+if [ "$security" = off ]; then
+  unset DSR_KEYSTORE
+else
+  clarc keystore "$run/keystore" > /dev/null || { echo "[two_hosts] no keystore, no run" >&2; exit 1; }
+  export DSR_KEYSTORE="$run/keystore"
+fi
 
 # Names and addresses of our own: a /24 inside 10.213.0.0/16 picked by pid, only in the
 # namespaces (no default route: nothing can leave them).
@@ -65,9 +75,10 @@ unset ROS_AUTOMATIC_DISCOVERY_RANGE  # SUBNET: discovery goes over the link
 export FASTDDS_BUILTIN_TRANSPORTS=UDPv4  # the hosts share no memory on a real robot either
 export ROS_STATIC_PEERS="$net.1;$net.2"  # discovery by unicast too, not multicast alone
 # Across hosts, a participant is taken as gone after 10 s unheard (the suite's 2 s is for one
-# machine, where it lets a restarted node be told from its killed self): a participant dropped
+# machine, where it lets a restarted node be told from its killed self). A participant dropped
 # and found again comes back without its node name in rmw_fastrtps's ROS graph (seen with
-# these wheels), and the DSR server would then refuse its requests.
+# these wheels): with --security off the DSR server would then refuse its requests; signed
+# (the default), its requests prove who sent them without the ROS graph.
 profile="$run/fastdds_profile.xml"
 sed 's|<sec>2</sec></leaseDuration>|<sec>10</sec></leaseDuration>|' \
   "$root/src/dsr_graph/config/fastdds_profile.xml" > "$profile"
@@ -117,6 +128,7 @@ on() {  # on HOST NAME COMMAND...: a node of the run on host A or B, logged to $
 }
 
 echo "[two_hosts] host A ($nsA, $net.1): dsr_server, pelea, cgamed; host B ($nsB, $net.2): kinect, person, microphone, speech, touchscreen, panel, tts, patient"
+echo "[two_hosts] DSR security: $security${DSR_KEYSTORE:+ (keystore $DSR_KEYSTORE)}"
 echo "[two_hosts] Barthel test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID; logs: $run/log"
 scaled=(--ros-args -p time_scale:="$scale")
 on A dsr_server dsr_server --ros-args -p world_file:="$root/worlds/clarc_room.json" \
@@ -134,7 +146,8 @@ on B patient patient "${scaled[@]}" -p scenario:="$scenario"
 on A pelea pelea "${scaled[@]}" -p outbox_dir:="$run/pelea_outbox"
 on A cgamed cgamed --ros-args -p db:="$db" -p port:=0
 since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
-ip netns exec "$nsA" clarc start "$patient" --timeout 60 >> "$run/log/start.log" 2>&1 ||
+ip netns exec "$nsA" clarc start "$patient" --timeout 60 --ros-args -r __node:=clarc_start \
+  >> "$run/log/start.log" 2>&1 ||
   { echo "[two_hosts] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 started=$(date +%s.%N)
 

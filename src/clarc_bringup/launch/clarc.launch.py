@@ -35,25 +35,6 @@ from launch_ros.actions import Node
 from launch_ros.substitutions import FindPackageShare
 
 RESPAWN_DELAY = 0.5  # seconds, as launch.sh
-# every node of the suite that may sign (launch.sh gives the same names a key)
-SIGNERS = (
-    "/dsr_server",
-    "/tts",
-    "/microphone",
-    "/touchscreen",
-    "/kinect",
-    "/person",
-    "/gait_analyser",
-    "/speech",
-    "/panel",
-    "/pelea",
-    "/patient",
-    "/dsr_viewer",
-    "/cgamed",
-    "/clarc_monitor",
-    "/dsr_recorder",
-    "/clarc_start",
-)
 
 
 def supervised(package: str, executable: str, **parameters) -> Node:
@@ -82,8 +63,8 @@ def press_start(context):
 def secure(context):
     """The keystore of this launch (made or completed: every node of the suite a key) and the
     variables every node reads (DSR_KEYSTORE, DSR_SECURITY); nothing with security:=off."""
+    from clarc_sim.console.suite_keystore import suite_keystore
     from dsr_graph.formats.default_paths import state_path
-    from dsr_graph.formats.keystore import Keystore
 
     mode = LaunchConfiguration("security").perform(context)
     if mode not in ("enforce", "permissive", "off"):
@@ -96,9 +77,7 @@ def secure(context):
     root = LaunchConfiguration("keystore").perform(context) or state_path(
         "dsr", f"keystores/{datetime.now(UTC).strftime('%Y%m%d-%H%M%S')}"
     )
-    keystore, _ = Keystore.init(root)
-    for name in SIGNERS:
-        keystore.add(name)
+    keystore = suite_keystore(root)
     return [
         SetEnvironmentVariable("DSR_KEYSTORE", str(keystore.root)),
         SetEnvironmentVariable("DSR_SECURITY", mode),

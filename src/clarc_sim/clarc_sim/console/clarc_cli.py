@@ -6,6 +6,7 @@ clarc start PATIENT [--test TEST] [--patient-id N]
                                      press Start for a test (barthel, mmse, lawton,
                                      get_up_and_go), for a patient's record if given
 clarc user add|list|disable|enable   the dashboard's users (console/user_cli.py)
+clarc keystore DIR                   the DSR keystore of a run: every node of CLARC a key
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.console import user_cli
+from clarc_sim.console import suite_keystore, user_cli
 from clarc_sim.hospital.results_store import (
     ResultsStore,
     default_db,
@@ -165,6 +166,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
     user_cli.add_parser(sub)
+    suite_keystore.add_parser(sub)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args
