@@ -7,12 +7,14 @@ kinematics (transform queries on trees of depth 2/10/50, cold and cached), barth
 wall time and CPU seconds per process), gug (a patient's skeleton streamed through the DSR at
 30 Hz, 14 joints, as Person writes it: the server's CPU, a Speech-sized change's latency and the
 journal's growth, each against the same without the stream; and a whole Get Up & Go run's CPU
-against the Barthel run's).
+against the Barthel run's), signed (what signing the DSR's traffic costs: latency, throughput
+with one agent and the Barthel run's CPU, with DSR_SECURITY=enforce next to off).
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import gc
 import json
 import os
@@ -542,7 +544,9 @@ def bench_kinematics(depths: list[int], queries: int) -> dict[str, Any]:
 
 
 # ---------------------------------------------------------------------------- 5. the Barthel run
-def bench_barthel(work: Path, scale: float, scenario: Path | None = None) -> dict[str, Any]:
+def bench_barthel(
+    work: Path, scale: float, scenario: Path | None = None, security: str = "enforce"
+) -> dict[str, Any]:
     """A whole run through launch.sh (the Barthel default, or ``scenario``): wall and CPU."""
     report = work / "cpu.txt"
     report.unlink(missing_ok=True)
@@ -562,6 +566,8 @@ def bench_barthel(work: Path, scale: float, scenario: Path | None = None) -> dic
             "0",
             "--dashboard-port",
             "0",
+            "--security",
+            security,
         ],
         capture_output=True,
         text=True,
@@ -580,12 +586,66 @@ def bench_barthel(work: Path, scale: float, scenario: Path | None = None) -> dic
             test_s = float(line[1 : line.index("s]")])
     return {
         "completed": run.returncode == 0,
+        "security": security,
         "pace": scale,
         "wall_s": wall,
         "test_s": test_s,
         "cpu_s": cpu,
         "cpu_total_s": sum(cpu.values()),
     }
+
+
+# ---------------------------------------------------------------------------- 7. signed
+@contextlib.contextmanager
+def security(mode: str, keystore: Path):
+    """DSR_SECURITY (and DSR_KEYSTORE) for this process and the ones it starts, then as before."""
+    saved = {k: os.environ.get(k) for k in ("DSR_SECURITY", "DSR_KEYSTORE")}
+    os.environ["DSR_SECURITY"] = mode
+    if mode == "off":
+        os.environ.pop("DSR_KEYSTORE", None)
+    else:
+        os.environ["DSR_KEYSTORE"] = str(keystore)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def bench_signed(work: Path, domain: int, n: int, tx: int, scale: float) -> dict[str, Any]:
+    """The same latency, throughput (one agent) and Barthel run with the DSR's traffic signed
+    and checked (enforce) and without (off), one after the other in this run."""
+    from dsr_graph.formats.keystore import Keystore
+
+    keystore, _ = Keystore.init(work / "bench_keystore")
+    for name in ("/bench_writer", "/bench_reader"):
+        keystore.add(name)
+    results: dict[str, Any] = {}
+    for mode in ("off", "enforce"):
+        with security(mode, keystore.root):
+            latency = bench_latency(work, domain, n)
+            throughput = bench_throughput(work, domain, tx, 100, [1])["agents"]["1"]
+        barthel = bench_barthel(work, scale, security=mode)
+        results[mode] = {
+            "latency": latency["dsr"],
+            "raw_latency": latency["raw"],
+            "tx_per_s": throughput["dsr_tx_per_s"],
+            "raw_msgs_per_s": throughput["raw_msgs_per_s"],
+            "barthel_cpu_s": barthel["cpu_total_s"],
+            "barthel_server_cpu_s": barthel["cpu_s"].get("dsr_server"),
+            "barthel_completed": barthel["completed"],
+        }
+    off, on = results["off"], results["enforce"]
+    results["cost"] = {
+        "p50_ms": on["latency"]["p50_ms"] - off["latency"]["p50_ms"],
+        "p99_ms": on["latency"]["p99_ms"] - off["latency"]["p99_ms"],
+        "throughput_ratio": on["tx_per_s"] / off["tx_per_s"],
+        "barthel_cpu_ratio": on["barthel_cpu_s"] / max(off["barthel_cpu_s"], 1e-9),
+    }
+    return results
 
 
 # ---------------------------------------------------------------------------- 6. get up & go
@@ -821,6 +881,23 @@ def table(report: dict[str, Any]) -> str:
                 f"{k} {v:.1f}s" for k, v in sorted(r["cpu_s"].items(), key=lambda kv: -kv[1])
             )
         )
+    signed = report.get("signed")
+    if signed:
+        lines.append("signed DSR traffic (enforce) next to unsigned (off), same run")
+        for mode in ("off", "enforce"):
+            v = signed[mode]
+            lines.append(
+                f"  {mode:<8} latency p50 {v['latency']['p50_ms']:.3f} ms, p99 "
+                f"{v['latency']['p99_ms']:.3f} ms; {v['tx_per_s']:,.0f} tx/s (1 agent); "
+                f"Barthel run {v['barthel_cpu_s']:.1f} CPU s (server "
+                f"{v['barthel_server_cpu_s'] or 0:.1f})"
+                + ("" if v["barthel_completed"] else "  [the run did not complete]")
+            )
+        c = signed["cost"]
+        lines.append(
+            f"  cost: p50 {c['p50_ms']:+.3f} ms, p99 {c['p99_ms']:+.3f} ms, throughput "
+            f"x{c['throughput_ratio']:.2f}, Barthel CPU x{c['barthel_cpu_ratio']:.2f}"
+        )
     return "\n".join(lines)
 
 
@@ -836,7 +913,9 @@ def main() -> int:
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")
     args = parser.parse_args()
     quick = args.quick
-    sections = set(args.only or ["latency", "throughput", "scale", "kinematics", "barthel", "gug"])
+    sections = set(
+        args.only or ["latency", "throughput", "scale", "kinematics", "barthel", "gug", "signed"]
+    )
     domain = 10 + os.getpid() % 90
     report: dict[str, Any] = {
         "machine": {
@@ -877,6 +956,10 @@ def main() -> int:
         if "gug" in sections:
             report["gug"] = bench_gug(
                 work, domain, 5.0 if quick else 20.0, 100 if quick else 500, 0.1
+            )
+        if "signed" in sections:
+            report["signed"] = bench_signed(
+                work, domain, 200 if quick else 2000, 1000 if quick else 5000, 0.1
             )
     Path(args.out).parent.mkdir(parents=True, exist_ok=True)
     Path(args.out).write_text(json.dumps(report, indent=2))

@@ -19,6 +19,7 @@ ROSDEP = {
     "aiohttp": "python3-aiohttp",
     "jsonschema": "python3-jsonschema",
     "cryptography": "python3-cryptography",
+    "nacl": "python3-nacl",
 }
 ROS_PACKAGES = {
     "rclpy",
@@ -38,6 +39,8 @@ PIP = {  # import name -> PyPI name
     "pyperplan": "pyperplan",
     "mcap": "mcap",
     "mcap_ros2": "mcap-ros2-support",
+    "aiohttp_session": "aiohttp-session",
+    "argon2": "argon2-cffi",
 }
 
 

@@ -32,11 +32,17 @@ from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
+from dsr_graph.ros.parameters import (
+    allowed_hosts_of,
+    declare,
+    declare_allowed_hosts,
+    declare_setup_timeout,
+    float_param,
+    param,
+)
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
-from dsr_graph.web.guard import allowed_hosts
 from dsr_msgs.srv import StoreResult
 
 
@@ -60,13 +66,7 @@ class CgamedStandIn(DsrNode):
             minimum=0,
             maximum=65535,
         )
-        declare(
-            node,
-            "allowed_hosts",
-            "",
-            "Host names served besides 127.0.0.1, localhost and ::1 (comma-separated)",
-            read_only=True,
-        )
+        declare_allowed_hosts(node)
         declare(
             node,
             "session_idle",
@@ -196,7 +196,7 @@ class CgamedStandIn(DsrNode):
             self.events,
             self.press_start,
             secret_key=session_key(self.db),
-            hosts=allowed_hosts(param(self, "allowed_hosts").split(",")),
+            hosts=allowed_hosts_of(self),
             idle=float_param(self, "session_idle"),
         )
         served = self.bridge.serve(

@@ -48,7 +48,6 @@ validation and change of a user is in the audit trail.
 from __future__ import annotations
 
 import hmac
-import os
 import secrets
 import time
 from collections.abc import Callable
@@ -73,6 +72,7 @@ from clarc_agents.exceptions import (
 )
 from clarc_sim.hospital import accounts
 from clarc_sim.hospital.results_store import ResultsStore, tests_known
+from dsr_graph.formats.private_files import write_private
 from dsr_graph.web.events import Broadcaster
 from dsr_graph.web.guard import LOOPBACK, protect
 
@@ -179,14 +179,7 @@ def session_key(db_path: str) -> bytes:
     except FileNotFoundError:
         pass
     key = secrets.token_bytes(32)
-    tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-    try:
-        os.write(fd, key)
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-    os.replace(tmp, path)
+    write_private(path, key)
     return key
 
 

@@ -26,7 +26,7 @@ from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
 
 from dsr_graph.exceptions import KeystoreError
-from dsr_graph.formats.private_files import private_dir
+from dsr_graph.formats.private_files import private_dir, write_private
 from dsr_graph.formats.safe_json import loads_object
 
 FORMAT, VERSION = "dsr-keystore", 1
@@ -88,10 +88,8 @@ class Keystore:
             return existing, False
         private_dir(root)
         private_dir(root / ENCLAVES)
-        tmp = root / f".{META}.tmp"
         meta = json.dumps({"format": FORMAT, "version": VERSION, "server": server}) + "\n"
-        _write_new(tmp, meta.encode(), 0o600)
-        os.replace(tmp, root / META)
+        write_private(root / META, meta.encode())
         keystore = cls(root, server)
         keystore.add(server)
         return keystore, True
@@ -115,8 +113,8 @@ class Keystore:
         public = key.public_key().public_bytes(
             serialization.Encoding.PEM, serialization.PublicFormat.SubjectPublicKeyInfo
         )
-        _write_new(folder / PUBLIC, public, 0o600)
-        _write_new(folder / PRIVATE, pem, 0o600)  # written last: its presence means complete
+        write_private(folder / PUBLIC, public)
+        write_private(folder / PRIVATE, pem)  # written last: its presence means complete
         return True
 
     def names(self) -> list[str]:
@@ -146,13 +144,3 @@ class Keystore:
                 raise KeystoreError(f"{path} is not an Ed25519 public key")
             keys[name] = key
         return keys
-
-
-def _write_new(path: Path, data: bytes, mode: int) -> None:
-    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, mode)
-    try:
-        os.write(fd, data)
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-    os.chmod(path, mode)

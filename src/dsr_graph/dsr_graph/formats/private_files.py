@@ -36,3 +36,18 @@ def private_dir(path: os.PathLike | str) -> Path:
     path.mkdir(mode=0o700, parents=True, exist_ok=True)
     os.chmod(path, 0o700)
     return path
+
+
+def write_private(path: os.PathLike | str, data: bytes) -> None:
+    """``data`` as the file ``path``, 0600 from its first byte (a key, a secret): written to a
+    new file beside it, synced, then renamed over it, so a crash leaves the old file or the new
+    one, never a part of one, nor one that others could read for a moment."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    try:
+        os.write(fd, data)
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+    os.replace(tmp, path)

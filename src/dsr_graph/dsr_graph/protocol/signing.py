@@ -8,8 +8,10 @@ The signature covers the exact bytes of the object without that member, prefixed
 ``dsr-sig-1``, the channel (``dsr/deltas``, ``dsr/transactions``...: a message signed for one
 channel is refused on another) and the signer's name. Signing appends text and verifying cuts
 it off, so nothing is re-encoded or canonicalised; every JSON reader still reads a signed
-message, and ``ros2 topic echo`` shows it as it is. Ed25519 through ``cryptography``. Pure
-logic: the keys come from ``formats/keystore.py``, the ROS side is ``ros/security.py``.
+message, and ``ros2 topic echo`` shows it as it is. Ed25519: the keys are read from the
+keystore's PEM files with ``cryptography`` (formats/keystore.py), and signed and checked with
+PyNaCl (libsodium), which verifies 1.6x faster on these machines (every replica checks every
+delta). Pure logic; the ROS side is in ``ros/agent.py`` and ``ros/server_node.py``.
 
 A verified message proves who sent it and that it was not changed; it does not prove it is
 new: a recorded message can be sent again. Deltas carry their seq (a replica applies each seq
@@ -24,12 +26,15 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from cryptography.exceptions import InvalidSignature
+from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
+from nacl.exceptions import BadSignatureError
+from nacl.signing import SigningKey, VerifyKey
 
 from dsr_graph.exceptions import SignatureRefused
 
 CONTEXT = b"dsr-sig-1"
+_NONE = serialization.NoEncryption()
 MARK = ',"sig":{"by":'  # how the signature member starts (after at least one other member)
 MAX_SIG_MEMBER = 512  # bytes of the signature member at most (a name and 88 base64 characters)
 
@@ -51,14 +56,15 @@ class Signer:
 
     def __init__(self, name: str, key: Ed25519PrivateKey):
         self.name = name
-        self._key = key
+        raw = serialization.Encoding.Raw
+        self._key = SigningKey(key.private_bytes(raw, serialization.PrivateFormat.Raw, _NONE))
 
     def sign(self, channel: str, payload: str) -> str:
         """``payload`` (a JSON object's text, not empty) with its signature member appended."""
         body = payload.rstrip()
         if not body.endswith("}") or body == "{}":
             raise ValueError("only a non-empty JSON object's text can be signed")
-        signature = self._key.sign(_signed_bytes(channel, self.name, body))
+        signature = self._key.sign(_signed_bytes(channel, self.name, body)).signature
         encoded = base64.b64encode(signature).decode()
         return f'{body[:-1]}{MARK}{json.dumps(self.name)},"ed25519":"{encoded}"}}}}'
 
@@ -67,7 +73,11 @@ class Verifier:
     """Checks signatures against the public keys of a keystore (name -> key)."""
 
     def __init__(self, keys: Mapping[str, Ed25519PublicKey]):
-        self.keys = dict(keys)
+        raw = serialization.Encoding.Raw
+        self.keys = {
+            name: VerifyKey(key.public_bytes(raw, serialization.PublicFormat.Raw))
+            for name, key in keys.items()
+        }
 
     def verify(self, channel: str, text: str, signers: frozenset[str] | None = None) -> Verified:
         """The signer and the payload of ``text``, or ``SignatureRefused`` naming what is wrong.
@@ -92,8 +102,8 @@ class Verifier:
             raise SignatureRefused(f"signed by {signer!r}, who has no key in the keystore")
         payload = text[:cut] + "}"
         try:
-            key.verify(signature, _signed_bytes(channel, signer, payload))
-        except InvalidSignature:
+            key.verify(_signed_bytes(channel, signer, payload), signature)
+        except (BadSignatureError, ValueError):  # (ValueError: not 64 bytes)
             raise SignatureRefused(
                 f"the signature of {signer!r} does not match (forged, or changed on the way)"
             ) from None

@@ -94,6 +94,24 @@ def declare_setup_timeout(node: Node, default: float) -> None:
     )
 
 
+def declare_allowed_hosts(node: Node) -> None:
+    """``allowed_hosts``: the Host names a web page of the node serves besides the loopback
+    ones (web/guard.py)."""
+    declare(
+        node,
+        "allowed_hosts",
+        "",
+        "Host names served besides 127.0.0.1, localhost and ::1 (comma-separated)",
+        read_only=True,
+    )
+
+
+def allowed_hosts_of(node: Node) -> frozenset[str]:
+    from dsr_graph.web.guard import allowed_hosts
+
+    return allowed_hosts(param(node, "allowed_hosts").split(","))
+
+
 @dataclass
 class Declared:
     name: str

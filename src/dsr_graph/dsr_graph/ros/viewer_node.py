@@ -19,10 +19,17 @@ from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
-from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
+from dsr_graph.ros.parameters import (
+    allowed_hosts_of,
+    declare,
+    declare_allowed_hosts,
+    declare_setup_timeout,
+    float_param,
+    param,
+)
 from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
-from dsr_graph.web.guard import allowed_hosts, new_token
+from dsr_graph.web.guard import new_token
 from dsr_graph.web.viewer_app import make_app
 
 
@@ -49,13 +56,7 @@ class Viewer(DsrNode):
             "access token of the page (empty: a new one, printed at start)",
             read_only=True,
         )
-        declare(
-            node,
-            "allowed_hosts",
-            "",
-            "Host names served besides 127.0.0.1, localhost and ::1 (comma-separated)",
-            read_only=True,
-        )
+        declare_allowed_hosts(node)
 
     def __init__(self) -> None:
         super().__init__()
@@ -90,7 +91,7 @@ class Viewer(DsrNode):
 
     def run(self) -> int:
         token = param(self, "token") or new_token()
-        hosts = allowed_hosts(param(self, "allowed_hosts").split(","))
+        hosts = allowed_hosts_of(self)
         served = self.bridge.serve(
             make_app(self.history, self.events, token=token, hosts=hosts),
             param(self, "host"),
