@@ -20,6 +20,7 @@ import json
 import os
 import platform
 import random
+import re
 import shutil
 import signal
 import subprocess
@@ -581,9 +582,10 @@ def bench_barthel(
             name, seconds = line.split()
             cpu[name] = float(seconds)
     test_s = None
-    for line in run.stdout.splitlines():
-        if line.startswith("[") and "s]" in line:
-            test_s = float(line[1 : line.index("s]")])
+    for line in run.stdout.splitlines():  # the monitor's "[  12.3s] ..." lines
+        stamp = re.match(r"\[\s*(\d+\.\d+)s\]", line)
+        if stamp:
+            test_s = float(stamp.group(1))
     return {
         "completed": run.returncode == 0,
         "security": security,

@@ -96,3 +96,13 @@ def test_keys_are_their_user_s_alone_and_names_are_node_names(keystore):
         keystore.add("speech")
     with pytest.raises(KeystoreError, match="for the server '/dsr_server', not '/other'"):
         Keystore.init(keystore.root, "/other")
+
+
+def test_a_node_given_a_key_after_the_start_is_known_without_a_restart(keystore, monkeypatch):
+    from dsr_graph.protocol import security
+
+    server = Security.from_environment("/dsr_server", {"DSR_KEYSTORE": str(keystore.root)})
+    keystore.add("/late")
+    request = Signer("/late", keystore.private_key("/late")).sign("dsr/transactions", DELTA)
+    monkeypatch.setattr(security, "RELOAD_EVERY", 0.0)
+    assert server.request(request).signer == "/late"

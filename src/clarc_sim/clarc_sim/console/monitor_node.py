@@ -8,8 +8,9 @@ the DSR (PELEA writes that only after CGAmed stored its result), 1 on PELEA's er
 ``timeout``.
 
 ROS Parameters: timeout (seconds, default 600), since (ISO 8601; default: when the monitor
-started), setup_timeout (seconds). Subscriptions: the DSR's topics, clarc/speaker/events,
-clarc/pelea/events, clarc/cgamed/notifications.
+started), setup_timeout (seconds). Subscriptions: the DSR's topics (dsr/alarms too: each alarm
+a member of the keystore signed is printed), clarc/speaker/events, clarc/pelea/events,
+clarc/cgamed/notifications.
 """
 
 from __future__ import annotations
@@ -19,10 +20,13 @@ from datetime import UTC, datetime
 from typing import Any
 
 import rclpy
+from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.course import Course, test_name
 from clarc_sim.console.reach import HeartbeatSilence, Reach
+from dsr_graph.formats.safe_json import loads_object
+from dsr_graph.protocol import topic_names
 from dsr_graph.ros.agent import SERVER_SILENCE, DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -175,6 +179,7 @@ class Monitor(DsrNode):
         subscribe_json(self, topics.CGAMED_NOTIFICATIONS, self.on_notification, qos_stream())
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.dsr.add_listener(lambda deltas, resynced: self.on_graph())
+        self.create_subscription(String, topic_names.ALARMS, self.on_alarm, qos_stream())
         self.create_timer(REACH_PERIOD, self.on_reach)
 
     def on_reach(self) -> None:
@@ -211,6 +216,17 @@ class Monitor(DsrNode):
             self.say(line)
         if event.get("event") == "error":
             self.exit_code = 1
+
+    def on_alarm(self, msg: String) -> None:
+        """The DSR's alarms (a forged message, a node taking another's topic), when a member of
+        the keystore signed them (under DSR security: anyone could forge an alarm too)."""
+        text, _ = self.dsr.security.from_member(topic_names.ALARMS, msg.data)
+        try:
+            alarm = loads_object(text) if text is not None else None
+        except ValueError:
+            return
+        if alarm is not None:
+            self.say(f"ALARM ({alarm.get('kind', '?')}): {alarm.get('message', '')}")
 
     def on_notification(self, note: dict[str, Any]) -> None:
         self.say(f"to the clinician: {note['message']}")

@@ -14,6 +14,7 @@ given is a keystore used. The channels are the logical names of the DSR's topics
 from __future__ import annotations
 
 import os
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -32,6 +33,7 @@ SERVER_CHANNELS = (
     topic_names.GET_SNAPSHOT,
 )
 ALARM_EVERY = 5.0  # seconds between alarms (or warnings) about the same thing
+RELOAD_EVERY = 5.0  # seconds between readings of the keystore for a signer not known yet
 
 
 @dataclass
@@ -41,6 +43,7 @@ class Security:
     signer: Signer | None = None
     verifier: Verifier | None = None
     _last_alarm: dict[tuple[str, str], float] = field(default_factory=dict)
+    _last_reload: float = field(default_factory=time.monotonic)
 
     @property
     def checks(self) -> bool:
@@ -88,16 +91,30 @@ class Security:
         if not self.checks:
             return text, ""
         try:
-            return self.verifier.verify(channel, text, signers).payload, ""
+            return self._verify(channel, text, signers).payload, ""
         except SignatureRefused as e:
             return (None if self.mode == ENFORCE else text), f"{channel}: {e}"
 
     def request(self, text: str) -> Verified | SignatureRefused:
         """Who signed a request (the server's check), or why no one can be said to have."""
         try:
-            return self.verifier.verify(topic_names.TRANSACTIONS, text)
+            return self._verify(topic_names.TRANSACTIONS, text, None)
         except SignatureRefused as e:
             return e
+
+    def _verify(self, channel: str, text: str, signers) -> Verified:
+        """A node given a key after this process started (``dsr keystore add``) is known
+        without a restart: an unknown signer has the keystore read again, at most every
+        ``RELOAD_EVERY`` seconds."""
+        try:
+            return self.verifier.verify(channel, text, signers)
+        except SignatureRefused as e:
+            now = time.monotonic()
+            if "no key in the keystore" not in str(e) or now - self._last_reload < RELOAD_EVERY:
+                raise
+            self._last_reload = now
+            self.verifier = Verifier(self.keystore.public_keys())
+            return self.verifier.verify(channel, text, signers)
 
     def should_alarm(self, key: tuple[str, str], now: float) -> bool:
         """Rate limit: True at most once every ``ALARM_EVERY`` seconds for the same key."""
