@@ -4,10 +4,10 @@ verdict: prints the accepted seq (exit 0) or the rejection reason (exit 1)."""
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from dsr_graph.cli.api import DsrError, error
+from dsr_graph.formats import safe_json
 
 HELP = "send a transaction; print the accepted seq or the rejection reason"
 
@@ -25,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         text = sys.stdin.read() if args.file == "-" else open(args.file, encoding="utf-8").read()
-        doc = json.loads(text)
+        doc = safe_json.loads(text, None)
     except (OSError, ValueError) as e:
         return error(f"cannot read a JSON transaction from {args.file}: {e}")
     if not isinstance(doc, dict):

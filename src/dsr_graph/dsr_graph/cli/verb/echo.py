@@ -11,6 +11,7 @@ import json
 from typing import Any
 
 from dsr_graph.cli.api import error
+from dsr_graph.formats import safe_json
 
 HELP = "print a JSON topic's messages (whole, or --field a.b) like ros2 topic echo"
 
@@ -49,7 +50,7 @@ def field(doc: Any, path: str) -> Any:
 def render(text: str, fields: list[str], pretty: bool) -> str:
     """One message as printed: the JSON (or the chosen fields), or the text if it is not JSON."""
     try:
-        doc = json.loads(text)
+        doc = safe_json.loads(text, None)  # a hostile message is shown as text, never a crash
     except ValueError:
         return text
     if fields:

@@ -6,6 +6,7 @@ import argparse
 import json
 
 from dsr_graph.cli.api import DsrError, error
+from dsr_graph.formats import safe_json
 
 HELP = "read a node (all of it) or one attribute from the live graph"
 
@@ -37,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
                 answer = ros.call(client, GetNode.Request(node=args.node), args.timeout, "the node")
                 if not answer.found:
                     return error(answer.error)
-                print(json.dumps(json.loads(answer.node_json), indent=2))
+                print(json.dumps(safe_json.loads(answer.node_json, None), indent=2))
                 return 0
             client = ros.node.create_client(GetAttribute, GET_ATTRIBUTE)
             request = GetAttribute.Request(
@@ -54,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
     print(
         json.dumps(
             {
-                "value": json.loads(answer.value_json),
+                "value": safe_json.loads(answer.value_json, None),
                 "type": answer.value_type,
                 "version": answer.version,
                 "seq": answer.seq,
