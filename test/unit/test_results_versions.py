@@ -123,7 +123,11 @@ def test_a_result_is_validated_once_with_the_clinician_s_name_and_time(tmp_path)
     store = ResultsStore(path)
     assert [t["validated_by"] for t in store.tests()] == [None, None]
     done = store.validate(1, " Dr. Ruiz ", when="2026-11-24T18:00:00+00:00")
-    assert done == {"validated_by": "Dr. Ruiz", "validated_at": "2026-11-24T18:00:00+00:00"}
+    assert done == {
+        "validated_by": "Dr. Ruiz",
+        "validated_at": "2026-11-24T18:00:00+00:00",
+        "version": 1,
+    }
     first = store.tests()[0]
     assert (first["validated_by"], first["validated_at"]) == ("Dr. Ruiz", done["validated_at"])
     with pytest.raises(InvalidResult, match="was validated by Dr. Ruiz at 2026-11-24T18:00"):
