@@ -12,7 +12,7 @@ import pytest
 from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.gait_analyser import GaitAnalyser
 from clarc_agents.gug.phases import PHASES, NotATrial, band, fall_risk, sample, time_trial
-from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+from clarc_agents.gug.skeleton import frames_in, frames_tx, parse_skeleton, skeleton_tx
 from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
 from clarc_sim.patient.gait_motion import Motion, body_at, joints
 from clarc_sim.patient.scenario import parse
@@ -173,6 +173,55 @@ def test_the_gait_analyser_times_the_trial_from_the_dsr_alone(scale, motion, noi
     graph = bus.core.graph
     assert graph.edge("person", "person_knee_left", "RT") is not None
     assert graph.transform("gug_chair", "person_pelvis")[2, 3] == pytest.approx(0.47, abs=0.1)
+
+
+def test_frames_the_dsr_could_not_take_are_no_hole_when_the_sensor_saw_the_person():
+    """A busy machine: Person writes every 3rd frame, and for 0.7 s of the patient's time every
+    2.5 s none (the DSR stalled: more than a trial's largest hole), each written frame saying
+    the sensor's own largest gap since the one before (a frame): timed, within tolerance."""
+    bus, person = dsr_with_a_seated_person()
+    analyser_link = bus.agent("/gait_analyser")
+    analyser = GaitAnalyser(scale=0.1)
+
+    def look(deltas, resynced):
+        tx = analyser.on_graph(analyser_link.graph, None if resynced else deltas)
+        if tx is not None:
+            analyser_link.send(tx)
+
+    analyser_link.add_listener(look)
+    last, gap = None, 0.0
+    for k, (t, raw) in enumerate(frames(NORMAL)):
+        stamp = 1000.0 + t * 0.1
+        gap = max(gap, stamp - last) if last is not None else 0.0
+        last = stamp
+        stalled = (t + 1.0) % 2.5 < 0.7
+        if k % 3 == 0 and not stalled:
+            person.send(skeleton_tx(person.graph, parse_skeleton(raw), stamp, sensor_gap=gap))
+            bus.deliver()
+            gap = 0.0
+    gait = bus.core.graph.node("gait").attrs
+    assert gait["status"] == "timed", gait.get("reason")
+    within_tolerance(
+        NORMAL, gait["tug_seconds"], dict(zip(PHASES, gait["phase_seconds"], strict=True))
+    )
+
+
+def test_frames_in_reads_each_frame_of_a_delta_in_order():
+    bus, person = dsr_with_a_seated_person()
+    seen = []
+    bus.agent("/reader").add_listener(lambda deltas, resynced: seen.extend(deltas))
+    stamps = [1000.5, 1000.6, 1000.7]
+    burst = [
+        (parse_skeleton(skeleton(NORMAL, s - 1000.0, PLACE, random.Random(1))), s) for s in stamps
+    ]
+    person.send(frames_tx(person.graph, burst))
+    bus.deliver()
+    person.send(skeleton_tx(person.graph, burst[0][0], 1000.8, sensor_gap=0.25))
+    bus.deliver()
+    read = [frame for d in seen for frame in frames_in(d)]
+    assert [t for t, _, _ in read] == [*stamps, 1000.8]
+    assert all({"pelvis", "hip_left", "shoulder_right"} <= set(joints) for _, _, joints in read)
+    assert read[-1][2]["sensor_gap"] == 0.25 and "sensor_gap" not in read[0][2]
 
 
 def test_a_bad_skeleton_is_refused_naming_what_is_wrong():

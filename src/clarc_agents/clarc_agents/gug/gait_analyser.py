@@ -1,16 +1,21 @@
 """The gait analyser's logic (pure): it sees only the DSR. While PELEA's ``gait`` node says a
 trial is being timed (``status: timing``, ``go_at``, ``trial``), every new skeleton frame of the
-person becomes a sample in the Get Up & Go chair's frame (kinematic chains ``gug_chair`` ->
-``person_<joint>``); the phase in progress is written as it changes, and once the patient has
-walked and is seated again the whole trial is timed (``phases.time_trial``) and written back:
-``tug_seconds``, ``phase_seconds`` (in ``PHASES`` order), ``band``, ``fall_risk``, ``status:
-timed``. Times are the frames' (``frame_time``, epoch seconds) turned into the patient's time
-with ``scale`` (the session's pace), so a result is the same at any pace.
+person becomes a sample in the Get Up & Go chair's frame (the kinematic chain ``gug_chair`` ->
+``kinect``, then the frame's own poses of the person and its joints): read from the deltas, so
+that every frame Person wrote counts, several in one delta when Person fell behind, and several
+deltas applied at once when this agent did (``skeleton.frames_in``; without deltas, after a
+resynchronisation, the graph's latest frame); the phase in progress is written as it changes,
+and once the patient has walked and is seated again the whole trial is timed
+(``phases.time_trial``) and written back: ``tug_seconds``, ``phase_seconds`` (in ``PHASES``
+order), ``band``, ``fall_risk``, ``status: timed``. Times are the frames' (``frame_time``,
+epoch seconds) turned into the patient's time with ``scale`` (the session's pace), so a result
+is the same at any pace.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator
 from typing import Any
 
 from clarc_agents.gug.phases import (
@@ -23,7 +28,7 @@ from clarc_agents.gug.phases import (
     sample,
     time_trial,
 )
-from clarc_agents.gug.skeleton import joint_node
+from clarc_agents.gug.skeleton import frames_in, joint_node
 from dsr_graph.exceptions import DsrError
 from dsr_graph.model.graph import Graph
 
@@ -42,6 +47,7 @@ class GaitAnalyser:
         self.samples: list[Sample] = []
         self.phase = ""
         self._last_frame = None
+        self._sensor_gap: float | None = None  # of the frame just taken, as Person wrote it
         self._reset()
 
     def _reset(self) -> None:
@@ -51,8 +57,11 @@ class GaitAnalyser:
         self.last_up = 0.0  # when the hips were last above the seated height
         self.tried = float("-inf")  # when timing the whole trial was last tried
 
-    def on_graph(self, graph: Graph) -> dict[str, Any] | None:
-        """The transaction to send for this state of the graph, if any."""
+    def on_graph(
+        self, graph: Graph, deltas: list[dict[str, Any]] | None = None
+    ) -> dict[str, Any] | None:
+        """The transaction to send for this state of the graph, if any; ``deltas``: the ones
+        just applied, whose every frame is a sample (None: only the graph's latest frame)."""
         gait = graph.find("gait")
         if gait is None or gait.attrs.get("status") != "timing":
             self.trial = None
@@ -61,11 +70,22 @@ class GaitAnalyser:
             self.trial, self.go = gait.attrs.get("trial"), float(gait.attrs.get("go_at", 0.0))
             self.phase, self._last_frame = "waiting", None
             self._reset()
-        new = self._take_frame(graph)
-        if new is None:
-            return None
+        news = self._frames(graph, deltas) if deltas is not None else [self._take_frame(graph)]
+        tx = None
+        for new in news:  # each frame taken, then judged, before the next is taken
+            if self.phase == "done":
+                break
+            if new is not None:
+                tx = self._on_sample(new) or tx  # a later write says what an earlier would
+        return tx
+
+    def _on_sample(self, new: Sample) -> dict[str, Any] | None:
         before = self.samples[-2].t if len(self.samples) > 1 else 0.0  # "go"
-        if new.t - before > MAX_GAP:  # a hole: Person or the Kinect was down, or we joined late
+        # frames the sensor gave but the DSR could not take in time (a busy machine) are no
+        # hole: only a gap of the sensor's own (Person's sensor_gap) voids the trial
+        sensor_gap = None if self._sensor_gap is None else self._sensor_gap / self.scale
+        hole = new.t - before > MAX_GAP and (sensor_gap is None or sensor_gap > MAX_GAP)
+        if hole:  # Person or the Kinect was down, or we joined late
             self.phase = "done"
             reason = (
                 f"no frames for {new.t - before:.1f} s from {before:.1f} s after go: "
@@ -83,6 +103,27 @@ class GaitAnalyser:
         return None
 
     # ------------------------------------------------------------------ samples
+    def _frames(self, graph: Graph, deltas: list[dict[str, Any]]) -> Iterator[Sample | None]:
+        """A sample per frame the deltas wrote, in their order (taken one at a time)."""
+        frames = [frame for delta in deltas for frame in frames_in(delta)]
+        if not frames or graph.find(CHAIR) is None:
+            return
+        try:
+            chair_kinect = graph.transform(CHAIR, "kinect")
+        except DsrError:
+            return
+        for stamp, person, joints in frames:
+            if stamp == self._last_frame:
+                continue
+            self._last_frame = stamp
+            self._sensor_gap = joints.pop("sensor_gap", None)
+            seen = {
+                joint: (chair_kinect @ person @ joints[joint])[:3, 3]
+                for joint in WATCHED
+                if joint in joints
+            }
+            yield self._add(stamp, seen)
+
     def _take_frame(self, graph: Graph) -> Sample | None:
         person = graph.find("person")
         if person is None or graph.find(CHAIR) is None:
@@ -91,6 +132,9 @@ class GaitAnalyser:
         if frame is None or frame == self._last_frame:
             return None
         self._last_frame = frame
+        # (the graph holds the latest frame only: a gap the sensor reported for frames this
+        # agent did not see cannot be told from one it did not, so it is not taken)
+        self._sensor_gap = None
         joints = {}
         for joint in WATCHED:
             if graph.find(joint_node(joint)) is None:
@@ -99,6 +143,11 @@ class GaitAnalyser:
                 joints[joint] = graph.transform(CHAIR, joint_node(joint))[:3, 3]
             except DsrError:  # not in one tree (yet): no sample from this frame
                 return None
+        return self._add(frame, joints)
+
+    def _add(self, frame: float, joints: dict[str, Any]) -> Sample | None:
+        """The sample of a frame (its time, the watched joints in the chair's frame), kept
+        when it comes after "go"."""
         s = sample((float(frame) - self.go) / self.scale, joints)
         if s is not None and s.t >= 0.0:
             self.samples.append(s)
@@ -135,7 +184,7 @@ class GaitAnalyser:
             return None
         self.tried = now
         try:
-            return time_trial(self.samples, 0.0)
+            return time_trial(self.samples, 0.0, holes_judged=True)
         except NotATrial:
             return None
 

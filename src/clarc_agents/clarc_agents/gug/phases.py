@@ -94,13 +94,17 @@ def fall_risk(tug_seconds: float) -> bool:
     return tug_seconds >= 13.5
 
 
-def time_trial(samples: Sequence[Sample], go: float) -> TrialTimes:
-    """The boundaries of the phases of the trial that began at ``go``."""
+def time_trial(samples: Sequence[Sample], go: float, holes_judged: bool = False) -> TrialTimes:
+    """The boundaries of the phases of the trial that began at ``go``. ``holes_judged``: the
+    caller has judged every gap between the samples as they came (the gait analyser, which
+    knows from Person's ``sensor_gap`` which gaps the sensor itself had), so none is checked
+    again here."""
     samples = sorted((s for s in samples if s.t >= go), key=lambda s: s.t)
     if len(samples) < 30:
         raise NotATrial(f"{len(samples)} frames after go: too few for a trial")
     t = np.array([s.t for s in samples])
-    check_gaps(t, go)
+    if not holes_judged:
+        check_gaps(t, go)
     height = np.array([s.height for s in samples])
     distance = np.array([s.distance for s in samples])
     heading = np.unwrap(np.array([s.heading for s in samples]))

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 
 JOINTS = (
@@ -75,9 +76,39 @@ def heading(joints: Mapping[str, tuple[np.ndarray, float]]) -> float:
 
 
 def skeleton_tx(
-    graph: Graph, joints: Mapping[str, tuple[np.ndarray, float]], stamp: float
+    graph: Graph,
+    joints: Mapping[str, tuple[np.ndarray, float]],
+    stamp: float,
+    sensor_gap: float | None = None,
 ) -> dict[str, Any]:
-    """The transaction writing one frame: person pose under the Kinect, joints under it."""
+    """The transaction writing one frame: person pose under the Kinect, joints under it.
+    ``sensor_gap``: the longest time between two frames the sensor gave since the frame written
+    before (Person skips frames when the DSR is slower than the Kinect; a reader must not take
+    that for the sensor losing the person)."""
+    tx = frames_tx(graph, [(joints, stamp)])
+    if sensor_gap is not None:
+        tx["ops"][1]["attrs"]["sensor_gap"] = round(float(sensor_gap), 4)
+    return tx
+
+
+def frames_tx(
+    graph: Graph, frames: list[tuple[Mapping[str, tuple[np.ndarray, float]], float]]
+) -> dict[str, Any]:
+    """One transaction writing several frames in their order (Person, when the DSR is slower
+    than the Kinect): each frame's ops in turn, so the graph ends at the last frame and a reader
+    of the delta (the gait analyser, ``frames_in``) sees every one of them."""
+    ops: list[dict[str, Any]] = []
+    known = {joint for joint in JOINTS if graph.find(joint_node(joint)) is not None}
+    for joints, stamp in frames:
+        ops += _frame_ops(joints, stamp, known)
+        known |= set(joints)
+    return {"ops": ops}
+
+
+def _frame_ops(
+    joints: Mapping[str, tuple[np.ndarray, float]], stamp: float, known: set[str]
+) -> list[dict[str, Any]]:
+    """One frame's ops; ``known``: the joints whose nodes exist already."""
     pelvis = joints["pelvis"][0]
     yaw = heading(joints)
     c, s = math.cos(-yaw), math.sin(-yaw)
@@ -102,9 +133,34 @@ def skeleton_tx(
         local = [round(c * d[0] - s * d[1], 4), round(s * d[0] + c * d[1], 4), round(d[2], 4)]
         rt = {"translation": local, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
         name = joint_node(joint)
-        if graph.find(name) is None:
+        if joint not in known:
             ops.append({"op": "insert_node", "name": name, "type": "joint"})
             ops.append({"op": "insert_edge", "from": "person", "to": name, "type": "RT", "rt": rt})
         else:
             ops.append({"op": "set_rt", "from": "person", "to": name, "rt": rt})
-    return {"ops": ops}
+    return ops
+
+
+def frames_in(delta: Mapping[str, Any]) -> list[tuple[float, np.ndarray, dict[str, np.ndarray]]]:
+    """The skeleton frames a delta wrote, in order: (frame time, the person's pose under the
+    Kinect, {joint: its pose under the person}) as 4x4 matrices; a frame starts at the person's
+    ``set_rt`` (``frames_tx``'s order). The frame's ``sensor_gap``, when written, is under the
+    joint key ``"sensor_gap"`` as a number."""
+    found: list[tuple[float | None, np.ndarray, dict[str, Any]]] = []
+    for op in delta.get("ops", ()):
+        kind = op.get("op")
+        if kind == "set_rt" and op.get("from") == "kinect" and op.get("to") == "person":
+            found.append((None, rigid.from_json(op["rt"]), {}))
+        elif not found:
+            continue
+        elif kind == "set_node_attrs" and op.get("node") == "person":
+            attrs = op.get("attrs") or {}
+            if attrs.get("frame_time") is not None:
+                found[-1] = (float(attrs["frame_time"]), found[-1][1], found[-1][2])
+            if attrs.get("sensor_gap") is not None:
+                found[-1][2]["sensor_gap"] = float(attrs["sensor_gap"])
+        elif kind in ("set_rt", "insert_edge") and op.get("from") == "person":
+            name = str(op.get("to", ""))
+            if name.startswith("person_") and op.get("type", "RT") == "RT" and "rt" in op:
+                found[-1][2][name[len("person_") :]] = rigid.from_json(op["rt"])
+    return [(t, person, joints) for t, person, joints in found if t is not None]

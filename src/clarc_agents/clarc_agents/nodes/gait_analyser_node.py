@@ -35,11 +35,12 @@ class GaitAnalyserNode(DsrNode):
 
     def setup(self) -> None:
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
-        self.dsr.add_listener(lambda deltas, resynced: self.on_graph())
+        # every frame of the deltas counts; after a resynchronisation, the graph's latest
+        self.dsr.add_listener(lambda deltas, resynced: self.on_graph(None if resynced else deltas))
         self.get_logger().info("gait analyser up: waiting for a Get Up & Go trial")
 
-    def on_graph(self) -> None:
-        tx = self.analyser.on_graph(self.dsr.graph)
+    def on_graph(self, deltas=None) -> None:
+        tx = self.analyser.on_graph(self.dsr.graph, deltas)
         if tx is not None:
             self._next = tx  # a later write says all an earlier one would (phase, then result)
         self._send_next()

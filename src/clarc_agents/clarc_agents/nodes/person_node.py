@@ -9,7 +9,10 @@ A person counts as seen after ``seen_frames`` frames with a face and as lost aft
 written again only when the face moved more than ``move_mm``. Kinect frames give the face in
 millimetres; the DSR holds metres. A frame with a skeleton (Get Up & Go) places the person at
 the pelvis and every joint under it, in one transaction (``gug/skeleton.py``); one is in flight
-at a time, so when frames come faster than the DSR takes them the newest pose wins.
+at a time, so when frames come faster than the DSR takes them the newest pose wins, and the frame
+written says how long the sensor really went without a frame since the one written before
+(``sensor_gap``): skipped frames are not a hole in what the sensor saw (the gait analyser voids a
+trial only for a hole of the sensor's).
 
 ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0). Subscriptions:
 clarc/kinect/person. Plus the DSR topics.
@@ -62,6 +65,8 @@ class PersonAgent(GrammarAgentNode):
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self.skeletons_skipped = 0
+        self._last_skeleton: float | None = None  # the stamp of the last skeleton frame seen
+        self._sensor_gap = 0.0  # the longest gap between frames seen since the last written
         self._posture = PostureTracker(self.scale)
 
     def processes(self) -> dict[str, Process]:
@@ -128,17 +133,21 @@ class PersonAgent(GrammarAgentNode):
             self.runner.signal("posture", posture=posture)
 
     def _write_skeleton(self, joints, stamp: float) -> None:
+        if self._last_skeleton is not None:
+            self._sensor_gap = max(self._sensor_gap, stamp - self._last_skeleton)
+        self._last_skeleton = stamp
         if self._skeleton_in_flight:
             self.skeletons_skipped += 1
             return
         self._skeleton_in_flight = True
+        gap, self._sensor_gap = self._sensor_gap, 0.0
 
         def done(result) -> None:
             self._skeleton_in_flight = False
             if not result.accepted:
                 self.get_logger().warning(f"skeleton frame refused: {result.error}")
 
-        self.dsr.send(skeleton_tx(self.dsr.graph, joints, stamp), done)
+        self.dsr.send(skeleton_tx(self.dsr.graph, joints, stamp, sensor_gap=gap), done)
 
 
 main = main_for(PersonAgent)
