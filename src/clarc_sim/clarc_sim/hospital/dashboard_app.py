@@ -227,7 +227,8 @@ def make_app(
         if user is not None and now - session.get("seen", 0) > idle:
             session.invalidate()
             user = None
-        if user is None or db().user(user["name"]) is None or db().user(user["name"])["disabled"]:
+        account = db().user(user["name"]) if user is not None else None
+        if account is None or account["disabled"]:  # disabling a user ends their sessions
             if request.path.startswith("/api/"):
                 raise web.HTTPUnauthorized(text="log in first (your session ended, or never began)")
             raise web.HTTPFound("/login")
