@@ -123,7 +123,8 @@ class ServerCore:
 
     def _read(self, text: str | bytes) -> Any:
         """The request's JSON (safe_json: bytes, depth, numbers bounded), or a rejection."""
-        size = len(text.encode("utf-8", "surrogatepass") if isinstance(text, str) else text)
+        raw = text.encode("utf-8", "surrogatepass") if isinstance(text, str) else text
+        size = len(raw)  # encoded once: the reader takes the bytes
         if size > self.max_request_bytes:
             raise TransactionRejected(
                 Violation(
@@ -133,7 +134,7 @@ class ServerCore:
                 )
             )
         try:
-            return safe_json.loads(text, None)
+            return safe_json.loads(raw, None)
         except ValueError as e:
             raise TransactionRejected(Violation("malformed", "transaction", str(e))) from None
 
