@@ -40,7 +40,7 @@ class GugRobot(Robot):
         self.pelea_link.add_listener(lambda d, r: self.gug.on_graph(self.pelea_link.graph))
         self.analyser_link = self.bus.agent("/gait_analyser")
         self.analyser = GaitAnalyser()
-        self.analyser_link.add_listener(lambda d, r: self._analyse())
+        self.analyser_link.add_listener(lambda d, r: self._analyse(None if r else d))
         self.rng = random.Random(11)
         self.trial = 0
         self.present = True
@@ -71,10 +71,10 @@ class GugRobot(Robot):
         self.analyser_link.close()
         self.analyser_link = self.bus.agent("/gait_analyser")
         self.analyser = GaitAnalyser()
-        self.analyser_link.add_listener(lambda d, r: self._analyse())
+        self.analyser_link.add_listener(lambda d, r: self._analyse(None if r else d))
 
-    def _analyse(self) -> None:
-        tx = self.analyser.on_graph(self.analyser_link.graph)
+    def _analyse(self, deltas=None) -> None:
+        tx = self.analyser.on_graph(self.analyser_link.graph, deltas)
         if tx is not None:
             self.analyser_link.send(tx)
 

@@ -1,8 +1,8 @@
 """The Get Up & Go test's sensing, without ROS: the patient's body (gait_motion), the Kinect's
-skeleton frames (skeleton_frames), Person's transaction per frame (gug/skeleton.py) on a DSR, and
-the gait analyser timing the trial from the DSR alone (gug/gait_analyser.py, gug/phases.py),
-checked against the scenario's truth with the issue's tolerances: tug_seconds within 0.3 s,
-each phase within 0.4 s, at the default 30 Hz and at any pace."""
+skeleton frames (skeleton_frames), Person's transactions (gug/skeleton.py) on a DSR, and the
+gait analyser timing the trial from the DSR alone (gug/gait_analyser.py, gug/phases.py),
+checked against the scenario's truth with the issue's tolerances: tug_seconds and every phase
+boundary within 0.5 s, at the default 30 Hz and at any pace."""
 
 import math
 import random
@@ -12,7 +12,13 @@ import pytest
 from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.gait_analyser import GaitAnalyser
 from clarc_agents.gug.phases import PHASES, NotATrial, band, fall_risk, sample, time_trial
-from clarc_agents.gug.skeleton import frames_in, frames_tx, parse_skeleton, skeleton_tx
+from clarc_agents.gug.skeleton import (
+    frames_in,
+    frames_on,
+    frames_tx,
+    parse_skeleton,
+    skeleton_tx,
+)
 from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
 from clarc_sim.patient.gait_motion import Motion, body_at, joints
 from clarc_sim.patient.scenario import parse
@@ -37,10 +43,22 @@ def frames(motion, hz=30.0, noise_mm=0.0, drop_rate=0.0, seed=3, after=3.0):
         t += 1.0 / hz
 
 
-def within_tolerance(motion, tug, phases):
-    assert abs(tug - motion.total) <= 0.3, (tug, motion.total)
+def within_tolerance(motion, tug, phases, reaction, still):
+    """The total within 0.5 s of the script's, and each part within two boundaries' 0.5 s (the
+    motion has no pauses: at most a short one is read between two movements)."""
+    assert abs(tug - motion.total) <= 0.5, (tug, motion.total)
+    assert abs(reaction - motion.reaction) <= 0.5
+    assert still <= 1.0
     for p in PHASES:
-        assert abs(phases[p] - getattr(motion, p)) <= 0.4, (p, phases[p], getattr(motion, p))
+        assert abs(phases[p] - getattr(motion, p)) <= 1.0, (p, phases[p], getattr(motion, p))
+
+
+def boundaries_within_tolerance(motion, timed):
+    """Every start and end of a movement within 0.5 s of the script's."""
+    starts = motion.starts()
+    truth = [(starts[p], starts[p] + getattr(motion, p)) for p in PHASES]
+    for p, (start, end), (t0, t1) in zip(PHASES, timed.moves, truth, strict=True):
+        assert abs(start - t0) <= 0.5 and abs(end - t1) <= 0.5, (p, start, end, t0, t1)
 
 
 @pytest.mark.parametrize("motion", [NORMAL, SLOW, BRISK])
@@ -56,8 +74,8 @@ def test_the_phases_from_the_joints_are_within_the_tolerances(motion, noise_mm, 
             chair[name] = (c * x - s * y, s * x + c * y, z)
         samples.append(sample(t, chair))
     timed = time_trial(samples, 0.0)
-    within_tolerance(motion, timed.tug_seconds, timed.phases)
-    assert abs(timed.reaction - motion.reaction) <= 0.4
+    within_tolerance(motion, timed.tug_seconds, timed.phases, timed.reaction, timed.still)
+    boundaries_within_tolerance(motion, timed)
 
 
 def test_the_body_rises_walks_turns_and_sits_as_scripted():
@@ -163,9 +181,7 @@ def test_the_gait_analyser_times_the_trial_from_the_dsr_alone(scale, motion, noi
         bus.deliver()
     gait = bus.core.graph.node("gait").attrs
     assert gait["status"] == "timed" and gait["phase"] == "done"
-    within_tolerance(
-        motion, gait["tug_seconds"], dict(zip(PHASES, gait["phase_seconds"], strict=True))
-    )
+    timed_as(motion, gait)
     assert gait["band"] == band(gait["tug_seconds"])
     assert gait["fall_risk"] == (gait["tug_seconds"] >= 13.5)
     assert phases_seen == [*PHASES, "done"]  # each phase written once, in order, as it came
@@ -175,10 +191,19 @@ def test_the_gait_analyser_times_the_trial_from_the_dsr_alone(scale, motion, noi
     assert graph.transform("gug_chair", "person_pelvis")[2, 3] == pytest.approx(0.47, abs=0.1)
 
 
-def test_frames_the_dsr_could_not_take_are_no_hole_when_the_sensor_saw_the_person():
-    """A busy machine: Person writes every 3rd frame, and for 0.7 s of the patient's time every
-    2.5 s none (the DSR stalled: more than a trial's largest hole), each written frame saying
-    the sensor's own largest gap since the one before (a frame): timed, within tolerance."""
+def timed_as(motion, gait):
+    phases = dict(zip(PHASES, gait["phase_seconds"], strict=True))
+    within_tolerance(
+        motion, gait["tug_seconds"], phases, gait["reaction_seconds"], gait["still_seconds"]
+    )
+    parts = gait["reaction_seconds"] + sum(phases.values()) + gait["still_seconds"]
+    assert parts == pytest.approx(gait["tug_seconds"], abs=0.011)  # they add up, as stored
+
+
+def test_a_busy_machine_writes_more_frames_at_a_time_and_the_trial_is_timed():
+    """Person far behind: the frames of 0.7 s of the patient's time at once every 2.5 s (the
+    DSR stalled: more than a trial's largest hole), a few at a time otherwise: every frame is in
+    a delta with its capture stamp, so the trial is timed, within tolerance."""
     bus, person = dsr_with_a_seated_person()
     analyser_link = bus.agent("/gait_analyser")
     analyser = GaitAnalyser(scale=0.1)
@@ -189,21 +214,17 @@ def test_frames_the_dsr_could_not_take_are_no_hole_when_the_sensor_saw_the_perso
             analyser_link.send(tx)
 
     analyser_link.add_listener(look)
-    last, gap = None, 0.0
+    waiting = []
     for k, (t, raw) in enumerate(frames(NORMAL)):
-        stamp = 1000.0 + t * 0.1
-        gap = max(gap, stamp - last) if last is not None else 0.0
-        last = stamp
+        waiting.append((parse_skeleton(raw), 1000.0 + t * 0.1))
         stalled = (t + 1.0) % 2.5 < 0.7
         if k % 3 == 0 and not stalled:
-            person.send(skeleton_tx(person.graph, parse_skeleton(raw), stamp, sensor_gap=gap))
+            person.send(frames_tx(person.graph, waiting))
             bus.deliver()
-            gap = 0.0
+            waiting = []
     gait = bus.core.graph.node("gait").attrs
     assert gait["status"] == "timed", gait.get("reason")
-    within_tolerance(
-        NORMAL, gait["tug_seconds"], dict(zip(PHASES, gait["phase_seconds"], strict=True))
-    )
+    timed_as(NORMAL, gait)
 
 
 def test_frames_in_reads_each_frame_of_a_delta_in_order():
@@ -216,12 +237,16 @@ def test_frames_in_reads_each_frame_of_a_delta_in_order():
     ]
     person.send(frames_tx(person.graph, burst))
     bus.deliver()
-    person.send(skeleton_tx(person.graph, burst[0][0], 1000.8, sensor_gap=0.25))
+    person.send(skeleton_tx(person.graph, burst[0][0], 1000.8))
     bus.deliver()
     read = [frame for d in seen for frame in frames_in(d)]
-    assert [t for t, _, _ in read] == [*stamps, 1000.8]
-    assert all({"pelvis", "hip_left", "shoulder_right"} <= set(joints) for _, _, joints in read)
-    assert read[-1][2]["sensor_gap"] == 0.25 and "sensor_gap" not in read[0][2]
+    assert [t for t, _ in read] == [*stamps, 1000.8]
+    assert all({"pelvis", "hip_left", "shoulder_right"} <= set(joints) for _, joints in read)
+    pelvis, confidence = read[0][1]["pelvis"]
+    assert pelvis == pytest.approx(burst[0][0]["pelvis"][0], abs=1e-4) and 0 < confidence <= 1
+    # the graph holds the last write's frames and the newest frame's geometry
+    assert [t for t, _ in frames_on(bus.core.graph)] == [1000.8]
+    assert bus.core.graph.node("person").attrs["frame_time"] == 1000.8
 
 
 def test_a_bad_skeleton_is_refused_naming_what_is_wrong():

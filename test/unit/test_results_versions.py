@@ -2,6 +2,7 @@
 version 2 (kept as fixtures, written by that code) open, migrate and lose nothing; Get Up & Go
 results are stored with their time and phases and refused when they do not add up."""
 
+import json
 import shutil
 import sqlite3
 from pathlib import Path
@@ -81,8 +82,17 @@ def gug(**changes):
         "test": "get_up_and_go",
         "patient": "Carlos",
         "started": "2026-11-24T10:00:00+00:00",
+        "outcome": "timed",
         "tug_seconds": 14.2,
-        "phases": {"rise": 1.6, "walk_out": 4.0, "turn": 2.1, "walk_back": 4.0, "sit": 1.5},
+        "reaction_seconds": 0.8,
+        "phases": {
+            "rise": 1.6,
+            "walk_out": 4.0,
+            "turn": 2.1,
+            "walk_back": 4.0,
+            "sit": 1.5,
+            "still": 0.2,
+        },
         "band": "mostly independent",
         "fall_risk": True,
     }
@@ -96,8 +106,31 @@ def test_a_get_up_and_go_result_is_stored_with_its_time_and_phases(tmp_path):
     assert store.store(gug()) == first
     [stored] = store.tests()
     assert stored["test"] == "get_up_and_go" and stored["tug_seconds"] == 14.2
-    assert list(stored["phases"]) == ["rise", "walk_out", "turn", "walk_back", "sit"]
+    assert list(stored["phases"]) == ["rise", "walk_out", "turn", "walk_back", "sit", "still"]
     assert stored["band"] == "mostly independent" and stored["fall_risk"] is True
+    assert stored["outcome"] == "timed" and stored["reaction_seconds"] == 0.8
+
+
+def test_a_patient_unable_to_perform_is_stored_with_each_trial_s_reason(tmp_path):
+    store = ResultsStore(tmp_path / "cgamed.sqlite")
+    reasons = [f"trial {n}: the patient was not seated at go" for n in (1, 2, 3)]
+    unable = gug(
+        outcome="unable",
+        tug_seconds=None,
+        reaction_seconds=None,
+        phases=None,
+        band="unable to perform",
+        trials=3,
+        void_reasons=reasons,
+    )
+    store.store(unable)
+    [stored] = store.tests()
+    assert stored["outcome"] == "unable" and stored["void_reasons"] == reasons
+    assert stored["tug_seconds"] is None and stored["fall_risk"] is True
+    with pytest.raises(InvalidResult, match="reason of each void trial"):
+        store.store(dict(unable, started="2026-11-25T10:00:00+00:00", void_reasons=[]))
+    with pytest.raises(InvalidResult, match="no tug_seconds"):
+        store.store(dict(unable, started="2026-11-25T10:00:00+00:00", tug_seconds=3.0))
 
 
 @pytest.mark.parametrize(
@@ -105,8 +138,10 @@ def test_a_get_up_and_go_result_is_stored_with_its_time_and_phases(tmp_path):
     [
         ({"band": "normal"}, "do not match"),
         ({"fall_risk": False}, "do not match"),
-        ({"tug_seconds": -3}, "result.tug_seconds: -3 is less than or equal to the minimum of 0"),
-        ({"phases": {"rise": 1.0}}, "rise, walk_out, turn, walk_back, sit"),
+        ({"tug_seconds": -3}, "result.tug_seconds: -3 is not valid"),
+        ({"phases": {"rise": 1.0}}, "rise, walk_out, turn, walk_back, sit, still"),
+        ({"reaction_seconds": 3.0}, "add up to 16.40 s, not tug_seconds 14.2"),
+        ({"outcome": "maybe"}, "result.outcome: 'maybe' is not one of"),
         ({"test": "tug"}, "unknown test 'tug'"),
     ],
 )
@@ -163,8 +198,26 @@ def test_a_store_of_version_2_migrates_keeping_its_validations_and_gains_patient
     assert [t["patient_id"] for t in tests] == [1, 2, 1]  # Carlos's two tests, one record
     with pytest.raises(InvalidResult, match="validated by Dr. Ruiz"):
         store.validate(2, "Dr. Gil")
+    # version 5: the Get Up & Go result says it was timed, its reaction (what its phases leave
+    # of the total) and no time standing still; nothing else of any row changes
+    assert tests[2]["outcome"] == "timed" and tests[2]["phases"]["still"] == 0.0
+    assert tests[2]["reaction_seconds"] == pytest.approx(
+        9.1 - sum(v for k, v in tests[2]["phases"].items() if k != "still"), abs=0.006
+    )
     store.close()
-    assert rows(path) == before  # every row as it was
+    assert without_version_5(rows(path)) == without_version_5(before)  # every row as it was
+
+
+def without_version_5(found):
+    tests = []
+    for test_id, result_json, stored in found["tests"]:
+        result = json.loads(result_json)
+        for key in ("outcome", "reaction_seconds", "void_reasons"):
+            result.pop(key, None)
+        if isinstance(result.get("phases"), dict):
+            result["phases"].pop("still", None)
+        tests.append((test_id, result, stored))
+    return found | {"tests": tests}
 
 
 def barthel_result(**changes):
@@ -204,7 +257,7 @@ def barthel_result(**changes):
         (barthel_result(total="0"), "result.total: '0' is not of type 'integer'"),
         (gug(phases={**gug()["phases"], "rise": float("nan")}), "not finite"),
         (gug(tug_seconds=float("inf")), "not finite"),
-        (gug(trials=0), "result.trials: 0 is less than the minimum of 1"),
+        (gug(trials=-1), "result.trials: -1 is less than the minimum of 0"),
         ([1, 2], "a result is a JSON object"),
     ],
 )

@@ -50,6 +50,11 @@ class NotATrial(DsrError, ValueError):
     not seated again); the message says which."""
 
 
-class TrialGap(NotATrial):
+class InvalidTrial(NotATrial):
+    """A Get Up & Go trial that ended but does not count (not seated at go, the line not
+    reached, no turn): it is void, and the message is the reason the clinician reads."""
+
+
+class TrialGap(InvalidTrial):
     """Frames are missing from a Get Up & Go trial for longer than a movement may hide in (the
     Kinect or Person was down, the analyser joined late): it can never be timed."""

@@ -1,15 +1,17 @@
 """The gait analyser's logic (pure): it sees only the DSR. While PELEA's ``gait`` node says a
 trial is being timed (``status: timing``, ``go_at``, ``trial``), every new skeleton frame of the
 person becomes a sample in the Get Up & Go chair's frame (the kinematic chain ``gug_chair`` ->
-``kinect``, then the frame's own poses of the person and its joints): read from the deltas, so
-that every frame Person wrote counts, several in one delta when Person fell behind, and several
-deltas applied at once when this agent did (``skeleton.frames_in``; without deltas, after a
-resynchronisation, the graph's latest frame); the phase in progress is written as it changes,
-and once the patient has walked and is seated again the whole trial is timed
-(``phases.time_trial``) and written back: ``tug_seconds``, ``phase_seconds`` (in ``PHASES``
-order), ``band``, ``fall_risk``, ``status: timed``. Times are the frames' (``frame_time``,
-epoch seconds) turned into the patient's time with ``scale`` (the session's pace), so a result
-is the same at any pace.
+``kinect`` applied to the joints the sensor trusts): read from the person's
+``skeleton_frames`` in the deltas, so that every frame the sensor gave counts, however many a
+delta carries (``skeleton.frames_in``; after a resynchronisation, the frames of the person's
+last write). The phase in progress is written as it changes, and once the patient has walked
+and is seated again the whole trial is timed (``phases.time_trial``, with the line at the
+chair's ``line_m``, 3 m by default) and written back: ``tug_seconds``, ``reaction_seconds``,
+``phase_seconds`` (in ``PHASES`` order), ``still_seconds``, ``band``, ``fall_risk``,
+``status: timed``; or ``status: void`` with the ``reason`` (a hole in the frames, not seated at
+go, the line not reached, no turn). Times are the frames' capture stamps (epoch seconds) turned
+into the patient's time with ``scale`` (the session's pace), so a result is the same at any
+pace and however late the frames came.
 """
 
 from __future__ import annotations
@@ -18,8 +20,11 @@ import math
 from collections.abc import Iterator
 from typing import Any
 
+from clarc_agents.exceptions import InvalidTrial
 from clarc_agents.gug.phases import (
+    LINE,
     MAX_GAP,
+    MIN_RISE,
     PHASES,
     NotATrial,
     Sample,
@@ -28,7 +33,7 @@ from clarc_agents.gug.phases import (
     sample,
     time_trial,
 )
-from clarc_agents.gug.skeleton import frames_in, joint_node
+from clarc_agents.gug.skeleton import frames_in, frames_on
 from dsr_graph.exceptions import DsrError
 from dsr_graph.model.graph import Graph
 
@@ -36,7 +41,7 @@ CHAIR = "gug_chair"
 WATCHED = ("pelvis", "hip_left", "hip_right", "shoulder_left", "shoulder_right")
 SEATED_FOR = 1.0  # s of the patient's time seated again before the trial is timed
 ORDER = ("waiting", *PHASES, "done")
-FAR = 1.5  # m from the chair: the patient walked
+FAR = 1.0  # m from the chair: the patient walked (whether far enough is the trial's judgement)
 
 
 class GaitAnalyser:
@@ -47,13 +52,15 @@ class GaitAnalyser:
         self.samples: list[Sample] = []
         self.phase = ""
         self._last_frame = None
-        self._sensor_gap: float | None = None  # of the frame just taken, as Person wrote it
+        self.line = LINE
         self._reset()
 
     def _reset(self) -> None:
         """What is followed of the trial as frames come, so each frame costs the same."""
         self.samples = []
         self.walked = False  # the hips have been FAR from the chair
+        self.low = self.high = None  # the lowest and highest hips so far
+        self.turned = 0.0  # rad the body turned since go
         self.last_up = 0.0  # when the hips were last above the seated height
         self.tried = float("-inf")  # when timing the whole trial was last tried
 
@@ -69,8 +76,15 @@ class GaitAnalyser:
         if gait.attrs.get("trial") != self.trial:
             self.trial, self.go = gait.attrs.get("trial"), float(gait.attrs.get("go_at", 0.0))
             self.phase, self._last_frame = "waiting", None
+            chair = graph.find(CHAIR)
+            self.line = float(chair.attrs.get("line_m", LINE)) if chair is not None else LINE
             self._reset()
-        news = self._frames(graph, deltas) if deltas is not None else [self._take_frame(graph)]
+        frames = (
+            [f for delta in deltas for f in frames_in(delta)]
+            if deltas is not None
+            else frames_on(graph)
+        )
+        news = self._samples(graph, frames)
         tx = None
         for new in news:  # each frame taken, then judged, before the next is taken
             if self.phase == "done":
@@ -81,18 +95,17 @@ class GaitAnalyser:
 
     def _on_sample(self, new: Sample) -> dict[str, Any] | None:
         before = self.samples[-2].t if len(self.samples) > 1 else 0.0  # "go"
-        # frames the sensor gave but the DSR could not take in time (a busy machine) are no
-        # hole: only a gap of the sensor's own (Person's sensor_gap) voids the trial
-        sensor_gap = None if self._sensor_gap is None else self._sensor_gap / self.scale
-        hole = new.t - before > MAX_GAP and (sensor_gap is None or sensor_gap > MAX_GAP)
-        if hole:  # Person or the Kinect was down, or we joined late
-            self.phase = "done"
-            reason = (
+        # every frame the sensor gave reaches the DSR (Person writes them all, several at a
+        # time when it is behind), and times are the frames' capture stamps: a hole here is the
+        # sensor's own (the person out of view, the Kinect or Person down), never a late frame
+        if new.t - before > MAX_GAP:
+            return self._void(
                 f"no frames for {new.t - before:.1f} s from {before:.1f} s after go: "
                 "the trial cannot be timed"
             )
-            return self._tx({"status": "void", "phase": "done", "reason": reason})
         timed = self._time_if_seated()
+        if isinstance(timed, str):
+            return self._void(timed)
         if timed is not None:
             return self._result_tx(timed)
         phase = self._phase_now()
@@ -102,70 +115,52 @@ class GaitAnalyser:
             return self._tx({"phase": phase})
         return None
 
+    def _void(self, reason: str) -> dict[str, Any]:
+        self.phase = "done"
+        return self._tx({"status": "void", "phase": "done", "reason": reason})
+
     # ------------------------------------------------------------------ samples
-    def _frames(self, graph: Graph, deltas: list[dict[str, Any]]) -> Iterator[Sample | None]:
-        """A sample per frame the deltas wrote, in their order (taken one at a time)."""
-        frames = [frame for delta in deltas for frame in frames_in(delta)]
+    def _samples(self, graph: Graph, frames) -> Iterator[Sample | None]:
+        """A sample per new frame, in order (taken one at a time): the watched joints the
+        sensor trusts, in the chair's frame (the kinematic chain chair -> kinect)."""
         if not frames or graph.find(CHAIR) is None:
             return
         try:
             chair_kinect = graph.transform(CHAIR, "kinect")
         except DsrError:
             return
-        for stamp, person, joints in frames:
-            if stamp == self._last_frame:
+        rotation, offset = chair_kinect[:3, :3], chair_kinect[:3, 3]
+        for stamp, joints in frames:
+            if self._last_frame is not None and stamp <= self._last_frame:
                 continue
             self._last_frame = stamp
-            self._sensor_gap = joints.pop("sensor_gap", None)
-            seen = {
-                joint: (chair_kinect @ person @ joints[joint])[:3, 3]
-                for joint in WATCHED
-                if joint in joints
-            }
-            yield self._add(stamp, seen)
+            seen = {j: rotation @ joints[j][0] + offset for j in WATCHED if j in joints}
+            trust = {j: joints[j][1] for j in WATCHED if j in joints}
+            yield self._add(stamp, seen, trust)
 
-    def _take_frame(self, graph: Graph) -> Sample | None:
-        person = graph.find("person")
-        if person is None or graph.find(CHAIR) is None:
-            return None
-        frame = person.attrs.get("frame_time")
-        if frame is None or frame == self._last_frame:
-            return None
-        self._last_frame = frame
-        # (the graph holds the latest frame only: a gap the sensor reported for frames this
-        # agent did not see cannot be told from one it did not, so it is not taken)
-        self._sensor_gap = None
-        joints = {}
-        for joint in WATCHED:
-            if graph.find(joint_node(joint)) is None:
-                continue
-            try:
-                joints[joint] = graph.transform(CHAIR, joint_node(joint))[:3, 3]
-            except DsrError:  # not in one tree (yet): no sample from this frame
-                return None
-        return self._add(frame, joints)
-
-    def _add(self, frame: float, joints: dict[str, Any]) -> Sample | None:
+    def _add(self, frame: float, joints: dict[str, Any], trust: dict[str, float]) -> Sample | None:
         """The sample of a frame (its time, the watched joints in the chair's frame), kept
         when it comes after "go"."""
-        s = sample((float(frame) - self.go) / self.scale, joints)
-        if s is not None and s.t >= 0.0:
-            self.samples.append(s)
-            self.walked = self.walked or s.distance > FAR
-            if len(self.samples) <= 15 or s.height > self._seated_height() + 0.05:
-                self.last_up = s.t
-            return s
-        return None
+        s = sample((float(frame) - self.go) / self.scale, joints, trust)
+        if s is None or s.t < 0.0:
+            return None
+        if self.samples:  # turning, read modulo half a turn (a left/right swap is no turn)
+            step = 2.0 * (s.heading - self.samples[-1].heading)
+            self.turned += (step + math.pi) % (2.0 * math.pi) / 2.0 - math.pi / 2.0
+        self.samples.append(s)
+        self.walked = self.walked or s.distance > FAR
+        self.low = s.height if self.low is None else min(self.low, s.height)
+        self.high = s.height if self.high is None else max(self.high, s.height)
+        if s.height > self.low + 0.3 * max(self.high - self.low, MIN_RISE):
+            self.last_up = s.t
+        return s
 
     # ------------------------------------------------------------------ the trial
-    def _seated_height(self) -> float:
-        """The lowest of the first frames after go: the patient still sits."""
-        return min(s.height for s in self.samples[:15])
-
     def _phase_now(self) -> str:
-        last, seated = self.samples[-1], self._seated_height()
-        turned = abs(last.heading - self.samples[0].heading)
-        turned = min(turned, 2 * math.pi - turned)
+        """The phase in progress, roughly (for those who watch; the timing is done at the
+        end): how far up and out the patient is and how far they turned."""
+        last, seated = self.samples[-1], self.low
+        turned = abs(self.turned)
         if not self.walked:
             return "rise" if last.height > seated + 0.1 else "waiting"
         if last.distance > FAR and turned < 0.8:
@@ -177,26 +172,35 @@ class GaitAnalyser:
         return "sit"
 
     def _time_if_seated(self):
-        """The whole trial timed, once the patient walked and has sat for ``SEATED_FOR``; the
-        fit is tried again at most every ``SEATED_FOR`` (it costs up to 0.2 s)."""
+        """The whole trial timed, once the patient walked and has sat for ``SEATED_FOR``
+        (tried again at most every ``SEATED_FOR``); the reason, when the trial does not count
+        (not seated at go, the line not reached, no turn)."""
         now = self.samples[-1].t
         if not self.walked or now - self.last_up < SEATED_FOR or now - self.tried < SEATED_FOR:
             return None
         self.tried = now
         try:
-            return time_trial(self.samples, 0.0, holes_judged=True)
+            return time_trial(self.samples, 0.0, holes_judged=True, line=self.line)
+        except InvalidTrial as e:
+            return str(e)
         except NotATrial:
             return None
 
     def _result_tx(self, timed) -> dict[str, Any]:
         tug = round(timed.tug_seconds, 2)
+        phases = [round(timed.phases[p], 2) for p in PHASES]
+        still = round(timed.still, 2)
+        # the parts add up to the total as stored, rounding included: the reaction takes it
+        reaction = round(tug - sum(phases) - still, 2)
         self.phase = "done"
         return self._tx(
             {
                 "status": "timed",
                 "phase": "done",
                 "tug_seconds": tug,
-                "phase_seconds": [round(timed.phases[p], 2) for p in PHASES],
+                "reaction_seconds": reaction,
+                "phase_seconds": phases,
+                "still_seconds": still,
                 "band": band(tug),
                 "fall_risk": fall_risk(tug),
             }

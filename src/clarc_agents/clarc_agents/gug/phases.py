@@ -3,14 +3,27 @@ the DSR shows, in the chair's frame: x, y on the floor from the chair, z up, met
 
 Three signals tell the whole trial: the height of the hips above the floor (up when rising,
 down when sitting), their distance from the chair (out and back), and the heading of the body
-from the line through the hips and the shoulders (half a turn at the far end). Each movement is
-a transition between two still plateaus; it is located by a least-squares fit of an eased step
-(``smoothstep``) to the signal in a window that holds only that movement, which puts its start
-and end within a frame or two even with noisy joints and dropped frames. Where two movements
-meet, the boundary is half-way between the end of one and the start of the next.
+from the line through the hips and the shoulders (half a turn at the far end, another one to
+sit). The heading is read modulo a half turn and then made continuous, so a sensor that swaps
+left and right (a Kinect when the person faces away) does not hide or invent a turn.
 
-    phases = time_trial(samples, go)   # Samples after "go" until seated again
-    phases.tug_seconds, phases.phases["turn"], band(phases.tug_seconds)
+Robust events first place each movement: the hips' height crossing half-way between seated and
+standing (with hysteresis) says when the patient was up, the distance crossing half-way to the
+far point says when they were out, and the heading between those says where the turn is. Then
+each movement's start and end are read from its speed in a window that holds only it and the
+still spells on either side: from the moment it is half done, back and forth until it is no
+longer moving (slower than a twentieth of its top speed, or than the signal's own noise); a
+hesitation with a good part of the movement still to go is part of the movement. Nothing
+assumes a profile of the speed: a rise, a shuffle and a steady walk are read alike. A gap of
+``PAUSE`` or more between one movement's end and the next one's start is time standing still
+(``still``), named apart, so a patient who stops at the far end does not lengthen the turn; a
+shorter gap is split between the two.
+
+    timed = time_trial(samples, go)
+    timed.tug_seconds, timed.reaction, timed.phases["turn"], timed.still, band(tug)
+
+The trial counts only if the patient was seated at "go", reached the line, turned round and sat
+down again (``InvalidTrial`` names what failed); before the end it is ``NotATrial``.
 """
 
 from __future__ import annotations
@@ -21,15 +34,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from clarc_agents.exceptions import NotATrial, TrialGap
+from clarc_agents.exceptions import InvalidTrial, NotATrial, TrialGap
 
 PHASES = ("rise", "walk_out", "turn", "walk_back", "sit")
+STILL = "still"  # time standing still between movements, summed
 HIPS = ("pelvis", "hip_left", "hip_right")
 SIDES = (("hip_left", "hip_right"), ("shoulder_left", "shoulder_right"))
-COARSE = 0.1  # s, the first grid of a fit
-FINE = 1.0 / 60.0  # s, the grid it is refined on
 MIN_MOVE = 0.2  # s: no movement of a trial is shorter
 MAX_GAP = 0.5  # s without a frame that a trial may have (lost frames leave 0.1 s or so)
+PAUSE = 0.5  # s between two movements that count as standing still
+SETTLED = 0.5  # s seated and still before the trial is over
+LINE = 3.0  # m from the chair to the line, by default
+LINE_SLACK = 0.3  # m: the feet reach the line while the hips are still this far behind it
+MIN_RISE = 0.15  # m the hips rise from seated to standing, at least
+TURNED = 0.5 * math.pi  # rad: less than this at the far end is no turn round
+SIT_TURN = 0.25 * math.pi  # rad of turning before sitting that makes it part of the sit
 
 
 @dataclass(frozen=True)
@@ -37,23 +56,29 @@ class Sample:
     t: float  # seconds (of the patient's time)
     height: float  # of the hips above the floor
     distance: float  # of the hips from the chair, on the floor
-    heading: float  # rad about the vertical, from the hips and shoulders
+    heading: float  # rad about the vertical, from the hips and shoulders (maybe half a turn off)
 
 
-def sample(t: float, joints: dict[str, Sequence[float]]) -> Sample | None:
-    """A sample from the joints of one frame (in the chair's frame); None without the hips."""
-    hips = [np.asarray(joints[j], dtype=float) for j in HIPS if j in joints]
+def sample(
+    t: float, joints: dict[str, Sequence[float]], confidence: dict[str, float] | None = None
+) -> Sample | None:
+    """A sample from the joints of one frame (in the chair's frame); None without the hips or
+    the shoulders. ``confidence``: per joint; a joint below 0.3 is not used, the others weigh
+    as much as they are trusted."""
+    weight = {j: 1.0 if confidence is None else confidence.get(j, 1.0) for j in joints}
+    use = {j: np.asarray(p, dtype=float) for j, p in joints.items() if weight[j] >= 0.3}
+    hips = [j for j in HIPS if j in use]
     if not hips:
         return None
-    centre = np.mean(hips, axis=0)
-    lefts = [
-        np.asarray(joints[a], dtype=float) - np.asarray(joints[b], dtype=float)
-        for a, b in SIDES
-        if a in joints and b in joints
-    ]
-    if not lefts:
+    centre = np.average([use[j] for j in hips], axis=0, weights=[weight[j] for j in hips])
+    pairs = [(a, b) for a, b in SIDES if a in use and b in use]
+    if not pairs:
         return None
-    left = np.mean(lefts, axis=0)
+    left = np.average(
+        [use[a] - use[b] for a, b in pairs],
+        axis=0,
+        weights=[weight[a] * weight[b] for a, b in pairs],
+    )
     # the body faces +90 degrees from its left-to-right line, turned the other way
     heading = math.atan2(-left[0], left[1])
     return Sample(t, float(centre[2]), float(math.hypot(centre[0], centre[1])), heading)
@@ -62,20 +87,29 @@ def sample(t: float, joints: dict[str, Sequence[float]]) -> Sample | None:
 @dataclass(frozen=True)
 class TrialTimes:
     go: float
-    boundaries: tuple[float, ...]  # start of rise, the four meetings, seated again
+    # (start, end) of each movement in PHASES order, in the patient's time
+    moves: tuple[tuple[float, float], ...]
 
     @property
     def tug_seconds(self) -> float:
-        return self.boundaries[-1] - self.go
+        return self.moves[-1][1] - self.go
 
     @property
     def reaction(self) -> float:
-        return self.boundaries[0] - self.go
+        return self.moves[0][0] - self.go
 
     @property
     def phases(self) -> dict[str, float]:
-        b = self.boundaries
-        return {p: b[i + 1] - b[i] for i, p in enumerate(PHASES)}
+        return {p: end - start for p, (start, end) in zip(PHASES, self.moves, strict=True)}
+
+    @property
+    def still(self) -> float:
+        return sum(b[0] - a[1] for a, b in zip(self.moves, self.moves[1:], strict=False))
+
+    @property
+    def boundaries(self) -> tuple[float, ...]:
+        """Every start and end, in order (a split gap gives one time twice)."""
+        return tuple(t for move in self.moves for t in move)
 
 
 def band(tug_seconds: float) -> str:
@@ -94,11 +128,13 @@ def fall_risk(tug_seconds: float) -> bool:
     return tug_seconds >= 13.5
 
 
-def time_trial(samples: Sequence[Sample], go: float, holes_judged: bool = False) -> TrialTimes:
-    """The boundaries of the phases of the trial that began at ``go``. ``holes_judged``: the
-    caller has judged every gap between the samples as they came (the gait analyser, which
-    knows from Person's ``sensor_gap`` which gaps the sensor itself had), so none is checked
-    again here."""
+def time_trial(
+    samples: Sequence[Sample], go: float, holes_judged: bool = False, line: float = LINE
+) -> TrialTimes:
+    """The movements of the trial that began at ``go``, once the patient is seated again.
+    ``holes_judged``: the caller has judged every gap between the samples as they came (the
+    gait analyser), so none is checked again here. ``line``: metres from the chair the patient
+    must reach."""
     samples = sorted((s for s in samples if s.t >= go), key=lambda s: s.t)
     if len(samples) < 30:
         raise NotATrial(f"{len(samples)} frames after go: too few for a trial")
@@ -107,32 +143,76 @@ def time_trial(samples: Sequence[Sample], go: float, holes_judged: bool = False)
         check_gaps(t, go)
     height = np.array([s.height for s in samples])
     distance = np.array([s.distance for s in samples])
-    heading = np.unwrap(np.array([s.heading for s in samples]))
-    heading -= heading[0]
+    heading = continuous_heading(np.array([s.heading for s in samples]))
+    level_h, level_d = running_median(height), running_median(distance)
 
-    low, high = np.percentile(height, 5), np.percentile(height, 95)
-    if high - low < 0.2:
-        raise NotATrial(f"the hips rose {high - low:.2f} m: the patient did not stand up")
-    up = np.flatnonzero(height > (low + high) / 2)
-    t_down = t[up[-1]]
-    far = np.percentile(distance, 95)
-    if far < 1.5:
-        raise NotATrial(f"the patient went {far:.1f} m from the chair: no walk")
-    out = np.flatnonzero(distance > far / 2)
+    seated = float(np.median(level_h[t >= t[-1] - 0.5]))
+    standing = float(np.percentile(level_h, 95))
+    if standing - seated < MIN_RISE:
+        raise NotATrial(f"the hips rose {standing - seated:.2f} m: the patient did not stand up")
+    up = hysteresis(level_h, seated + 0.4 * (standing - seated), seated + 0.6 * (standing - seated))
+    if up[-1] or not up.any():
+        raise NotATrial("not seated again yet")
+    at_go = float(np.median(level_h[t <= t[0] + 0.3]))
+    if at_go > seated + 0.5 * (standing - seated):
+        raise InvalidTrial(
+            f"the patient was not seated at go (hips {at_go:.2f} m above the floor, "
+            f"{seated:.2f} m when seated)"
+        )
+    far = float(level_d.max())
+    out = np.flatnonzero(level_d > far / 2)
     t_out, t_back = t[out[0]], t[out[-1]]
+    t_down = t[np.flatnonzero(up)[-1]]
     if t[-1] - t_down < 0.5 or t[-1] <= t_back or t[0] >= t_out:
         raise NotATrial("not seated again yet")
-    if abs(np.median(heading[t > t_back]) - np.median(heading[t < t_out])) < 0.5 * math.pi:
-        raise NotATrial("the patient did not turn round")
+    if far < line - LINE_SLACK:
+        raise InvalidTrial(
+            f"the patient turned back {far:.1f} m from the chair: the line is at {line:g} m"
+        )
+    turned = abs(np.median(heading[(t > t_back) & (t <= t_down)]) - np.median(heading[t < t_out]))
+    if turned < TURNED:
+        raise InvalidTrial(
+            f"the patient did not turn round at the far end ({math.degrees(turned):.0f} degrees)"
+        )
 
-    rise = _fit_step(t, height, go, t_out)
-    sit = _fit_step(t, height, t_back, t[-1])
-    turn = _fit_step(t, heading, t_out, t_back)
-    walk_out = _fit_step(t, distance, rise[1], turn[0])
-    walk_back = _fit_step(t, distance, turn[1], sit[0])
-    moves = (rise, walk_out, turn, walk_back, sit)
-    meetings = tuple((a[1] + b[0]) / 2 for a, b in zip(moves, moves[1:], strict=False))
-    return TrialTimes(go, (rise[0], *meetings, sit[1]))
+    noise = {id(y): level_noise(y) for y in (height, distance, heading)}
+
+    def move(y, lo, hi):
+        return transition(t, y, lo, hi, noise[id(y)])
+
+    rise = move(height, go, t_out)
+    drop = move(height, t_back, t[-1])
+    if drop.end > t[-1] - SETTLED:
+        raise NotATrial("still sitting down")
+    turn = move(heading, t_out, t_back)
+    walk_out = move(distance, rise.end, turn.start)
+    walk_back = move(distance, turn.end, drop.start)
+    # turning round to the chair before sitting is part of the sit (turn-to-sit)
+    sit_start = drop.start
+    if drop.start - walk_back.end > MIN_MOVE:
+        last_turn = move(heading, walk_back.end, t[-1])
+        if abs(last_turn.step) >= SIT_TURN:
+            sit_start = min(sit_start, last_turn.start)
+    moves = [
+        (max(rise.start, go), rise.end),
+        (walk_out.start, walk_out.end),
+        (turn.start, turn.end),
+        (walk_back.start, walk_back.end),
+        (sit_start, drop.end),
+    ]
+    return TrialTimes(go, tuple(in_order(moves)))
+
+
+def in_order(moves: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The movements with their meetings settled: where one ends less than ``PAUSE`` before
+    the next starts (or after it), both meet half-way; a longer gap stays (standing still)."""
+    moves = [list(m) for m in moves]
+    for a, b in zip(moves, moves[1:], strict=False):
+        if b[0] - a[1] < PAUSE:
+            a[1] = b[0] = (a[1] + b[0]) / 2
+    for m in moves:  # a movement squeezed by both neighbours still lasts no less than nothing
+        m[1] = max(m[1], m[0])
+    return [(a, b) for a, b in moves]
 
 
 def check_gaps(t: np.ndarray, go: float) -> None:
@@ -147,34 +227,117 @@ def check_gaps(t: np.ndarray, go: float) -> None:
         )
 
 
-def _fit_step(t: np.ndarray, y: np.ndarray, lo: float, hi: float) -> tuple[float, float]:
-    """(start, end) of the one eased step between plateaus that ``y`` makes in [lo, hi]."""
-    inside = (t >= lo) & (t <= hi)
-    ts, ys = t[inside], y[inside]
-    if len(ts) < 10 or hi - lo < MIN_MOVE:
+# ------------------------------------------------------------------ signals
+def continuous_heading(heading: np.ndarray) -> np.ndarray:
+    """The heading made continuous, read modulo half a turn (a left/right swap is half a turn
+    in one frame: no body turns that fast, so it is taken out), from 0 at the first frame."""
+    doubled = np.unwrap(2.0 * np.asarray(heading, dtype=float))
+    return (doubled - doubled[0]) / 2.0
+
+
+def running_median(y: np.ndarray, width: int = 0) -> np.ndarray:
+    """Each value replaced by the median of ``width`` around it (an outlier frame, a joint
+    jumping, does not move a level or a crossing)."""
+    width = width or MEDIAN
+    if len(y) < width:
+        return y.copy()
+    half = width // 2
+    padded = np.concatenate((np.full(half, y[0]), y, np.full(half, y[-1])))
+    windows = np.lib.stride_tricks.sliding_window_view(padded, width)
+    return np.median(windows, axis=1)
+
+
+def hysteresis(y: np.ndarray, low: float, high: float) -> np.ndarray:
+    """True from where ``y`` rises above ``high`` until it falls below ``low`` (noise between
+    the two does not flicker it)."""
+    out = np.zeros(len(y), dtype=bool)
+    state = False
+    for i, v in enumerate(y):
+        state = v > low if state else v > high
+        out[i] = state
+    return out
+
+
+# ------------------------------------------------------------------ one movement
+GRID = 1.0 / 30.0  # s: signals are read on an even grid (frames come unevenly)
+# s either side: a speed is the change over this much time before and after; the shortest whose
+# noise stays under QUIET of the movement's top speed (noisy frames need a longer look)
+SPEED_OVER = (0.2, 0.3, 0.45)
+QUIET = 0.1
+SLOWEST = 0.05  # of the movement's top speed: slower than this is not moving
+NOISE = 3.0  # standard deviations of the speed noise alone gives: slower is noise
+MEDIAN = 7  # frames a level is the median of
+ARRIVED = 0.1  # of a movement's whole change still to go: a stop before it is a hesitation
+
+
+@dataclass(frozen=True)
+class Transition:
+    start: float
+    end: float
+    step: float  # the level after minus the level before
+
+
+def level_noise(y: np.ndarray) -> float:
+    """The noise left in ``y``'s running median (its standard deviation): the frame-to-frame
+    noise read off what the running median removes, which a movement hardly changes, and a
+    median of ``MEDIAN`` keeps about 1.25 / sqrt(``MEDIAN``) of it."""
+    if len(y) < 2 * MEDIAN:
+        return 0.0
+    sigma = 1.4826 * float(np.median(np.abs(y - running_median(y))))
+    return 1.25 * sigma / math.sqrt(MEDIAN)
+
+
+def transition(
+    t: np.ndarray, y: np.ndarray, lo: float, hi: float, noise: float = 0.0
+) -> Transition:
+    """The movement ``y`` makes between its level at ``lo`` and its level at ``hi``: from where
+    its speed, going back from the moment it is half-way, falls to ``SLOWEST`` of its top speed
+    (or to what ``NOISE`` times the level's ``noise`` gives), to where it falls so going
+    forward; a stop with more than ``ARRIVED`` of the change still to go is a hesitation inside
+    the movement, not its end."""
+    if hi - lo < MIN_MOVE or np.count_nonzero((t >= lo) & (t <= hi)) < 10:
         raise NotATrial(f"too little of the trial between {lo:.1f} s and {hi:.1f} s")
-    starts = np.arange(lo, hi, COARSE)
-    lengths = np.arange(MIN_MOVE, hi - lo + COARSE, COARSE)
-    best = _best(ts, ys, starts, lengths)
-    starts = np.arange(best[0] - 2 * COARSE, best[0] + 2 * COARSE, FINE)
-    lengths = np.arange(max(MIN_MOVE, best[1] - 2 * COARSE), best[1] + 2 * COARSE, FINE)
-    start, length = _best(ts, ys, starts, lengths)
-    return start, start + length
+    grid = np.arange(lo, hi + GRID / 2, GRID)
+    level = np.interp(grid, t, running_median(y))
+    before = float(np.median(level[grid <= lo + 0.3]))
+    after = float(np.median(level[grid >= hi - 0.3]))
+    step = after - before
+    if step == 0.0:
+        raise NotATrial(f"no movement between {lo:.1f} s and {hi:.1f} s")
+    for over in SPEED_OVER:
+        grid, v = _speed(t, y, lo, hi, over)
+        v = v * math.copysign(1.0, step)
+        floor = NOISE * noise * math.sqrt(2.0) / (2.0 * over)
+        if floor <= QUIET * float(v.max()):
+            break
+    done = (level - before) / step  # 0 before the movement, 1 after it
+    half = int(np.argmax(done >= 0.5))
+    moving = v > max(floor, SLOWEST * float(v.max()))
+    first = last = half
+    while True:
+        while first > 0 and moving[first - 1]:
+            first -= 1
+        earlier = np.flatnonzero(moving[:first])
+        if first == 0 or done[first] < ARRIVED or not len(earlier):
+            break
+        first = int(earlier[-1])
+    while True:
+        while last < len(grid) - 1 and moving[last + 1]:
+            last += 1
+        later = np.flatnonzero(moving[last + 1 :])
+        if last == len(grid) - 1 or done[last] > 1.0 - ARRIVED or not len(later):
+            break
+        last = last + 1 + int(later[0])
+    return Transition(float(grid[first]), float(grid[last]), step)
 
 
-def _best(ts: np.ndarray, ys: np.ndarray, starts: np.ndarray, lengths: np.ndarray):
-    """The (start, length) whose eased step explains ``ys`` best (least squares, with the two
-    plateaus' levels solved for each)."""
-    centred = ys - ys.mean()
-    best, found = -1.0, (float(starts[0]), float(lengths[0]))
-    for length in lengths:  # one length at a time: starts x samples stays small
-        u = np.clip((ts[None, :] - starts[:, None]) / length, 0.0, 1.0)
-        model = u * u * (3.0 - 2.0 * u)
-        model -= model.mean(axis=1, keepdims=True)
-        cov = model @ centred
-        var = np.einsum("ij,ij->i", model, model)
-        score = np.where(var > 1e-12, cov * cov / np.maximum(var, 1e-12), -1.0)
-        i = int(np.argmax(score))
-        if score[i] > best:
-            best, found = float(score[i]), (float(starts[i]), float(length))
-    return found
+def _speed(
+    t: np.ndarray, y: np.ndarray, lo: float, hi: float, over: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The even grid over [lo, hi] and the speed of ``y`` (its running median) on it, each the
+    change from ``over`` s before to ``over`` s after."""
+    grid = np.arange(lo, hi + GRID / 2, GRID)
+    level = running_median(y)
+    ahead = np.interp(grid + over, t, level)
+    behind = np.interp(grid - over, t, level)
+    return grid, (ahead - behind) / (2 * over)

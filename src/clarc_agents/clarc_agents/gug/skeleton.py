@@ -1,7 +1,8 @@
 """A Kinect skeleton frame as one DSR transaction (pure): the person's pose (the pelvis, turned
 as the body faces) under the Kinect, and each joint as a geometric child of the person, so a
 joint anywhere in the room is one kinematic chain away (``Graph.transform``). The joints'
-confidences go on the person as one vector, and the frame's time as ``frame_time``.
+confidences go on the person as one vector, the frame's time as ``frame_time``, and every frame
+of the transaction as it came from the sensor in ``skeleton_frames`` (one row each).
 
 Node names: ``person_<joint>`` (``person_pelvis``, ``person_knee_left``), type ``joint``.
 """
@@ -14,7 +15,6 @@ from typing import Any
 
 import numpy as np
 
-from dsr_graph.model import rigid
 from dsr_graph.model.graph import Graph
 
 JOINTS = (
@@ -76,39 +76,69 @@ def heading(joints: Mapping[str, tuple[np.ndarray, float]]) -> float:
 
 
 def skeleton_tx(
-    graph: Graph,
-    joints: Mapping[str, tuple[np.ndarray, float]],
-    stamp: float,
-    sensor_gap: float | None = None,
+    graph: Graph, joints: Mapping[str, tuple[np.ndarray, float]], stamp: float
 ) -> dict[str, Any]:
-    """The transaction writing one frame: person pose under the Kinect, joints under it.
-    ``sensor_gap``: the longest time between two frames the sensor gave since the frame written
-    before (Person skips frames when the DSR is slower than the Kinect; a reader must not take
-    that for the sensor losing the person)."""
-    tx = frames_tx(graph, [(joints, stamp)])
-    if sensor_gap is not None:
-        tx["ops"][1]["attrs"]["sensor_gap"] = round(float(sensor_gap), 4)
-    return tx
+    """The transaction writing one frame (``frames_tx`` of one)."""
+    return frames_tx(graph, [(joints, stamp)])
 
 
 def frames_tx(
     graph: Graph, frames: list[tuple[Mapping[str, tuple[np.ndarray, float]], float]]
 ) -> dict[str, Any]:
-    """One transaction writing several frames in their order (Person, when the DSR is slower
-    than the Kinect): each frame's ops in turn, so the graph ends at the last frame and a reader
-    of the delta (the gait analyser, ``frames_in``) sees every one of them."""
-    ops: list[dict[str, Any]] = []
+    """One transaction writing every frame Person took since its last one, in their order: the
+    geometry (the person under the Kinect, the joints under the person) of the newest, and all
+    of them, as the sensor gave them, in the person's ``skeleton_frames`` (``frame_row``), so a
+    reader of the delta (the gait analyser, ``frames_in``) sees each one however many frames a
+    transaction carries: a busy machine writes more of them at a time, never fewer."""
+    joints, stamp = frames[-1]
     known = {joint for joint in JOINTS if graph.find(joint_node(joint)) is not None}
-    for joints, stamp in frames:
-        ops += _frame_ops(joints, stamp, known)
-        known |= set(joints)
+    ops = _geometry_ops(joints, known)
+    ops[1]["attrs"] = {
+        "frame_time": stamp,
+        "joint_confidence": [joints[j][1] if j in joints else 0.0 for j in JOINTS],
+        "skeleton_frames": [frame_row(j, t) for j, t in frames],
+    }
     return {"ops": ops}
 
 
-def _frame_ops(
-    joints: Mapping[str, tuple[np.ndarray, float]], stamp: float, known: set[str]
+def frame_row(joints: Mapping[str, tuple[np.ndarray, float]], stamp: float) -> list[float]:
+    """A frame as one row of ``skeleton_frames``: its capture time (epoch s), then x, y, z (m,
+    in the Kinect's frame) and confidence of each joint in ``JOINTS`` order (0, 0, 0, 0: not
+    tracked)."""
+    row = [float(stamp)]
+    for joint in JOINTS:
+        if joint in joints:
+            p, c = joints[joint]
+            row += [round(float(v), 4) for v in p] + [round(float(c), 3)]
+        else:
+            row += [0.0, 0.0, 0.0, 0.0]
+    return row
+
+
+ROW = 1 + 4 * len(JOINTS)
+
+
+def rows_to_frames(rows: Any) -> list[tuple[float, dict[str, tuple[np.ndarray, float]]]]:
+    """``skeleton_frames`` read back: (capture time, {joint: (position in the Kinect's frame,
+    confidence)}) per row, untracked joints left out; rows of another shape are skipped."""
+    out = []
+    for row in rows or ():
+        if not isinstance(row, list) or len(row) != ROW:
+            continue
+        values = np.asarray(row[1:], dtype=float).reshape(len(JOINTS), 4)
+        joints = {
+            joint: (values[i, :3], float(values[i, 3]))
+            for i, joint in enumerate(JOINTS)
+            if values[i, 3] > 0.0
+        }
+        out.append((float(row[0]), joints))
+    return out
+
+
+def _geometry_ops(
+    joints: Mapping[str, tuple[np.ndarray, float]], known: set[str]
 ) -> list[dict[str, Any]]:
-    """One frame's ops; ``known``: the joints whose nodes exist already."""
+    """A frame's geometry; ``known``: the joints whose nodes exist already."""
     pelvis = joints["pelvis"][0]
     yaw = heading(joints)
     c, s = math.cos(-yaw), math.sin(-yaw)
@@ -119,14 +149,7 @@ def _frame_ops(
             "to": "person",
             "rt": {"translation": pelvis.round(4).tolist(), "rotation_euler_xyz": [0.0, 0.0, yaw]},
         },
-        {
-            "op": "set_node_attrs",
-            "node": "person",
-            "attrs": {
-                "frame_time": stamp,
-                "joint_confidence": [joints[j][1] if j in joints else 0.0 for j in JOINTS],
-            },
-        },
+        {"op": "set_node_attrs", "node": "person", "attrs": {}},
     ]
     for joint, (p, _) in joints.items():
         d = p - pelvis  # in the person's frame: turned back by the body's yaw
@@ -141,26 +164,19 @@ def _frame_ops(
     return ops
 
 
-def frames_in(delta: Mapping[str, Any]) -> list[tuple[float, np.ndarray, dict[str, np.ndarray]]]:
-    """The skeleton frames a delta wrote, in order: (frame time, the person's pose under the
-    Kinect, {joint: its pose under the person}) as 4x4 matrices; a frame starts at the person's
-    ``set_rt`` (``frames_tx``'s order). The frame's ``sensor_gap``, when written, is under the
-    joint key ``"sensor_gap"`` as a number."""
-    found: list[tuple[float | None, np.ndarray, dict[str, Any]]] = []
+def frames_in(
+    delta: Mapping[str, Any],
+) -> list[tuple[float, dict[str, tuple[np.ndarray, float]]]]:
+    """The skeleton frames a delta wrote, in order (``rows_to_frames`` of each
+    ``skeleton_frames`` written on the person)."""
+    found = []
     for op in delta.get("ops", ()):
-        kind = op.get("op")
-        if kind == "set_rt" and op.get("from") == "kinect" and op.get("to") == "person":
-            found.append((None, rigid.from_json(op["rt"]), {}))
-        elif not found:
-            continue
-        elif kind == "set_node_attrs" and op.get("node") == "person":
-            attrs = op.get("attrs") or {}
-            if attrs.get("frame_time") is not None:
-                found[-1] = (float(attrs["frame_time"]), found[-1][1], found[-1][2])
-            if attrs.get("sensor_gap") is not None:
-                found[-1][2]["sensor_gap"] = float(attrs["sensor_gap"])
-        elif kind in ("set_rt", "insert_edge") and op.get("from") == "person":
-            name = str(op.get("to", ""))
-            if name.startswith("person_") and op.get("type", "RT") == "RT" and "rt" in op:
-                found[-1][2][name[len("person_") :]] = rigid.from_json(op["rt"])
-    return [(t, person, joints) for t, person, joints in found if t is not None]
+        if op.get("op") == "set_node_attrs" and op.get("node") == "person":
+            found += rows_to_frames((op.get("attrs") or {}).get("skeleton_frames"))
+    return found
+
+
+def frames_on(graph: Graph) -> list[tuple[float, dict[str, tuple[np.ndarray, float]]]]:
+    """The frames of the person's last write, as the graph holds them (after a resync)."""
+    person = graph.find("person")
+    return [] if person is None else rows_to_frames(person.attrs.get("skeleton_frames"))

@@ -9,12 +9,14 @@ A person counts as seen after ``seen_frames`` frames with a face and as lost aft
 written again only when the face moved more than ``move_mm``. Kinect frames give the face in
 millimetres; the DSR holds metres. A frame with a skeleton (Get Up & Go) places the person at
 the pelvis and every joint under it, in one transaction (``gug/skeleton.py``); one is in flight
-at a time, so when frames come faster than the DSR takes them the newest pose wins, and the frame
-written says how long the sensor really went without a frame since the one written before
-(``sensor_gap``): skipped frames are not a hole in what the sensor saw (the gait analyser voids a
-trial only for a hole of the sensor's).
+at a time, and the frames that come meanwhile wait for the next one, which carries all of them
+(``skeleton_frames``, up to ``max_batch``): a busy machine writes several frames at a time, never
+drops one, so a hole in the frames is a hole in what the sensor saw (the gait analyser voids a
+trial only for that). The subscription keeps up to 1 s of frames at 300 a second for the same
+reason.
 
-ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0). Subscriptions:
+ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0), max_batch (600: frames in one
+transaction; older ones are dropped past it and the gap shows). Subscriptions:
 clarc/kinect/person. Plus the DSR topics.
 """
 
@@ -26,7 +28,7 @@ from typing import Any
 from clarc_agents import topics
 from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
-from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+from clarc_agents.gug.skeleton import frames_tx, parse_skeleton
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
@@ -57,6 +59,7 @@ class PersonAgent(GrammarAgentNode):
             minimum=1,
         )
         declare(node, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
+        declare(node, "max_batch", 600, "skeleton frames in one transaction, at most", minimum=1)
 
     def __init__(self):
         super().__init__()
@@ -64,16 +67,15 @@ class PersonAgent(GrammarAgentNode):
         self._absent_frames = 0
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
-        self.skeletons_skipped = 0
-        self._last_skeleton: float | None = None  # the stamp of the last skeleton frame seen
-        self._sensor_gap = 0.0  # the longest gap between frames seen since the last written
+        self._waiting: list = []  # skeleton frames for the next transaction, oldest first
+        self.skeletons_dropped = 0
         self._posture = PostureTracker(self.scale)
 
     def processes(self) -> dict[str, Process]:
         return {}
 
     def setup(self) -> None:
-        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_sensor())
+        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_sensor(depth=300))
         super().setup()
 
     def _with_robot(self) -> bool:
@@ -133,21 +135,28 @@ class PersonAgent(GrammarAgentNode):
             self.runner.signal("posture", posture=posture)
 
     def _write_skeleton(self, joints, stamp: float) -> None:
-        if self._last_skeleton is not None:
-            self._sensor_gap = max(self._sensor_gap, stamp - self._last_skeleton)
-        self._last_skeleton = stamp
-        if self._skeleton_in_flight:
-            self.skeletons_skipped += 1
+        self._waiting.append((joints, stamp))
+        extra = len(self._waiting) - param(self, "max_batch")
+        if extra > 0:
+            self.skeletons_dropped += extra
+            del self._waiting[:extra]
+        self._send_skeletons()
+
+    def _send_skeletons(self) -> None:
+        if self._skeleton_in_flight or not self._waiting:
             return
+        frames, self._waiting = self._waiting, []
         self._skeleton_in_flight = True
-        gap, self._sensor_gap = self._sensor_gap, 0.0
 
         def done(result) -> None:
             self._skeleton_in_flight = False
             if not result.accepted:
-                self.get_logger().warning(f"skeleton frame refused: {result.error}")
+                self.get_logger().warning(
+                    f"{len(frames)} skeleton frame(s) refused: {result.error}"
+                )
+            self._send_skeletons()
 
-        self.dsr.send(skeleton_tx(self.dsr.graph, joints, stamp, sensor_gap=gap), done)
+        self.dsr.send(frames_tx(self.dsr.graph, frames), done)
 
 
 main = main_for(PersonAgent)

@@ -9,8 +9,10 @@ idle, timing, timed or void, ``go_at``; and the analyser's ``phase``, ``tug_seco
 ``phase_seconds``, ``band``, ``fall_risk``).
 
 Deviations: the patient leaves during a trial (it is void: they are asked to sit again and the
-trial is repeated), no timed result comes in time (void too), the patient does not come back, or
-no trial is left after ``MAX_TRIALS``: the clinician is called and the test ends untimed.
+trial is repeated), the analyser voids it (a hole in the frames, not seated at go, the line not
+reached, no turn), no timed result comes in time (void too), the patient does not come back, or
+no trial is left after ``MAX_TRIALS``: the clinician is called and the test is stored as
+"unable to perform" with each void trial's reason (the test node's ``void_reasons``).
 """
 
 from __future__ import annotations
@@ -73,6 +75,7 @@ def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
         "said_goodbye": False,
         "clinician_called": False,
         "person_lost_count": 0,
+        "void_reasons": [],
     }
     ops.append({"op": "set_node_attrs", "node": "test", "attrs": attrs})
     if "gait" in graph:
@@ -107,6 +110,7 @@ class GugExecutive(HighLevelExecutive):
     def __init__(self, port, times, log):
         super().__init__(port, times, log)
         self.trials = 0
+        self.void_reasons: list[str] = []  # why each void trial did not count (test node's)
         self._last_phase = ""  # the analyser's phase last told as an event
 
     # ------------------------------------------------------------------ inputs
@@ -115,6 +119,7 @@ class GugExecutive(HighLevelExecutive):
             self.log.warning(f"a test is already running ({self.record.patient}); start ignored")
             return False
         self.graph, self.running, self._stuck, self.trials = graph, True, False, 0
+        self.void_reasons = []
         self.record = GugRecord(patient, self.port.now())
         self.state = initial_state(low_to_high.person_present(graph))
         self.port.event(event="started", patient=patient, test=self.KIND)
@@ -133,6 +138,7 @@ class GugExecutive(HighLevelExecutive):
             bool(t.get("clinician_called", False)),
         )
         self.trials = int(g.get("trial", 0))
+        self.void_reasons = [str(r) for r in t.get("void_reasons", [])]
         facts = {"(started)"}
         facts.add("(person-present)" if low_to_high.person_present(graph) else "(person-absent)")
         if not t.get("explained"):
@@ -165,21 +171,24 @@ class GugExecutive(HighLevelExecutive):
     def _trials_facts(self) -> set[str]:
         return {"(trials-left)"} if self.trials < MAX_TRIALS else {"(trials-exhausted)"}
 
-    def _void(self, state: frozenset[str]) -> frozenset[str]:
-        """The trial in progress is abandoned: another one, or none left."""
+    def _void(self, state: frozenset[str], reason: str) -> frozenset[str]:
+        """The trial in progress is abandoned (``reason``, kept for the result): another one,
+        or none left."""
         if self.trials:
             self.port.send(void_trial(self.trials))
+            self.void_reasons.append(f"trial {self.trials}: {reason}")
+            self.port.send(high_to_low.record_test(void_reasons=list(self.void_reasons)))
         state = state - {"(go-said)", "(trials-left)", "(ready)", "(to-seat)"}
         facts = self._trials_facts()
         if "(trials-left)" in facts:
             facts.add("(trial-void)")
-        self.port.event(event="trial_void", trial=self.trials)
+        self.port.event(event="trial_void", trial=self.trials, reason=reason)
         return frozenset(state | facts)
 
     def _person_lost_state(self) -> frozenset[str]:
         state = (self.state - {"(person-present)", "(sit-requested)"}) | {"(person-absent)"}
         if "(go-said)" in state or (self.current is not None and self.current.name == "say-go"):
-            state = self._void(state)
+            state = self._void(state, "the patient left during the trial")
         return state
 
     def _check_wait(self, graph: Graph) -> None:
@@ -196,8 +205,9 @@ class GugExecutive(HighLevelExecutive):
                 self._complete(wait.token)
             elif g.get("trial") == wait.trial and g.get("status") == "void":
                 # the analyser could not time it (frames missing): try again at once
-                self.log.warning(f"trial {wait.trial} is void: {g.get('reason', '')}")
-                self._complete(wait.token, self._void(self.state))
+                reason = str(g.get("reason", "")) or "the gait analyser could not time it"
+                self.log.warning(f"trial {wait.trial} is void: {reason}")
+                self._complete(wait.token, self._void(self.state, reason))
             elif g.get("trial") == wait.trial and g.get("phase"):
                 self._phase_seen(g["phase"])
             return
@@ -222,6 +232,8 @@ class GugExecutive(HighLevelExecutive):
         if token != self._token:
             return
         self.log.warning("the patient did not come back: calling the clinician")
+        self.void_reasons.append("the patient did not come back")
+        self.port.send(high_to_low.record_test(void_reasons=list(self.void_reasons)))
         self.trials = MAX_TRIALS
         state = self.state - {"(trials-left)", "(trial-void)", "(sit-requested)"}
         self._complete(token, frozenset(state | {"(trials-exhausted)"}))
@@ -255,16 +267,22 @@ class GugExecutive(HighLevelExecutive):
         if token != self._token:
             return
         self.log.warning(f"trial {trial} was not timed in time: it is void")
-        self._complete(token, self._void(self.state))
+        reason = f"not timed within {TRIAL_TIMEOUT:g} s of go"
+        self._complete(token, self._void(self.state, reason))
 
     def _store_result(self, step: Step) -> None:
         token = self._token
-        finished = self.port.now()
 
         def ended(doc: dict[str, Any], outcome: str) -> None:
             self.port.send(high_to_low.finish_test(self.graph))
             self.port.event(event="finished" if outcome == STORED else "refused", result=doc)
             self._complete(token)
+
+        self._deliver(token, ended)
+
+    def _deliver(self, token: int, ended) -> None:
+        """The result as the DSR holds it, to CGAmed (``ended(doc, outcome)`` once it is
+        stored or refused), after the test node says when the test finished."""
 
         def written(r) -> None:
             if token != self._token:
@@ -280,8 +298,8 @@ class GugExecutive(HighLevelExecutive):
                 self._set_timer,
             )
 
-        self.record.finished = finished
-        self.port.send(high_to_low.record_test(finished=finished), written)
+        self.record.finished = self.port.now()
+        self.port.send(high_to_low.record_test(finished=self.record.finished), written)
 
     def _say_goodbye(self, step: Step) -> None:
         self._say(Sentence(sentences.DONE, needs_person=False))
@@ -298,9 +316,15 @@ class GugExecutive(HighLevelExecutive):
         self._complete(self._token)
 
     def _end_untimed(self, step: Step) -> None:
-        self.port.send(high_to_low.finish_test(self.graph))
-        self.port.event(event="finished_untimed", patient=self.record.patient)
-        self._say(Sentence(sentences.DONE, needs_person=False))
+        """No trial could be timed: stored as "unable to perform", with each trial's reason."""
+        token = self._token
+
+        def ended(doc: dict[str, Any], outcome: str) -> None:
+            self.port.send(high_to_low.finish_test(self.graph))
+            self.port.event(event="finished_untimed", patient=self.record.patient, result=doc)
+            self._say(Sentence(sentences.DONE, needs_person=False))
+
+        self._deliver(token, ended)
 
     ACTIONS = {
         "ask-to-sit": _ask_to_sit,

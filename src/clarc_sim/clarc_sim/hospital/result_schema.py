@@ -63,18 +63,26 @@ QUESTIONNAIRE = {
 
 TIMED = {
     "type": "object",
-    "required": ["test", "patient", "started", "tug_seconds", "phases", "band", "fall_risk"],
+    "required": ["test", "patient", "started", "outcome", "tug_seconds", "phases", "band"],
     "additionalProperties": False,
     "properties": {
         **COMMON,
-        "tug_seconds": {"type": "number", "exclusiveMinimum": 0, "maximum": 3600},
+        "outcome": {"enum": ["timed", "unable"]},
+        "tug_seconds": {"anyOf": [SECONDS, {"type": "null"}]},
+        "reaction_seconds": {"anyOf": [SECONDS, {"type": "null"}]},
         "phases": {
-            "type": "object",
-            "maxProperties": 20,
-            "additionalProperties": SECONDS,
+            "anyOf": [
+                {"type": "object", "maxProperties": 20, "additionalProperties": SECONDS},
+                {"type": "null"},
+            ]
         },
         "fall_risk": {"type": "boolean"},
-        "trials": {"type": "integer", "minimum": 1, "maximum": 100},
+        "trials": {"type": "integer", "minimum": 0, "maximum": 100},
+        "void_reasons": {
+            "type": "array",
+            "maxItems": 100,
+            "items": {"type": "string", "maxLength": 1000},
+        },
     },
 }
 

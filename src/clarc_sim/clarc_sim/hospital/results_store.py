@@ -18,7 +18,10 @@ records (``patients``, ``tests.patient_id``: one record per name already stored)
 do what: the dashboard's accounts (``users``: name, role, Argon2 password hash, disabled), an
 append-only audit trail (``audit``: SQLite triggers refuse any UPDATE or DELETE), every score a
 clinician gave (``scores``: a re-score keeps the earlier one) and a version per result
-(``tests.version``, one more at each score) that a validation names.
+(``tests.version``, one more at each score) that a validation names; 5 gives every Get Up & Go
+result its ``outcome`` (timed or unable), ``reaction_seconds``, time standing still (``phases``
+``still``) and ``void_reasons`` (a result stored before was timed, with no pauses, and its
+reaction is what its phases leave of the total).
 
 Questionnaire results are checked against their test definition (any test in
 clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinician's score
@@ -43,12 +46,13 @@ from clarc_agents.exceptions import (
     UnknownPatient,
     UnknownTest,
 )
-from clarc_agents.gug.phases import PHASES, fall_risk
+from clarc_agents.gug.phases import PHASES, STILL, fall_risk
 from clarc_agents.gug.phases import band as gug_band
+from clarc_agents.gug.record import UNABLE, UNABLE_BAND
 from clarc_sim.hospital.result_schema import refusals
 from dsr_graph.formats.default_paths import data_path
 
-VERSION = 4
+VERSION = 5
 ROLES = ("technician", "clinician", "admin")
 TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
@@ -167,6 +171,22 @@ MIGRATIONS = {
         "ALTER TABLE tests ADD COLUMN version INTEGER NOT NULL DEFAULT 1",
         # (users, audit and scores come with SCHEMA's CREATE ... IF NOT EXISTS)
     ],
+    # Get Up & Go results say their outcome and reaction, and the phases their time standing
+    # still: every result before was timed, its phases contiguous from the start of the rise
+    # (so the reaction is the rest of the total) and without pauses
+    5: [
+        """UPDATE tests SET result_json = json_set(result_json,
+            '$.outcome', 'timed',
+            '$.reaction_seconds', round(json_extract(result_json, '$.tug_seconds')
+                - json_extract(result_json, '$.phases.rise')
+                - json_extract(result_json, '$.phases.walk_out')
+                - json_extract(result_json, '$.phases.turn')
+                - json_extract(result_json, '$.phases.walk_back')
+                - json_extract(result_json, '$.phases.sit'), 2),
+            '$.phases.still', 0.0,
+            '$.void_reasons', json('[]'))
+            WHERE test = 'get_up_and_go' AND json_extract(result_json, '$.outcome') IS NULL""",
+    ],
 }
 
 
@@ -239,22 +259,31 @@ def check_result(result: Any) -> dict[str, Any]:
 
 
 def check_timed_result(result: dict[str, Any]) -> dict[str, Any]:
-    """A Get Up & Go result: its time, its phases, and the band and fall risk of that time."""
-    for key in ("patient", "started", "tug_seconds", "phases", "band", "fall_risk"):
-        if key not in result:
-            raise InvalidResult(f"missing {key!r}")
-    tug, phases = result["tug_seconds"], result["phases"]
-    if isinstance(tug, bool) or not isinstance(tug, (int, float)) or not 0 < tug < 3600:
+    """A Get Up & Go result: timed (its time, its reaction and phases adding up to it, and the
+    band and fall risk of that time) or unable to perform (no time, each void trial's reason)."""
+    if result["outcome"] == UNABLE:
+        if result["tug_seconds"] is not None or result["phases"] is not None:
+            raise InvalidResult("a result unable to perform has no tug_seconds and no phases")
+        if result["band"] != UNABLE_BAND or result.get("fall_risk") is not True:
+            raise InvalidResult(f"unable to perform is band {UNABLE_BAND!r}, fall_risk true")
+        if not result.get("void_reasons"):
+            raise InvalidResult("unable to perform needs the reason of each void trial")
+        return result
+    tug, phases, reaction = result["tug_seconds"], result["phases"], result.get("reaction_seconds")
+    if not isinstance(tug, (int, float)) or isinstance(tug, bool) or not tug > 0:
         raise InvalidResult(f"tug_seconds must be a positive number of seconds, got {tug!r}")
-    if not isinstance(phases, dict) or list(phases) != list(PHASES):
-        raise InvalidResult(f"phases must give {', '.join(PHASES)} in that order")
-    if any(
-        isinstance(v, bool) or not isinstance(v, (int, float)) or v < 0 for v in phases.values()
-    ):
-        raise InvalidResult("each phase is a number of seconds")
-    if result["band"] != gug_band(tug) or result["fall_risk"] != fall_risk(tug):
+    if not isinstance(phases, dict) or list(phases) != [*PHASES, STILL]:
+        raise InvalidResult(f"phases must give {', '.join((*PHASES, STILL))} in that order")
+    if not isinstance(reaction, (int, float)) or isinstance(reaction, bool):
+        raise InvalidResult("a timed result needs reaction_seconds")
+    if abs(reaction + sum(phases.values()) - tug) > 0.05:
         raise InvalidResult(
-            f"band/fall_risk {result['band']}/{result['fall_risk']} do not match {tug} s "
+            f"reaction_seconds and the phases add up to {reaction + sum(phases.values()):.2f} s, "
+            f"not tug_seconds {tug}"
+        )
+    if result["band"] != gug_band(tug) or result.get("fall_risk") != fall_risk(tug):
+        raise InvalidResult(
+            f"band/fall_risk {result['band']}/{result.get('fall_risk')} do not match {tug} s "
             f"({gug_band(tug)}/{fall_risk(tug)})"
         )
     return result
@@ -628,11 +657,14 @@ def _as_listed(row: tuple) -> dict[str, Any]:
             "patient": result["patient"],
             "started": result["started"],
             "finished": result.get("finished"),
+            "outcome": result["outcome"],
             "tug_seconds": result["tug_seconds"],
+            "reaction_seconds": result["reaction_seconds"],
             "phases": result["phases"],
             "band": result["band"],
             "fall_risk": result["fall_risk"],
             "trials": int(result.get("trials", 1)),
+            "void_reasons": result.get("void_reasons", []),
             "person_lost": bool(result.get("person_lost")),
             "person_lost_count": int(result.get("person_lost_count", 0)),
             **validation,

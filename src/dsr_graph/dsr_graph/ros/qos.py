@@ -51,12 +51,13 @@ def qos_presence() -> QoSProfile:
     )
 
 
-def qos_sensor() -> QoSProfile:
+def qos_sensor(depth: int | None = None) -> QoSProfile:
     """Sensor streams (Kinect frames): ROS's sensor-data profile, best effort and shallow. A
-    lost frame is replaced by the next; a late one is worth nothing."""
+    lost frame is replaced by the next; a late one is worth nothing. ``depth``: a reader that
+    needs every frame (Person in a Get Up & Go) keeps more while it is busy."""
     return QoSProfile(
         history=qos_profile_sensor_data.history,
-        depth=qos_profile_sensor_data.depth,
+        depth=depth or qos_profile_sensor_data.depth,
         reliability=qos_profile_sensor_data.reliability,
         durability=qos_profile_sensor_data.durability,
     )
