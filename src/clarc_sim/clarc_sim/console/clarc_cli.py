@@ -48,13 +48,20 @@ def results(args: argparse.Namespace) -> int:
         print(f"no tests stored in {args.db}")
     for t in tests:
         if t["test"] == "get_up_and_go":
-            phases = ", ".join(f"{p} {s:.1f} s" for p, s in t["phases"].items())
+            trials = f"({t['trials']} trial{'s' if t['trials'] != 1 else ''})"
             risk = "  [fall risk]" if t["fall_risk"] else ""
+            if t["outcome"] == "unable":
+                print(f"#{t['id']} {t['patient']}  {t['started']}  Get Up & Go unable to perform")
+                print(f"    {trials}{risk}")
+                for reason in t["void_reasons"]:
+                    print(f"    {reason}")
+                continue
+            phases = ", ".join(f"{p} {s:.1f} s" for p, s in t["phases"].items())
             print(
                 f"#{t['id']} {t['patient']}  {t['started']}  Get Up & Go {t['tug_seconds']:.1f} s"
                 f" ({t['band']}){risk}"
             )
-            print(f"    {phases}  ({t['trials']} trial{'s' if t['trials'] != 1 else ''})")
+            print(f"    reaction {t['reaction_seconds']:.1f} s, {phases}  {trials}")
             continue
         flags = [
             f

@@ -96,13 +96,18 @@ def describe_pelea(event: dict) -> str | None:
 def describe_result(result: dict) -> list[str]:
     if result.get("test") == "get_up_and_go":
         if not result.get("tug_seconds"):
-            return [f"RESULT {result['patient']}: Get Up & Go not timed (the clinician is called)"]
+            reasons = [f"  {r}" for r in result.get("void_reasons", [])]
+            return [
+                f"RESULT {result['patient']}: Get Up & Go unable to perform "
+                "(the clinician is called)",
+                *reasons,
+            ]
         risk = ", fall risk" if result["fall_risk"] else ""
         phases = ", ".join(f"{p.replace('_', ' ')} {s:.1f} s" for p, s in result["phases"].items())
         return [
             f"RESULT {result['patient']}: Get Up & Go {result['tug_seconds']:.1f} s "
             f"({result['band']}{risk})",
-            f"  {phases}",
+            f"  reaction {result.get('reaction_seconds', 0.0):.1f} s, {phases}",
             f"  trials: {result['trials']}; person left: {result['person_lost_count']} time(s)",
         ]
     test = result.get("test", "barthel")

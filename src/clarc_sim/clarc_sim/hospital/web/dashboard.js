@@ -37,7 +37,7 @@ const DESCRIBE = {
   person_lost: () => "the patient left",
   person_back: () => "the patient is back",
   clinician_called: (e) => `you are called (${e.unanswered.join(", ")} unanswered)`,
-  finished: (e) => e.result.test === TIMED && !e.result.tug_seconds ? "finished: not timed" :
+  finished: (e) => e.result.test === TIMED && !e.result.tug_seconds ? "finished: unable to perform" :
     `finished: ${score(e.result)} (${e.result.band})`,
   error: (e) => `error: ${e.message}`,
 };

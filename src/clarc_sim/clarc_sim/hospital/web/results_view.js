@@ -13,7 +13,8 @@ async function loadTests() {
 
 function testName(t) { return TESTS[t.test] ? TESTS[t.test].title : t.test; }
 function score(t) {
-  return t.test === TIMED ? `${t.tug_seconds.toFixed(1)} s` : `${t.total}/${t.max_total}`;
+  if (t.test !== TIMED) return `${t.total}/${t.max_total}`;
+  return t.outcome === "unable" ? "unable to perform" : `${t.tug_seconds.toFixed(1)} s`;
 }
 // a stored time (ISO 8601, any zone) in this browser's local time, with its zone
 function localTime(iso) {
@@ -57,10 +58,17 @@ function itemsTable(t) {
     const th = document.createElement("th"); th.textContent = h; head.append(th);
   }
   const body = table.createTBody();
-  for (const [phase, seconds] of Object.entries(timed ? t.phases : {})) {
+  const parts = timed && t.phases ? { reaction: t.reaction_seconds, ...t.phases } : {};
+  for (const [phase, seconds] of Object.entries(parts)) {
     const tr = body.insertRow();
-    cell(tr, phase.replace("_", " "));
+    cell(tr, phase === "still" ? "standing still" : phase.replace("_", " "));
     cell(tr, `${seconds.toFixed(1)} s`);
+  }
+  for (const reason of timed ? t.void_reasons || [] : []) {  // why a trial did not count
+    const tr = body.insertRow();
+    tr.className = "void";
+    cell(tr, "void trial");
+    cell(tr, reason);
   }
   for (const i of t.items || []) {
     const spec = itemOf(t, i.item) || { title: i.item, question: "", max: i.max };
