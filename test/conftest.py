@@ -15,6 +15,7 @@ REPO = Path(__file__).resolve().parent.parent
 # CI clones the repo with shared/ beside it; a developer tree has it at ../shared too.
 SHARED = Path(os.environ.get("DSR_SHARED", REPO.parent / "shared"))
 CORTEX_WORLDS = SHARED / "data" / "cortex_worlds"
+MOTION = SHARED / "data" / "motion"
 
 
 @pytest.fixture
@@ -22,6 +23,18 @@ def cortex_dir():
     if not CORTEX_WORLDS.is_dir():
         pytest.fail(f"shared CORTEX worlds not found at {CORTEX_WORLDS} (set DSR_SHARED)")
     return CORTEX_WORLDS
+
+
+@pytest.fixture
+def motion_dir():
+    """../shared's real recorded motion: skipped, saying why, where it is absent (a user's
+    clone), failed under CI."""
+    if not MOTION.is_dir():
+        why = f"shared recorded motion not found at {MOTION} (set DSR_SHARED)"
+        if os.environ.get("CI"):
+            pytest.fail(why)
+        pytest.skip(why)
+    return MOTION
 
 
 class RosWorld:
