@@ -252,8 +252,9 @@ class DsrAgent:
         if text is None:
             return  # a forged heartbeat must not make a dead server look alive
         now = time.monotonic()
-        if self._heard is not None and now - self._heard > SERVER_SILENCE:
-            self.server_gap = (self._heard, now)  # a cut (or a dead server) ended
+        before = self._heard
+        if before is not None and now - before > SERVER_SILENCE:
+            self.server_gap = (before, now)  # a cut (or a dead server) ended
         self._heard = now
         try:
             beat = loads_object(text)
@@ -267,6 +268,10 @@ class DsrAgent:
             self.reach_losses += 1
         self.out_of_reach = away
         boot = str(beat.get("boot", ""))
+        if self._boot and boot != self._boot and before is not None:
+            # a server killed and back within SERVER_SILENCE is a gap all the same: what it held
+            # open (an answer's window) opens again only now
+            self.server_gap = (before, now)
         if self._boot and boot != self._boot and self._unanswered:
             # the server restarted: what it did not answer may have died with it
             self.node.get_logger().warning(
