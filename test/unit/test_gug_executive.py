@@ -4,11 +4,11 @@ view has the trial repeated; one who never rises is given up on and the clinicia
 PELEA restarted mid-trial goes on from the DSR (test/local_gug.py)."""
 
 import pytest
+from gug_checks import check_timed
 from local_gug import GugRobot
 from pyperplan.pddl.parser import Parser
 
 from clarc_agents.gug import sentences
-from clarc_agents.gug.phases import PHASES
 from clarc_agents.pelea import decision_support
 from clarc_agents.pelea.gug_executive import MAX_TRIALS, GugExecutive
 from clarc_sim.patient.gait_motion import Motion
@@ -17,13 +17,7 @@ MOTION = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, s
 
 
 def within_tolerance(result, motion=MOTION):
-    assert result["outcome"] == "timed"
-    assert abs(result["tug_seconds"] - motion.total) <= 0.5
-    assert abs(result["reaction_seconds"] - motion.reaction) <= 0.5
-    for phase in PHASES:
-        assert abs(result["phases"][phase] - getattr(motion, phase)) <= 1.0, phase
-    parts = result["reaction_seconds"] + sum(result["phases"].values())
-    assert parts == pytest.approx(result["tug_seconds"], abs=0.011)
+    check_timed(result, motion)
 
 
 def test_every_action_of_the_domain_has_a_handler():

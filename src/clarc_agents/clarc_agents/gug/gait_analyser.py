@@ -16,7 +16,6 @@ pace and however late the frames came.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from typing import Any
 
@@ -30,6 +29,7 @@ from clarc_agents.gug.phases import (
     Sample,
     band,
     fall_risk,
+    half_turn_step,
     sample,
     time_trial,
 )
@@ -144,9 +144,8 @@ class GaitAnalyser:
         s = sample((float(frame) - self.go) / self.scale, joints, trust)
         if s is None or s.t < 0.0:
             return None
-        if self.samples:  # turning, read modulo half a turn (a left/right swap is no turn)
-            step = 2.0 * (s.heading - self.samples[-1].heading)
-            self.turned += (step + math.pi) % (2.0 * math.pi) / 2.0 - math.pi / 2.0
+        if self.samples:  # a left/right swap is no turn
+            self.turned += half_turn_step(self.samples[-1].heading, s.heading)
         self.samples.append(s)
         self.walked = self.walked or s.distance > FAR
         self.low = s.height if self.low is None else min(self.low, s.height)

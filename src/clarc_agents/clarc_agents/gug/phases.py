@@ -141,10 +141,10 @@ def time_trial(
     t = np.array([s.t for s in samples])
     if not holes_judged:
         check_gaps(t, go)
-    height = np.array([s.height for s in samples])
-    distance = np.array([s.distance for s in samples])
-    heading = continuous_heading(np.array([s.heading for s in samples]))
-    level_h, level_d = running_median(height), running_median(distance)
+    height = Signal.of(np.array([s.height for s in samples]))
+    distance = Signal.of(np.array([s.distance for s in samples]))
+    heading = Signal.of(continuous_heading(np.array([s.heading for s in samples])))
+    level_h, level_d = height.level, distance.level
 
     seated = float(np.median(level_h[t >= t[-1] - 0.5]))
     standing = float(np.percentile(level_h, 95))
@@ -169,28 +169,24 @@ def time_trial(
         raise InvalidTrial(
             f"the patient turned back {far:.1f} m from the chair: the line is at {line:g} m"
         )
-    turned = abs(np.median(heading[(t > t_back) & (t <= t_down)]) - np.median(heading[t < t_out]))
+    back, out_heading = heading.raw[(t > t_back) & (t <= t_down)], heading.raw[t < t_out]
+    turned = abs(np.median(back) - np.median(out_heading))
     if turned < TURNED:
         raise InvalidTrial(
             f"the patient did not turn round at the far end ({math.degrees(turned):.0f} degrees)"
         )
 
-    noise = {id(y): level_noise(y) for y in (height, distance, heading)}
-
-    def move(y, lo, hi):
-        return transition(t, y, lo, hi, noise[id(y)])
-
-    rise = move(height, go, t_out)
-    drop = move(height, t_back, t[-1])
+    rise = transition(t, height, go, t_out)
+    drop = transition(t, height, t_back, t[-1])
     if drop.end > t[-1] - SETTLED:
         raise NotATrial("still sitting down")
-    turn = move(heading, t_out, t_back)
-    walk_out = move(distance, rise.end, turn.start)
-    walk_back = move(distance, turn.end, drop.start)
+    turn = transition(t, heading, t_out, t_back)
+    walk_out = transition(t, distance, rise.end, turn.start)
+    walk_back = transition(t, distance, turn.end, drop.start)
     # turning round to the chair before sitting is part of the sit (turn-to-sit)
     sit_start = drop.start
     if drop.start - walk_back.end > MIN_MOVE:
-        last_turn = move(heading, walk_back.end, t[-1])
+        last_turn = transition(t, heading, walk_back.end, t[-1])
         if abs(last_turn.step) >= SIT_TURN:
             sit_start = min(sit_start, last_turn.start)
     moves = [
@@ -228,11 +224,32 @@ def check_gaps(t: np.ndarray, go: float) -> None:
 
 
 # ------------------------------------------------------------------ signals
+def half_turn_step(before: float, after: float) -> float:
+    """The turn from heading ``before`` to ``after`` (rad), read modulo half a turn: the
+    smallest, so a left/right swap (half a turn in one frame) adds nothing."""
+    step = 2.0 * (after - before)
+    return ((step + math.pi) % (2.0 * math.pi) - math.pi) / 2.0
+
+
 def continuous_heading(heading: np.ndarray) -> np.ndarray:
     """The heading made continuous, read modulo half a turn (a left/right swap is half a turn
     in one frame: no body turns that fast, so it is taken out), from 0 at the first frame."""
     doubled = np.unwrap(2.0 * np.asarray(heading, dtype=float))
     return (doubled - doubled[0]) / 2.0
+
+
+@dataclass(frozen=True)
+class Signal:
+    """One of a trial's signals, its running median (``level``) and the noise left in that."""
+
+    raw: np.ndarray
+    level: np.ndarray
+    noise: float
+
+    @classmethod
+    def of(cls, raw: np.ndarray) -> Signal:
+        level = running_median(raw)
+        return cls(raw, level, level_noise(raw, level))
 
 
 def running_median(y: np.ndarray, width: int = 0) -> np.ndarray:
@@ -277,37 +294,34 @@ class Transition:
     step: float  # the level after minus the level before
 
 
-def level_noise(y: np.ndarray) -> float:
-    """The noise left in ``y``'s running median (its standard deviation): the frame-to-frame
-    noise read off what the running median removes, which a movement hardly changes, and a
-    median of ``MEDIAN`` keeps about 1.25 / sqrt(``MEDIAN``) of it."""
+def level_noise(y: np.ndarray, level: np.ndarray) -> float:
+    """The noise left in ``level``, ``y``'s running median (its standard deviation): the
+    frame-to-frame noise read off what the running median removes, which a movement hardly
+    changes, and a median of ``MEDIAN`` keeps about 1.25 / sqrt(``MEDIAN``) of it."""
     if len(y) < 2 * MEDIAN:
         return 0.0
-    sigma = 1.4826 * float(np.median(np.abs(y - running_median(y))))
+    sigma = 1.4826 * float(np.median(np.abs(y - level)))
     return 1.25 * sigma / math.sqrt(MEDIAN)
 
 
-def transition(
-    t: np.ndarray, y: np.ndarray, lo: float, hi: float, noise: float = 0.0
-) -> Transition:
-    """The movement ``y`` makes between its level at ``lo`` and its level at ``hi``: from where
-    its speed, going back from the moment it is half-way, falls to ``SLOWEST`` of its top speed
-    (or to what ``NOISE`` times the level's ``noise`` gives), to where it falls so going
-    forward; a stop with more than ``ARRIVED`` of the change still to go is a hesitation inside
-    the movement, not its end."""
+def transition(t: np.ndarray, signal: Signal, lo: float, hi: float) -> Transition:
+    """The movement ``signal`` makes between its level at ``lo`` and its level at ``hi``: from
+    where its speed, going back from the moment it is half-way, falls to ``SLOWEST`` of its top
+    speed (or to what ``NOISE`` times its noise gives), to where it falls so going forward; a
+    stop with more than ``ARRIVED`` of the change still to go is a hesitation inside the
+    movement, not its end."""
     if hi - lo < MIN_MOVE or np.count_nonzero((t >= lo) & (t <= hi)) < 10:
         raise NotATrial(f"too little of the trial between {lo:.1f} s and {hi:.1f} s")
     grid = np.arange(lo, hi + GRID / 2, GRID)
-    level = np.interp(grid, t, running_median(y))
+    level = np.interp(grid, t, signal.level)
     before = float(np.median(level[grid <= lo + 0.3]))
     after = float(np.median(level[grid >= hi - 0.3]))
     step = after - before
     if step == 0.0:
         raise NotATrial(f"no movement between {lo:.1f} s and {hi:.1f} s")
     for over in SPEED_OVER:
-        grid, v = _speed(t, y, lo, hi, over)
-        v = v * math.copysign(1.0, step)
-        floor = NOISE * noise * math.sqrt(2.0) / (2.0 * over)
+        v = _speed(t, signal.level, grid, over) * math.copysign(1.0, step)
+        floor = NOISE * signal.noise * math.sqrt(2.0) / (2.0 * over)
         if floor <= QUIET * float(v.max()):
             break
     done = (level - before) / step  # 0 before the movement, 1 after it
@@ -331,13 +345,9 @@ def transition(
     return Transition(float(grid[first]), float(grid[last]), step)
 
 
-def _speed(
-    t: np.ndarray, y: np.ndarray, lo: float, hi: float, over: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """The even grid over [lo, hi] and the speed of ``y`` (its running median) on it, each the
-    change from ``over`` s before to ``over`` s after."""
-    grid = np.arange(lo, hi + GRID / 2, GRID)
-    level = running_median(y)
+def _speed(t: np.ndarray, level: np.ndarray, grid: np.ndarray, over: float) -> np.ndarray:
+    """The speed of ``level`` at each time of ``grid``: the change from ``over`` s before to
+    ``over`` s after."""
     ahead = np.interp(grid + over, t, level)
     behind = np.interp(grid - over, t, level)
-    return grid, (ahead - behind) / (2 * over)
+    return (ahead - behind) / (2 * over)

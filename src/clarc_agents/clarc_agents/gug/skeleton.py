@@ -92,13 +92,13 @@ def frames_tx(
     transaction carries: a busy machine writes more of them at a time, never fewer."""
     joints, stamp = frames[-1]
     known = {joint for joint in JOINTS if graph.find(joint_node(joint)) is not None}
-    ops = _geometry_ops(joints, known)
-    ops[1]["attrs"] = {
+    person, *under = _geometry_ops(joints, known)
+    attrs = {
         "frame_time": stamp,
         "joint_confidence": [joints[j][1] if j in joints else 0.0 for j in JOINTS],
         "skeleton_frames": [frame_row(j, t) for j, t in frames],
     }
-    return {"ops": ops}
+    return {"ops": [person, {"op": "set_node_attrs", "node": "person", "attrs": attrs}, *under]}
 
 
 def frame_row(joints: Mapping[str, tuple[np.ndarray, float]], stamp: float) -> list[float]:
@@ -149,7 +149,6 @@ def _geometry_ops(
             "to": "person",
             "rt": {"translation": pelvis.round(4).tolist(), "rotation_euler_xyz": [0.0, 0.0, yaw]},
         },
-        {"op": "set_node_attrs", "node": "person", "attrs": {}},
     ]
     for joint, (p, _) in joints.items():
         d = p - pelvis  # in the person's frame: turned back by the body's yaw

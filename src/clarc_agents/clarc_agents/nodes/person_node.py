@@ -137,9 +137,14 @@ class PersonAgent(GrammarAgentNode):
     def _write_skeleton(self, joints, stamp: float) -> None:
         self._waiting.append((joints, stamp))
         extra = len(self._waiting) - param(self, "max_batch")
-        if extra > 0:
+        if extra > 0:  # the DSR stalled for longer than max_batch frames: the gap will show
             self.skeletons_dropped += extra
             del self._waiting[:extra]
+            self.get_logger().warning(
+                f"{self.skeletons_dropped} skeleton frame(s) dropped so far: the DSR is not "
+                "taking them",
+                throttle_duration_sec=5.0,
+            )
         self._send_skeletons()
 
     def _send_skeletons(self) -> None:

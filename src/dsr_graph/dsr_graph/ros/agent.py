@@ -268,11 +268,12 @@ class DsrAgent:
             self.reach_losses += 1
         self.out_of_reach = away
         boot = str(beat.get("boot", ""))
-        if self._boot and boot != self._boot and before is not None:
+        restarted = bool(self._boot) and boot != self._boot
+        if restarted and before is not None:
             # a server killed and back within SERVER_SILENCE is a gap all the same: what it held
             # open (an answer's window) opens again only now
             self.server_gap = (before, now)
-        if self._boot and boot != self._boot and self._unanswered:
+        if restarted and self._unanswered:
             # the server restarted: what it did not answer may have died with it
             self.node.get_logger().warning(
                 f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
