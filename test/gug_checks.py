@@ -31,3 +31,23 @@ def as_result(gait: dict) -> dict:
         "reaction_seconds": gait["reaction_seconds"],
         "phases": {**phases, STILL: gait["still_seconds"]},
     }
+
+
+# ../shared/data/motion/tug_f77_mediapipe33.csv as read by hand (test_real_motion.py says how):
+# (start, end) of each movement, seconds from its first frame, and seated again
+F77_READ = {
+    "rise": (1.07, 2.2),
+    "walk_out": (4.1, 13.3),
+    "turn": (21.2, 24.4),
+    "walk_back": (26.0, 35.6),
+    "sit": (35.7, 40.5),
+}
+F77_TOTAL = 40.5
+
+
+def boundaries_as_read(moves, read, within: float = 0.5) -> None:
+    """Each movement's (start, end) within ``within`` s of the reading's, in PHASES order."""
+    for phase, (start, end) in zip(PHASES, moves, strict=True):
+        read_start, read_end = read[phase]
+        assert abs(start - read_start) <= within, (phase, moves)
+        assert abs(end - read_end) <= within, (phase, moves)

@@ -55,3 +55,34 @@ def test_a_get_up_and_go_scenario_through_the_launch(scenario, tmp_path):
 def test_the_time_is_the_patient_s_at_another_pace(tmp_path):
     run, stored = run_gug("gug_normal.yaml", tmp_path, "--scale", "0.3")
     check(stored, "gug_normal.yaml", run.stdout)
+
+
+def test_a_recorded_patient_is_timed_through_the_launch(tmp_path, motion_dir):
+    """../shared's recorded Timed Up and Go, imported with ``clarc skeleton import`` and played
+    by a scenario's ``recording:`` through the Kinect stand-in, Person, the DSR and the gait
+    analyser: timed within 0.5 s of the hand reading (gug_checks.F77_READ)."""
+    import subprocess
+
+    from gug_checks import F77_READ, F77_TOTAL
+
+    recording = tmp_path / "tug_f77.csv"
+    source = motion_dir / "tug_f77_mediapipe33.csv"
+    subprocess.run(
+        ["clarc", "skeleton", "import", "--from", "mediapipe33", str(source), str(recording)],
+        check=True,
+        timeout=120,
+    )
+    scenario = tmp_path / "recorded.yaml"
+    scenario.write_text("test: get_up_and_go\npatient: Rosa\nrecording: tug_f77.csv\n")
+    from ros_processes import launch_scenario
+
+    run, stored = launch_scenario(scenario, tmp_path)
+    assert len(stored) == 1, (stored, run.stdout[-3000:])
+    [result] = stored
+    assert result["outcome"] == "timed" and result["patient"] == "Rosa", run.stdout[-3000:]
+    assert abs(result["tug_seconds"] - F77_TOTAL) <= 0.5, result
+    assert abs(result["reaction_seconds"] - F77_READ["rise"][0]) <= 0.5, result
+    for phase, (start, end) in F77_READ.items():
+        assert abs(result["phases"][phase] - (end - start)) <= 1.0, (phase, result)
+    assert result["phases"]["still"] >= 8.0  # she stands a while before walking and at the far end
+    assert result["fall_risk"] and result["band"] == band(result["tug_seconds"])

@@ -281,7 +281,7 @@ GRID = 1.0 / 30.0  # s: signals are read on an even grid (frames come unevenly)
 # noise stays under QUIET of the movement's top speed (noisy frames need a longer look)
 SPEED_OVER = (0.2, 0.3, 0.45)
 QUIET = 0.1
-SLOWEST = 0.05  # of the movement's top speed: slower than this is not moving
+SLOWEST = 0.06  # of the movement's top speed: slower than this is not moving
 NOISE = 3.0  # standard deviations of the speed noise alone gives: slower is noise
 MEDIAN = 7  # frames a level is the median of
 ARRIVED = 0.1  # of a movement's whole change still to go: a stop before it is a hesitation
@@ -314,8 +314,10 @@ def transition(t: np.ndarray, signal: Signal, lo: float, hi: float) -> Transitio
         raise NotATrial(f"too little of the trial between {lo:.1f} s and {hi:.1f} s")
     grid = np.arange(lo, hi + GRID / 2, GRID)
     level = np.interp(grid, t, signal.level)
-    before = float(np.median(level[grid <= lo + 0.3]))
-    after = float(np.median(level[grid >= hi - 0.3]))
+    # the levels either side: the 0.3 s just outside the window where the trial has them (the
+    # movement before this one has ended there), else the window's own first and last 0.3 s
+    before = _level_near(t, signal.level, lo - 0.3, lo, level[grid <= lo + 0.3])
+    after = _level_near(t, signal.level, hi, hi + 0.3, level[grid >= hi - 0.3])
     step = after - before
     if step == 0.0:
         raise NotATrial(f"no movement between {lo:.1f} s and {hi:.1f} s")
@@ -343,6 +345,11 @@ def transition(t: np.ndarray, signal: Signal, lo: float, hi: float) -> Transitio
             break
         last = last + 1 + int(later[0])
     return Transition(float(grid[first]), float(grid[last]), step)
+
+
+def _level_near(t, level, lo: float, hi: float, otherwise: np.ndarray) -> float:
+    near = level[(t >= lo) & (t <= hi)]
+    return float(np.median(near if len(near) >= 3 else otherwise))
 
 
 def _speed(t: np.ndarray, level: np.ndarray, grid: np.ndarray, over: float) -> np.ndarray:

@@ -19,7 +19,7 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.console import suite_keystore, user_cli
+from clarc_sim.console import skeleton_cli, suite_keystore, user_cli
 from clarc_sim.hospital.results_store import (
     ResultsStore,
     default_db,
@@ -104,9 +104,12 @@ def scenario(args: argparse.Namespace) -> int:
     print(f"patient: {s.patient}")
     if s.test == "get_up_and_go":
         m = s.motion
-        print(f"test: get_up_and_go, {m.total:.1f} s from go until seated again")
-        for phase in ("reaction", "rise", "walk_out", "turn", "walk_back", "sit"):
-            print(f"  {phase:<10} {getattr(m, phase):.1f} s")
+        if m is None:
+            print(f"test: get_up_and_go, the recording {s.recording} from {s.offset:g} s")
+        else:
+            print(f"test: get_up_and_go, {m.total:.1f} s from go until seated again")
+            for phase in ("reaction", "rise", "walk_out", "turn", "walk_back", "sit"):
+                print(f"  {phase:<10} {getattr(m, phase):.1f} s")
         extras = [f"noise {s.noise_mm:g} mm", f"{s.drop_rate:.0%} of frames lost"]
         if s.leave is not None:
             extras.append(f"walks out of view {s.leave:g} s after go")
@@ -174,6 +177,7 @@ def main(argv: list[str] | None = None) -> int:
     p.set_defaults(run=start)
     user_cli.add_parser(sub)
     suite_keystore.add_parser(sub)
+    skeleton_cli.add_parser(sub)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args

@@ -3,7 +3,10 @@ the robot, where their face is (mm, in the Kinect's frame, with a little jitter)
 eyes are open or closed, following the simulated patient. In a Get Up & Go trial (the patient
 says so on clarc/sim/patient/trial) it tracks the whole skeleton instead: skeleton_hz frames per
 second of the patient's time, each with every joint (mm, in the Kinect's frame) and its
-confidence, the scenario's noise and lost frames (``skeleton_frames.py``).
+confidence, the scenario's noise and lost frames (``skeleton_frames.py``); or, when the trial
+names a skeleton recording, its frames as recorded, placed at the trial's chair and played from
+the recording's ``offset`` at "go", at the run's pace (before "go": its first frame; after its
+end: its last).
 
 ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
 trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
@@ -23,8 +26,9 @@ from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_sim import sim_topics
-from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
+from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, recorded, skeleton
 from clarc_sim.patient.gait_motion import Motion
+from clarc_sim.patient.skeleton_recording import placed, read
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
@@ -58,6 +62,7 @@ class KinectStandIn(DsrNode):
         super().__init__()
         self.presence: dict[str, Any] = {"present": False, "face": [0.0, 0.0, 0.0]}
         self.trial: dict[str, Any] | None = None
+        self._recordings: dict[str, Any] = {}  # path: the recording, placed
         self._random = random.Random(7)
 
     def setup(self) -> None:
@@ -77,8 +82,19 @@ class KinectStandIn(DsrNode):
         }
 
     def on_trial(self, doc: dict[str, Any]) -> None:
+        recording = None
+        if doc.get("recording") is not None:
+            recording = self._recordings.get(doc["recording"])
+            if recording is None:  # read and placed once: a trial repeated plays it again
+                recording = placed(read(doc["recording"]))
+                self._recordings[doc["recording"]] = recording
+        motion = doc.get("motion")
         self.trial = {
-            "motion": Motion(**{k: float(v) for k, v in doc["motion"].items()}),
+            "motion": None
+            if motion is None
+            else Motion(**{k: float(v) for k, v in motion.items()}),
+            "recording": recording,
+            "offset": float(doc.get("offset", 0.0)),
             "go": None if doc.get("go") is None else float(doc["go"]),
             "noise_mm": float(doc.get("noise_mm", 0.0)),
             "drop_rate": float(doc.get("drop_rate", 0.0)),
@@ -104,8 +120,16 @@ class KinectStandIn(DsrNode):
             return
         now = time.time()
         t = -1.0 if trial["go"] is None else (now - trial["go"]) / self.scale
-        joints = skeleton(trial["motion"], t, self.place, self._random, trial["noise_mm"])
-        frame = {"present": True, "face": joints["head"]["p"], "stamp": now, "skeleton": joints}
+        if trial["recording"] is not None:
+            joints = recorded(
+                trial["recording"], t + trial["offset"], self.place, self._random, trial["noise_mm"]
+            )
+            if joints is None:  # no body (or no pelvis) in the recorded frame
+                return
+        else:
+            joints = skeleton(trial["motion"], t, self.place, self._random, trial["noise_mm"])
+        face = joints.get("head", joints["pelvis"])["p"]
+        frame = {"present": True, "face": face, "stamp": now, "skeleton": joints}
         publish_json(self._frames, frame)
 
 

@@ -48,5 +48,27 @@ def skeleton(
     return out
 
 
+def recorded(
+    recording,
+    t: float,
+    place: TrialPlace,
+    rng: random.Random,
+    noise_mm: float = 0.0,
+) -> dict[str, dict[str, object]] | None:
+    """The frame of a placed recording (``skeleton_recording.placed``) shown ``t`` seconds
+    into it, as ``skeleton`` gives a frame; None when it has no pelvis (no body)."""
+    i = recording.frame_at(t)
+    out = {}
+    for j, name in enumerate(recording.joints):
+        c = float(recording.confidence[i, j])
+        if c <= 0.0:
+            continue
+        x, y, z = place.to_kinect(recording.positions[i, j])
+        if noise_mm > 0:
+            x, y, z = (v + rng.gauss(0.0, noise_mm) for v in (x, y, z))
+        out[name] = {"p": [round(x, 1), round(y, 1), round(z, 1)], "c": round(c, 2)}
+    return out if "pelvis" in out else None
+
+
 def dropped(rng: random.Random, drop_rate: float) -> bool:
     return drop_rate > 0 and rng.random() < drop_rate

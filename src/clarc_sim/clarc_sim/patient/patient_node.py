@@ -3,8 +3,9 @@ or on the touch screen (a tap, shapes touched, a drawing), closes the eyes when 
 silent, mumbles or walks away, as its scenario file says; it knows the date and where it is
 (``place``, as PELEA's), so it answers orientation as its scenario says. In a
 Get Up & Go scenario it sits on the trial's chair and, when it hears "go", does the trial of its
-``motion:`` (the Kinect stand-in draws the body from clarc/sim/patient/trial), walking out of
-view once if the scenario says ``leave``.
+``motion:``, or its ``recording:`` from ``offset:`` (the Kinect stand-in draws the body or plays
+the recording, from clarc/sim/patient/trial), walking out of view once if the scenario says
+``leave``.
 
 ROS Parameters: scenario (path, required), time_scale (1.0), reaction (1.0 s before answering),
 face (mm in the Kinect's frame, default [900, 0, -400]), place (PELEA's default).
@@ -90,14 +91,19 @@ class SimulatedPatient(DsrNode):
 
     def _publish_trial(self, go: float | None) -> None:
         s = self.scenario
-        motion = {k: getattr(s.motion, k) for k in MOTION_KEYS}
-        trial = {"motion": motion, "go": go, "noise_mm": s.noise_mm, "drop_rate": s.drop_rate}
+        trial = {"go": go, "noise_mm": s.noise_mm, "drop_rate": s.drop_rate}
+        if s.recording is not None:
+            trial |= {"recording": s.recording, "offset": s.offset}
+        else:
+            trial["motion"] = {k: getattr(s.motion, k) for k in MOTION_KEYS}
         publish_json(self._trial, trial)
 
     def _on_gug_speaker(self, event: dict[str, Any]) -> None:
         if event["event"] != "end" or event["text"] != gug.GO or not self._present:
             return
-        self.get_logger().info(f"hears go: gets up ({self.scenario.motion.total:.1f} s trial)")
+        s = self.scenario
+        what = f"the recording {s.recording}" if s.recording else f"a {s.motion.total:.1f} s trial"
+        self.get_logger().info(f"hears go: gets up ({what})")
         self._publish_trial(time.time())
         if self.scenario.leave is not None and not self._left:
             self._left = True

@@ -44,12 +44,19 @@ A Get Up & Go scenario says ``test: get_up_and_go``:
 
 ``motion`` gives the seconds of each part of the trial in the patient's time (all six, each
 positive but ``reaction``, which may be 0); their sum is the truth a measured ``tug_seconds`` is
-checked against.
+checked against. Instead of ``motion``, a scenario may play recorded movement:
+
+    recording: recordings/tug_f77.csv   # a skeleton recording (clarc skeleton import)
+    offset: 0.0       # optional: seconds into the recording at "go"
+
+the path relative to the scenario's file. The recording is read and placed in the trial when the
+scenario is loaded (a file that cannot be is a scenario error naming the line).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import yaml
@@ -64,7 +71,7 @@ from clarc_sim.patient.gait_motion import Motion
 
 TIMED = "get_up_and_go"
 MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")
-GUG_KEYS = ("test", "patient", "motion", "noise_mm", "drop_rate", "leave")
+GUG_KEYS = ("test", "patient", "motion", "recording", "offset", "noise_mm", "drop_rate", "leave")
 
 VIAS = ("voice", "touch", "camera", "silence")
 FIRSTS = ("garbled", "silence")
@@ -86,7 +93,9 @@ class Scenario:
     items: dict[str, ItemPlan] = field(default_factory=dict)
     source: str = ""
     test: str = "barthel"
-    motion: Motion | None = None  # get_up_and_go
+    motion: Motion | None = None  # get_up_and_go, scripted
+    recording: str | None = None  # get_up_and_go, played: the skeleton recording's path
+    offset: float = 0.0  # seconds into the recording at "go"
     noise_mm: float = 0.0
     drop_rate: float = 0.0
     leave: float | None = None  # seconds after "go" the patient walks out of view
@@ -212,20 +221,13 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
     patient = _scalar(values.get("patient"))
     if not isinstance(patient, str) or not patient.strip():
         raise _err(source, values.get("patient", root), '"patient" must be a name')
-    motion_node = values.get("motion")
-    if not isinstance(motion_node, yaml.MappingNode):
-        raise _err(
-            source,
-            motion_node or root,
-            f'"motion" maps {", ".join(MOTION_KEYS)} to seconds of the patient\'s time',
-        )
-    # a patient may start to rise as "go" ends; every movement takes some time
-    seconds = {
-        key: _number(source, value_node, f"motion: {key}", positive=key != "reaction")
-        for key, (_, value_node) in fields(source, motion_node, MOTION_KEYS, "motion: ").items()
-    }
     scenario = Scenario(patient.strip(), source=source, test="get_up_and_go")
-    scenario.motion = Motion(**seconds)
+    if "recording" in values:
+        _recording(source, values, scenario)
+    else:
+        scenario.motion = _motion(source, values.get("motion"), root)
+        if "offset" in values:
+            raise _err(source, values["offset"], '"offset" goes with a "recording"')
     if "noise_mm" in values:
         scenario.noise_mm = _number(source, values["noise_mm"], "noise_mm")
     if "drop_rate" in values:
@@ -235,6 +237,52 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
     if "leave" in values:
         scenario.leave = _number(source, values["leave"], "leave")
     return scenario
+
+
+def _motion(source: str, node: Any, root: Any) -> Motion:
+    if not isinstance(node, yaml.MappingNode):
+        raise _err(
+            source,
+            node or root,
+            f'"motion" maps {", ".join(MOTION_KEYS)} to seconds of the patient\'s time '
+            '(or "recording" names a skeleton recording)',
+        )
+    # a patient may start to rise as "go" ends; every movement takes some time
+    seconds = {
+        key: _number(source, value_node, f"motion: {key}", positive=key != "reaction")
+        for key, (_, value_node) in fields(source, node, MOTION_KEYS, "motion: ").items()
+    }
+    return Motion(**seconds)
+
+
+def _recording(source: str, values: dict[str, Any], scenario: Scenario) -> None:
+    """``recording:`` (and ``offset:``): the file is read and placed now, so a bad one is the
+    scenario's error, on its line."""
+    from clarc_sim.patient import skeleton_recording
+
+    node = values["recording"]
+    if "motion" in values:
+        raise _err(source, values["motion"], 'a scenario has "motion" or "recording", not both')
+    name = _scalar(node)
+    if not isinstance(name, str) or not name.strip():
+        raise _err(source, node, '"recording" must name a skeleton recording file')
+    path = Path(name)
+    if not path.is_absolute() and source not in ("", "scenario"):
+        path = Path(source).resolve().parent / path
+    try:
+        recording = skeleton_recording.placed(skeleton_recording.read(path))
+    except ScenarioError as e:
+        raise _err(source, node, f"recording: {e}") from None
+    scenario.recording = str(path)
+    if "offset" in values:
+        scenario.offset = _number(source, values["offset"], "offset")
+        if scenario.offset >= recording.duration:
+            raise _err(
+                source,
+                values["offset"],
+                f"offset {scenario.offset:g} s is past the recording's end "
+                f"({recording.duration:.1f} s)",
+            )
 
 
 def _number(source: str, node: Any, what: str, positive: bool = False) -> float:
