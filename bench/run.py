@@ -676,7 +676,7 @@ def latency_samples(ros, writer, arrived, n: int, change, step=lambda: None) -> 
 def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> dict[str, Any]:
     """The skeleton stream's load on the DSR, each figure against the same without the stream."""
     from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
-    from clarc_sim.devices.skeleton_frames import TrialPlace, skeleton
+    from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, skeleton
     from clarc_sim.patient.gait_motion import Motion
 
     procs = Procs(work, domain)
@@ -704,7 +704,10 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
         )
         ros.spin_until(lambda: done, 10, "the person")
         motion = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
-        place, rng = TrialPlace(4500.0, 0.0, -1200.0, 3.14159), random.Random(3)
+        place, sensor = (
+            TrialPlace(4500.0, 0.0, -1200.0, 3.14159),
+            KinectModel(random.Random(3), 10.0),
+        )
         stream = {"next": time.perf_counter(), "frames": 0, "written": 0, "in_flight": False}
 
         def step() -> None:  # Person: a frame every 1/30 s, one transaction in flight
@@ -717,7 +720,7 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
             if stream["in_flight"]:
                 return
             t = (stream["frames"] / 30.0) % (motion.total + 3.0) - 1.0
-            joints = parse_skeleton(skeleton(motion, t, place, rng, 10.0))
+            joints = parse_skeleton(sensor.see(skeleton(motion, t, place), t)[0])
             stream["in_flight"] = True
 
             def written(r) -> None:
@@ -755,7 +758,7 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
             json.dumps(
                 skeleton_tx(
                     person.graph,
-                    parse_skeleton(skeleton(motion, 0.0, place, rng, 10.0)),
+                    parse_skeleton(sensor.see(skeleton(motion, 0.0, place), 0.0)[0]),
                     time.time(),
                 )
             )

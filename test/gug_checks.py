@@ -6,16 +6,16 @@ import pytest
 from clarc_agents.gug.phases import PHASES, STILL
 
 
-def check_timed(result, motion) -> None:
+def check_timed(result, motion, still: float = 1.0) -> None:
     """``result`` as stored (``outcome``, ``tug_seconds``, ``reaction_seconds``, ``phases``):
     the total and the reaction within 0.5 s of the script's, each phase within two boundaries'
-    0.5 s (the script has no pauses: at most a short one is read between two movements), and
+    0.5 s (the script has no pauses: at most ``still`` s are read between its movements), and
     the parts adding up to the total as stored."""
     assert result["outcome"] == "timed", result
     assert abs(result["tug_seconds"] - motion.total) <= 0.5, (result, motion.total)
     assert abs(result["reaction_seconds"] - motion.reaction) <= 0.5, result
     assert list(result["phases"]) == [*PHASES, STILL]
-    assert result["phases"][STILL] <= 1.0, result
+    assert result["phases"][STILL] <= still, result
     for phase in PHASES:
         assert abs(result["phases"][phase] - getattr(motion, phase)) <= 1.0, (phase, result)
     parts = result["reaction_seconds"] + sum(result["phases"].values())

@@ -14,7 +14,7 @@ from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
 from clarc_agents.pelea.gug_executive import GugExecutive
 from clarc_agents.pelea.hle import Times
-from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, skeleton
+from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, dropped, skeleton
 from clarc_sim.patient.gait_motion import Motion
 
 from local_clarc import FACE, Robot, log
@@ -91,6 +91,7 @@ class GugRobot(Robot):
     def _start_trial(self) -> None:
         self.trial += 1
         trial, go = self.trial, self.bus.now
+        sensor = KinectModel(self.rng, self.noise_mm)  # a Kinect's noise, new for each trial
         if self.leave is not None and not self.left_trial:
             self.left_trial = True
             self.bus.after(self.leave, self._walk_away)
@@ -102,7 +103,7 @@ class GugRobot(Robot):
             if not self.rises:
                 t = min(t, -0.1)  # stays seated
             if not dropped(self.rng, self.drop_rate):
-                raw = skeleton(self.motion, t, PLACE, self.rng, self.noise_mm)
+                raw, _ = sensor.see(skeleton(self.motion, t, PLACE), t)
                 stamp, joints = self.port.epoch(), parse_skeleton(raw)
                 self.person_link.send(skeleton_tx(self.person_link.graph, joints, stamp))
                 # what Person does with the frame's geometry: the posture percept

@@ -15,7 +15,7 @@ from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.phases import sample, time_trial
 from clarc_agents.gug.skeleton import parse_skeleton
 from clarc_sim.console.clarc_cli import main as clarc
-from clarc_sim.devices.skeleton_frames import TrialPlace, recorded
+from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, recorded
 from clarc_sim.patient.gait_motion import SEATED_X
 from clarc_sim.patient.scenario import load
 from clarc_sim.patient.skeleton_import import import_recording
@@ -93,10 +93,11 @@ def test_an_imported_recording_reads_back_and_is_placed_at_the_chair(f77):
 def test_the_kinect_s_frames_of_a_recording_are_timed_as_the_recording_reads(f77):
     """The Kinect stand-in at 30 frames/s plays the placed recording into its frame (mm); the
     analyser's samples from them time it within 0.5 s of the hand reading."""
-    put, rng, samples = placed(read(f77)), random.Random(1), []
+    put, samples = placed(read(f77)), []
+    sensor = KinectModel(random.Random(1), noise_mm=10.0)  # a Kinect's noise on top
     c, s = math.cos(-PLACE.yaw), math.sin(-PLACE.yaw)
     for k in range(int(44 * 30)):
-        raw = recorded(put, k / 30, PLACE, rng)
+        raw, _ = sensor.see(recorded(put, k / 30, PLACE), k / 30)
         joints, trust = {}, {}
         for name, (p, confidence) in parse_skeleton(raw).items():
             x, y, z = p[0] - PLACE.x / 1000, p[1] - PLACE.y / 1000, p[2] - PLACE.z / 1000
@@ -115,8 +116,8 @@ def test_a_recording_s_frame_is_the_last_taken_and_a_frame_without_a_pelvis_is_n
     positions[1, 0] = np.nan
     r = Recording(t, ("pelvis", "head"), positions, confidence)
     assert [r.frame_at(x) for x in (-1.0, 0.0, 0.15, 0.2, 9.0)] == [0, 0, 1, 2, 2]
-    assert recorded(r, 0.15, PLACE, random.Random(1)) is None  # no pelvis in frame 1
-    frame = recorded(r, 0.2, PLACE, random.Random(1))
+    assert recorded(r, 0.15, PLACE) is None  # no pelvis in frame 1
+    frame = recorded(r, 0.2, PLACE)
     assert frame["head"]["c"] == 0.5 and frame["pelvis"]["p"] == pytest.approx(
         PLACE.to_kinect([2.0, 0.0, 0.0])
     )

@@ -14,7 +14,8 @@ from dsr_graph.model.graph import Graph
 SITTING_BELOW = 0.70  # m: a seated pelvis is about 0.47 m up, a standing one about 0.95 m
 WALKING_ABOVE = 0.30  # m/s of the patient's time over the floor
 SPEED_OVER = 0.5  # s of the patient's time the speed is measured over
-STEADY = 3  # frames a new posture must hold before it is told (noise must not flicker it)
+STEADY = 0.3  # s of the patient's time a new posture must hold before it is told (a sensor's
+# slow noise must not flicker it)
 
 
 def pelvis_in_room(graph: Graph, joints) -> np.ndarray:
@@ -29,10 +30,10 @@ class PostureTracker:
         self.scale = scale or 1.0
         self.posture = ""
         self._recent: deque[tuple[float, float, float]] = deque()  # (t, x, y)
-        self._candidate, self._count = "", 0
+        self._candidate, self._since = "", 0.0
 
     def update(self, stamp: float, pelvis_in_room) -> str | None:
-        """The new posture when it changed (held for ``STEADY`` frames), else None.
+        """The new posture when it changed (held for ``STEADY`` s), else None.
         ``stamp``: the frame's epoch seconds; ``pelvis_in_room``: x, y, z (m, z up from the
         floor)."""
         t = stamp / self.scale
@@ -46,8 +47,9 @@ class PostureTracker:
             now = "sitting"
         else:
             now = "walking" if speed > WALKING_ABOVE else "standing"
-        self._candidate, self._count = now, (self._count + 1 if now == self._candidate else 1)
-        if self._count >= STEADY and now != self.posture:
+        if now != self._candidate:
+            self._candidate, self._since = now, t
+        if t - self._since >= STEADY and now != self.posture:
             self.posture = now
             return now
         return None

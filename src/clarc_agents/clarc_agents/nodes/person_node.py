@@ -15,7 +15,9 @@ drops one, so a hole in the frames is a hole in what the sensor saw (the gait an
 trial only for that). The subscription keeps up to 1 s of frames at 300 a second for the same
 reason.
 
-ROS Parameters: seen_frames (2), lost_frames (3), move_mm (50.0), max_batch (600: frames in one
+ROS Parameters: seen_frames (2), lost_frames (3) and lost_seconds (0.5 of the patient's time:
+both, before the person counts as lost; a tracker loses a body for a moment now and then),
+move_mm (50.0), max_batch (600: frames in one
 transaction; older ones are dropped past it and the gap shows). Subscriptions:
 clarc/kinect/person. Plus the DSR topics.
 """
@@ -23,6 +25,7 @@ clarc/kinect/person. Plus the DSR topics.
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 from clarc_agents import topics
@@ -58,6 +61,13 @@ class PersonAgent(GrammarAgentNode):
             "frames without a face before the person counts as lost",
             minimum=1,
         )
+        declare(
+            node,
+            "lost_seconds",
+            0.5,
+            "seconds of the patient's time without a body before the person counts as lost",
+            minimum=0.0,
+        )
         declare(node, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
         declare(node, "max_batch", 600, "skeleton frames in one transaction, at most", minimum=1)
 
@@ -65,6 +75,7 @@ class PersonAgent(GrammarAgentNode):
         super().__init__()
         self._present_frames = 0
         self._absent_frames = 0
+        self._absent_since = 0.0  # time.monotonic() of the first frame without a body
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self._waiting: list = []  # skeleton frames for the next transaction, oldest first
@@ -116,11 +127,24 @@ class PersonAgent(GrammarAgentNode):
                 self.runner.signal("moved", pose=pose)
                 self._last_face = face
         else:
+            if self._absent_frames == 0:
+                self._absent_since = time.monotonic()
             self._absent_frames, self._present_frames = self._absent_frames + 1, 0
-            if self._with_robot() and self._absent_frames >= param(self, "lost_frames"):
+            # a tracker loses a body for a moment now and then: gone is this long without one
+            away = (time.monotonic() - self._absent_since) / self.scale
+            if (
+                self._with_robot()
+                and self._absent_frames >= param(self, "lost_frames")
+                and away >= float_param(self, "lost_seconds")
+            ):
                 self.runner.signal(
                     "lost"
                 )  # a repeat before the replica catches up is refused (CAS)
+        if frame.get("range_warning"):
+            self.get_logger().warning(
+                "the person is beyond the Kinect's range (4.5 m): its joints are less sure",
+                throttle_duration_sec=10.0,
+            )
 
     def _eyes_closed(self) -> None:
         item = awaited_item(self.dsr.graph)

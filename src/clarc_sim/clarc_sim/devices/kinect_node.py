@@ -3,7 +3,10 @@ the robot, where their face is (mm, in the Kinect's frame, with a little jitter)
 eyes are open or closed, following the simulated patient. In a Get Up & Go trial (the patient
 says so on clarc/sim/patient/trial) it tracks the whole skeleton instead: skeleton_hz frames per
 second of the patient's time, each with every joint (mm, in the Kinect's frame) and its
-confidence, the scenario's noise and lost frames (``skeleton_frames.py``); or, when the trial
+confidence, as a Kinect v2 would give them (``skeleton_frames.KinectModel``: slow noise of the
+scenario's size, confidence falling with range and occlusion, a range warning beyond 4.5 m, the
+sides swapped when the body faces away), the scenario's lost frames and its brief tracking losses
+(frames without a body, 0.1 to 0.35 s each); or, when the trial
 names a skeleton recording, its frames as recorded, placed at the trial's chair and played from
 the recording's ``offset`` at "go", at the run's pace (before "go": its first frame; after its
 end: its last).
@@ -26,7 +29,14 @@ from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_sim import sim_topics
-from clarc_sim.devices.skeleton_frames import TrialPlace, dropped, recorded, skeleton
+from clarc_sim.devices.skeleton_frames import (
+    KinectModel,
+    TrialPlace,
+    dropped,
+    recorded,
+    skeleton,
+    tracking_losses,
+)
 from clarc_sim.patient.gait_motion import Motion
 from clarc_sim.patient.skeleton_recording import placed, read
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -96,9 +106,13 @@ class KinectStandIn(DsrNode):
             "recording": recording,
             "offset": float(doc.get("offset", 0.0)),
             "go": None if doc.get("go") is None else float(doc["go"]),
-            "noise_mm": float(doc.get("noise_mm", 0.0)),
             "drop_rate": float(doc.get("drop_rate", 0.0)),
+            "sensor": KinectModel(self._random, float(doc.get("noise_mm", 0.0))),
         }
+        length = recording.duration if recording is not None else self.trial["motion"].total
+        self.trial["losses"] = tracking_losses(
+            self._random, int(doc.get("tracking_losses", 0)), length
+        )
         if self._skeleton_timer is None:
             period = self.scale / float_param(self, "skeleton_hz")
             self._skeleton_timer = self.create_timer(period, self.on_skeleton_frame)
@@ -120,16 +134,21 @@ class KinectStandIn(DsrNode):
             return
         now = time.time()
         t = -1.0 if trial["go"] is None else (now - trial["go"]) / self.scale
+        if any(start <= t < end for start, end in trial["losses"]):
+            publish_json(self._frames, {"present": False, "stamp": now})  # tracking lost
+            return
         if trial["recording"] is not None:
-            joints = recorded(
-                trial["recording"], t + trial["offset"], self.place, self._random, trial["noise_mm"]
-            )
-            if joints is None:  # no body (or no pelvis) in the recorded frame
+            ideal = recorded(trial["recording"], t + trial["offset"], self.place)
+            if ideal is None:  # no body (or no pelvis) in the recorded frame
+                publish_json(self._frames, {"present": False, "stamp": now})
                 return
         else:
-            joints = skeleton(trial["motion"], t, self.place, self._random, trial["noise_mm"])
+            ideal = skeleton(trial["motion"], t, self.place)
+        joints, far = trial["sensor"].see(ideal, t)
         face = joints.get("head", joints["pelvis"])["p"]
         frame = {"present": True, "face": face, "stamp": now, "skeleton": joints}
+        if far:
+            frame["range_warning"] = True
         publish_json(self._frames, frame)
 
 

@@ -92,6 +92,7 @@ class SimulatedPatient(DsrNode):
     def _publish_trial(self, go: float | None) -> None:
         s = self.scenario
         trial = {"go": go, "noise_mm": s.noise_mm, "drop_rate": s.drop_rate}
+        trial["tracking_losses"] = s.tracking_losses
         if s.recording is not None:
             trial |= {"recording": s.recording, "offset": s.offset}
         else:

@@ -38,8 +38,9 @@ A Get Up & Go scenario says ``test: get_up_and_go``:
     test: get_up_and_go
     patient: Carlos
     motion: {reaction: 1.0, rise: 2.0, walk_out: 4.0, turn: 2.0, walk_back: 4.0, sit: 3.0}
-    noise_mm: 10      # optional: joint noise (standard deviation, mm)
+    noise_mm: 10      # optional: joint noise (standard deviation, mm; slow, as a Kinect's is)
     drop_rate: 0.1    # optional: share of Kinect frames lost
+    tracking_losses: 2  # optional: brief spells (0.1-0.35 s) the Kinect sees no body
     leave: 6.0        # optional: walks out of view this long after "go", once
 
 ``motion`` gives the seconds of each part of the trial in the patient's time (all six, each
@@ -71,7 +72,17 @@ from clarc_sim.patient.gait_motion import Motion
 
 TIMED = "get_up_and_go"
 MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")
-GUG_KEYS = ("test", "patient", "motion", "recording", "offset", "noise_mm", "drop_rate", "leave")
+GUG_KEYS = (
+    "test",
+    "patient",
+    "motion",
+    "recording",
+    "offset",
+    "noise_mm",
+    "drop_rate",
+    "tracking_losses",
+    "leave",
+)
 
 VIAS = ("voice", "touch", "camera", "silence")
 FIRSTS = ("garbled", "silence")
@@ -98,6 +109,7 @@ class Scenario:
     offset: float = 0.0  # seconds into the recording at "go"
     noise_mm: float = 0.0
     drop_rate: float = 0.0
+    tracking_losses: int = 0
     leave: float | None = None  # seconds after "go" the patient walks out of view
 
     def plan(self, item: str) -> ItemPlan:
@@ -234,6 +246,11 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
         scenario.drop_rate = _number(source, values["drop_rate"], "drop_rate")
         if scenario.drop_rate >= 1.0:
             raise _err(source, values["drop_rate"], "drop_rate is a share of frames below 1")
+    if "tracking_losses" in values:
+        losses = _scalar(values["tracking_losses"])
+        if isinstance(losses, bool) or not isinstance(losses, int) or not 0 <= losses <= 20:
+            raise _err(source, values["tracking_losses"], "tracking_losses is a count, 0 to 20")
+        scenario.tracking_losses = losses
     if "leave" in values:
         scenario.leave = _number(source, values["leave"], "leave")
     return scenario
