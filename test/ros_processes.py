@@ -14,11 +14,38 @@ from pathlib import Path
 from dsr_graph.ros.session import RosSession
 
 _next = itertools.count()
+BLOCK = 10  # domains a test run takes for itself, and uses in turn
+BLOCKS = 9  # 10..99: valid Fast DDS domains on Linux, clear of the usual 0
+_block: list = []  # [the first domain of this run's block, its lock file (held while we run)]
 
 
 def fresh_domain_id() -> int:
-    # 1..101 are valid Fast DDS domains on Linux; spread by pid so parallel runs rarely meet.
-    return 10 + (os.getpid() * 13 + next(_next)) % 90
+    """A ROS domain for one test: the next of this run's own block. The block is locked (flock
+    on a file under the temp folder, held until this process ends), so two test runs on one
+    machine never share a domain; tests of one run take the block's ten in turn, each test
+    having stopped what it started before the next begins."""
+    if not _block:
+        _block.extend(_reserve_block())
+    return _block[0] + next(_next) % BLOCK
+
+
+def _reserve_block():
+    import fcntl
+    import tempfile
+
+    folder = Path(tempfile.gettempdir()) / "clarc-test-domains"
+    folder.mkdir(exist_ok=True)
+    first = os.getpid() % BLOCKS
+    for i in range(BLOCKS):
+        block = (first + i) % BLOCKS
+        lock = open(folder / f"block-{block}.lock", "w")
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            lock.close()
+            continue
+        return 10 + BLOCK * block, lock
+    raise RuntimeError(f"every block of ROS domains is taken by other test runs ({folder})")
 
 
 class Processes:

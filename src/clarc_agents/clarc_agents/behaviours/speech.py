@@ -97,21 +97,23 @@ class SpeechBehaviour:
         )
         self._send(sid)
 
-    def _end(self, sid: int, outcome: str) -> None:
+    def _end(self, sid: int, outcome: str, stamp: float | None = None) -> None:
         ctx = self.speaking.pop(sid)
         self._sends.pop(sid, None)
         watchdog = self._watchdogs.pop(sid, None)
         if watchdog is not None:
             watchdog.cancel()
-        ctx.finish(outcome, ended_at=round(self.epoch(), 4))
+        ctx.finish(outcome, ended_at=round(self.epoch() if stamp is None else stamp, 4))
 
     def stop(self, ctx: ActionContext) -> str:
         for sid in list(self.speaking):
             self.speaker.stop(sid)
         return "done"
 
-    def on_speaker(self, sid: int, event: str) -> None:
-        """The speaker reports ``start``, ``end`` or ``stopped`` for sentence ``sid``."""
+    def on_speaker(self, sid: int, event: str, stamp: float | None = None) -> None:
+        """The speaker reports ``start``, ``end`` or ``stopped`` for sentence ``sid``, ``stamp``
+        (epoch s) when it happened if the speaker says (``ended_at`` is then that, not when the
+        report came: a Get Up & Go trial is timed from it)."""
         ctx = self.speaking.get(sid)
         if ctx is None:
             return
@@ -121,7 +123,7 @@ class SpeechBehaviour:
                 sid, 2 * (words / WORDS_PER_SECOND + SLACK) * self.scale + self.start_patience
             )
         elif event in ("end", "stopped"):
-            self._end(sid, "done" if event == "end" else "interrupted")
+            self._end(sid, "done" if event == "end" else "interrupted", stamp)
 
     # -- listen -----------------------------------------------------------------------------
     def listen(self, ctx: ActionContext) -> None:

@@ -75,7 +75,7 @@ class PersonAgent(GrammarAgentNode):
         super().__init__()
         self._present_frames = 0
         self._absent_frames = 0
-        self._absent_since = 0.0  # time.monotonic() of the first frame without a body
+        self._absent_since = 0.0  # the stamp of the first frame without a body
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self._waiting: list = []  # skeleton frames for the next transaction, oldest first
@@ -128,10 +128,11 @@ class PersonAgent(GrammarAgentNode):
                 self._last_face = face
         else:
             if self._absent_frames == 0:
-                self._absent_since = time.monotonic()
+                self._absent_since = self._stamp_of(frame)
             self._absent_frames, self._present_frames = self._absent_frames + 1, 0
-            # a tracker loses a body for a moment now and then: gone is this long without one
-            away = (time.monotonic() - self._absent_since) / self.scale
+            # a tracker loses a body for a moment now and then: gone is this long without one,
+            # by the frames' own stamps (a busy Person may take a second's frames at once)
+            away = (self._stamp_of(frame) - self._absent_since) / self.scale
             if (
                 self._with_robot()
                 and self._absent_frames >= param(self, "lost_frames")
@@ -145,6 +146,14 @@ class PersonAgent(GrammarAgentNode):
                 "the person is beyond the Kinect's range (4.5 m): its joints are less sure",
                 throttle_duration_sec=10.0,
             )
+
+    @staticmethod
+    def _stamp_of(frame: dict[str, Any]) -> float:
+        """When the sensor took ``frame`` (its ``stamp``), else now."""
+        stamp = frame.get("stamp")
+        if isinstance(stamp, (int, float)) and not isinstance(stamp, bool) and math.isfinite(stamp):
+            return float(stamp)
+        return time.time()
 
     def _eyes_closed(self) -> None:
         item = awaited_item(self.dsr.graph)

@@ -57,7 +57,13 @@ class SpeechAgent(GrammarAgentNode):
         publish_json(self._stop, {"id": sid})
 
     def on_speaker(self, event: dict[str, Any]) -> None:
-        self.behaviour.on_speaker(int(event["id"]), str(event.get("event")))
+        stamp = event.get("stamp")
+        stamp = (
+            float(stamp)
+            if isinstance(stamp, (int, float)) and not isinstance(stamp, bool)
+            else None
+        )
+        self.behaviour.on_speaker(int(event["id"]), str(event.get("event")), stamp)
 
     def on_asr(self, message: dict[str, Any]) -> None:
         text = message["text"]

@@ -120,7 +120,7 @@ class KinectStandIn(DsrNode):
     def on_frame(self) -> None:
         if self.trial is not None and self.presence["present"]:
             return  # the skeleton frames say it all
-        frame: dict[str, Any] = {"present": self.presence["present"]}
+        frame: dict[str, Any] = {"present": self.presence["present"], "stamp": time.time()}
         if frame["present"]:
             frame["face"] = [v + self._random.uniform(-5, 5) for v in self.presence["face"]]
             frame["eyes"] = self.presence["eyes"]

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import time
 from typing import Any
 
 from std_msgs.msg import String
@@ -56,7 +57,16 @@ class TtsStandIn(DsrNode):
         subscribe_json(self, topics.SPEAKER_STOP, self.on_stop, qos_stream())
 
     def _emit(self, sentence: dict[str, Any], event: str) -> None:
-        publish_json(self._events, {"id": sentence["id"], "text": sentence["text"], "event": event})
+        # stamped here: whoever hears of it later (a busy machine) still knows when it happened
+        publish_json(
+            self._events,
+            {
+                "id": sentence["id"],
+                "text": sentence["text"],
+                "event": event,
+                "stamp": round(time.time(), 4),
+            },
+        )
 
     def on_say(self, request: dict[str, Any]) -> None:
         sentence = {"id": request["id"], "text": str(request["text"])}

@@ -105,7 +105,9 @@ class SimulatedPatient(DsrNode):
         s = self.scenario
         what = f"the recording {s.recording}" if s.recording else f"a {s.motion.total:.1f} s trial"
         self.get_logger().info(f"hears go: gets up ({what})")
-        self._publish_trial(time.time())
+        # from when the speaker ended "go" (its stamp), as the robot times it, however late we
+        # heard of it
+        self._publish_trial(float(event.get("stamp", time.time())))
         if self.scenario.leave is not None and not self._left:
             self._left = True
             self._later(self.scenario.leave, self._leave_trial)
