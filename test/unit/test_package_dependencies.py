@@ -41,6 +41,7 @@ PIP = {  # import name -> PyPI name
     "mcap_ros2": "mcap-ros2-support",
     "aiohttp_session": "aiohttp-session",
     "argon2": "argon2-cffi",
+    "bvhio": "bvhio",
 }
 
 

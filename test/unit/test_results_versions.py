@@ -111,7 +111,7 @@ def test_a_get_up_and_go_result_is_stored_with_its_time_and_phases(tmp_path):
     assert stored["outcome"] == "timed" and stored["reaction_seconds"] == 0.8
 
 
-def test_a_patient_unable_to_perform_is_stored_with_each_trial_s_reason(tmp_path):
+def test_a_patient_unable_to_perform_is_stored_with_each_trial_s_reason(tmp_path, capsys):
     store = ResultsStore(tmp_path / "cgamed.sqlite")
     reasons = [f"trial {n}: the patient was not seated at go" for n in (1, 2, 3)]
     unable = gug(
@@ -127,6 +127,13 @@ def test_a_patient_unable_to_perform_is_stored_with_each_trial_s_reason(tmp_path
     [stored] = store.tests()
     assert stored["outcome"] == "unable" and stored["void_reasons"] == reasons
     assert stored["tug_seconds"] is None and stored["fall_risk"] is True
+    # as `clarc results` lists it for the clinician
+    from clarc_sim.console.clarc_cli import main as clarc
+
+    assert clarc(["results", "--db", str(tmp_path / "cgamed.sqlite")]) == 0
+    listed = capsys.readouterr().out
+    assert "Get Up & Go unable to perform" in listed and "[fall risk]" in listed
+    assert all(reason in listed for reason in reasons)
     with pytest.raises(InvalidResult, match="reason of each void trial"):
         store.store(dict(unable, started="2026-11-25T10:00:00+00:00", void_reasons=[]))
     with pytest.raises(InvalidResult, match="no tug_seconds"):

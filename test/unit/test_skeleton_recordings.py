@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from gug_checks import F77_READ, F77_TOTAL, boundaries_as_read
 
-from clarc_agents.exceptions import ScenarioError
+from clarc_agents.exceptions import ScenarioError, SkeletonRecordingError
 from clarc_agents.gug.phases import sample, time_trial
 from clarc_agents.gug.skeleton import parse_skeleton
 from clarc_sim.console.clarc_cli import main as clarc
@@ -19,7 +19,7 @@ from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, recorded
 from clarc_sim.patient.gait_motion import SEATED_X
 from clarc_sim.patient.scenario import load
 from clarc_sim.patient.skeleton_import import import_recording
-from clarc_sim.patient.skeleton_recording import Recording, RecordingError, placed, read, write
+from clarc_sim.patient.skeleton_recording import Recording, placed, read, write
 
 PLACE = TrialPlace(4500.0, 0.0, -1200.0, math.pi)  # the CLARC room's gug_chair, seen by the Kinect
 BVH = """HIERARCHY
@@ -186,18 +186,18 @@ def test_kinect25_and_bvh_are_imported_to_metres_z_up_and_the_floor(tmp_path):
 def test_a_bad_recording_is_refused_naming_the_line(tmp_path, content, error):
     path = tmp_path / "bad.csv"
     path.write_text(content)
-    with pytest.raises(RecordingError, match=error):
+    with pytest.raises(SkeletonRecordingError, match=error):
         read(path)
 
 
 def test_a_bad_import_is_refused_by_name(tmp_path, capsys):
-    with pytest.raises(RecordingError, match="unknown format 'c3d'"):
+    with pytest.raises(SkeletonRecordingError, match="unknown format 'c3d'"):
         import_recording("c3d", tmp_path / "x")
     source = tmp_path / "m.csv"
     source.write_text("frame,p1_x,p1_y,p1_z\n0,1,2,3\n")
-    with pytest.raises(RecordingError, match="no column 'p8_x'"):
+    with pytest.raises(SkeletonRecordingError, match="no column 'p8_x'"):
         import_recording("mediapipe33", source)
-    with pytest.raises(RecordingError, match="--up must be one of"):
+    with pytest.raises(SkeletonRecordingError, match="--up must be one of"):
         import_recording("mediapipe33", source, up="w")
     assert clarc(["skeleton", "import", "--from", "bvh", str(tmp_path / "none.bvh"), "o"]) == 1
     assert "clarc skeleton:" in capsys.readouterr().err
@@ -229,7 +229,7 @@ def test_a_scenario_plays_a_recording_named_beside_it(f77, tmp_path):
 def test_a_recording_with_no_walk_cannot_be_placed(tmp_path):
     t = np.arange(10) * 0.1
     still = Recording(t, ("pelvis",), np.zeros((10, 1, 3)), np.ones((10, 1)))
-    with pytest.raises(RecordingError, match="never goes 1 m"):
+    with pytest.raises(SkeletonRecordingError, match="never goes 1 m"):
         placed(still)
     write(still, tmp_path / "still.csv")
     assert read(tmp_path / "still.csv").positions == pytest.approx(still.positions)

@@ -45,6 +45,11 @@ class AccountError(InvalidResult):
     """A user account cannot be made or changed as asked; the message says why."""
 
 
+class SkeletonRecordingError(ScenarioError):
+    """A skeleton recording that cannot be read, imported or placed; the message names the
+    file, the line and what is wrong."""
+
+
 class NotATrial(DsrError, ValueError):
     """Skeleton samples that do not hold a whole Get Up & Go trial (no rise, no walk, no turn,
     not seated again); the message says which."""

@@ -9,8 +9,8 @@ import sys
 
 import numpy as np
 
+from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_sim.patient import skeleton_import, skeleton_recording
-from clarc_sim.patient.skeleton_recording import RecordingError
 
 
 def add_parser(sub) -> None:
@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
         )
         placed = skeleton_recording.placed(recording)  # checked now: a scenario can play it
         skeleton_recording.write(recording, args.output)
-    except RecordingError as e:
+    except SkeletonRecordingError as e:
         print(f"clarc skeleton: {e}", file=sys.stderr)
         return 1
     except OSError as e:

@@ -28,8 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
+from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_agents.gug.skeleton import JOINTS
-from clarc_sim.patient.skeleton_recording import Recording, RecordingError, floor_at_zero
+from clarc_sim.patient.skeleton_recording import Recording, floor_at_zero
 
 # rotations taking the source's up axis to +z (right-handed, a turn, never a mirror)
 UP = {
@@ -105,23 +106,25 @@ def import_recording(
     fps: float | None = None,
 ) -> Recording:
     """The recording in ``path`` (of ``kind``, one of ``FORMATS``) as CLARC's: our joints, z up,
-    metres, the floor at z = 0. ``RecordingError`` naming what is wrong."""
+    metres, the floor at z = 0. ``SkeletonRecordingError`` naming what is wrong."""
     if kind not in DEFAULTS:
-        raise RecordingError(f"unknown format {kind!r}; the formats are {', '.join(FORMATS)}")
+        raise SkeletonRecordingError(
+            f"unknown format {kind!r}; the formats are {', '.join(FORMATS)}"
+        )
     default_up, default_units, default_fps = DEFAULTS[kind]
     up, units, fps = up or default_up, units or default_units, fps or default_fps
     if up not in UP:
-        raise RecordingError(f"--up must be one of {', '.join(UP)}, got {up!r}")
+        raise SkeletonRecordingError(f"--up must be one of {', '.join(UP)}, got {up!r}")
     if units not in UNITS:
-        raise RecordingError(f"--units must be one of {', '.join(UNITS)}, got {units!r}")
+        raise SkeletonRecordingError(f"--units must be one of {', '.join(UNITS)}, got {units!r}")
     if fps is not None and not (math.isfinite(fps) and fps > 0):
-        raise RecordingError(f"--fps must be a positive number, got {fps!r}")
+        raise SkeletonRecordingError(f"--fps must be a positive number, got {fps!r}")
     t, joints, positions, confidence = READERS[kind](Path(path), fps)
     positions = positions @ UP[up].T * UNITS[units]
     positions = floor_at_zero(positions, joints)
     confidence = np.where(np.isnan(positions).any(axis=2), 0.0, confidence)
     if "pelvis" not in joints or np.isnan(positions[:, joints.index("pelvis"), 0]).all():
-        raise RecordingError(f"{path}: no pelvis (or hips) in the recording")
+        raise SkeletonRecordingError(f"{path}: no pelvis (or hips) in the recording")
     return Recording(t, joints, positions, confidence)
 
 
@@ -132,22 +135,24 @@ def _csv(path: Path) -> tuple[list[str], np.ndarray]:
         with open(path, encoding="utf-8", newline="") as f:
             rows = list(csv.reader(f))
     except OSError as e:
-        raise RecordingError(f"{path}: cannot read: {e.strerror}") from None
+        raise SkeletonRecordingError(f"{path}: cannot read: {e.strerror}") from None
     except (UnicodeDecodeError, csv.Error) as e:
-        raise RecordingError(f"{path}: not CSV ({e})") from None
+        raise SkeletonRecordingError(f"{path}: not CSV ({e})") from None
     if len(rows) < 2:
-        raise RecordingError(f"{path}: no frames")
+        raise SkeletonRecordingError(f"{path}: no frames")
     header = [h.strip().lower() for h in rows[0]]
     values = np.full((len(rows) - 1, len(header)), np.nan)
     for i, row in enumerate(rows[1:]):
         if len(row) != len(header):
-            raise RecordingError(f"{path}:{i + 2}: {len(row)} cells, the header has {len(header)}")
+            raise SkeletonRecordingError(
+                f"{path}:{i + 2}: {len(row)} cells, the header has {len(header)}"
+            )
         for j, cell in enumerate(row):
             if cell.strip() and cell.strip().lower() != "nan":
                 try:
                     values[i, j] = float(cell)
                 except ValueError:
-                    raise RecordingError(
+                    raise SkeletonRecordingError(
                         f"{path}:{i + 2}: {header[j]} {cell!r} is not a number"
                     ) from None
     return header, values
@@ -158,18 +163,18 @@ def _times(path: Path, header: list[str], values: np.ndarray, fps: float | None)
     if "time" in header:
         t = values[:, header.index("time")]
     elif fps is None:
-        raise RecordingError(f"{path}: no time column: give --fps")
+        raise SkeletonRecordingError(f"{path}: no time column: give --fps")
     else:
         frames = values[:, header.index("frame")] if "frame" in header else np.arange(len(values))
         t = frames / fps
     if np.isnan(t).any() or (np.diff(t) <= 0).any():
-        raise RecordingError(f"{path}: the frames' times must be given and increase")
+        raise SkeletonRecordingError(f"{path}: the frames' times must be given and increase")
     return t - t[0]
 
 
 def _column(path: Path, header: list[str], name: str) -> int:
     if name not in header:
-        raise RecordingError(f"{path}: no column {name!r}")
+        raise SkeletonRecordingError(f"{path}: no column {name!r}")
     return header.index(name)
 
 
@@ -210,9 +215,9 @@ def _bvh(path: Path, fps: float | None):
         bvh = bvhio.readAsBvh(str(path))
         root = bvhio.convertBvhToHierarchy(bvh.Root)
     except OSError as e:
-        raise RecordingError(f"{path}: cannot read: {e.strerror}") from None
+        raise SkeletonRecordingError(f"{path}: cannot read: {e.strerror}") from None
     except Exception as e:  # the library raises what it meets: say which file and why
-        raise RecordingError(f"{path}: not a BVH file bvhio can read ({e})") from None
+        raise SkeletonRecordingError(f"{path}: not a BVH file bvhio can read ({e})") from None
     # "mixamorig:LeftUpLeg" and "LeftUpLeg" alike
     named = {joint.Name.lower().split(":")[-1]: joint for joint, _, _ in root.layout()}
     found = {}
@@ -223,7 +228,7 @@ def _bvh(path: Path, fps: float | None):
     joints = tuple(j for j in JOINTS if j in found)
     frames, frame_time = int(bvh.FrameCount), float(bvh.FrameTime)
     if frames == 0 or not joints:
-        raise RecordingError(f"{path}: no frames, or none of our joints")
+        raise SkeletonRecordingError(f"{path}: no frames, or none of our joints")
     positions = np.empty((frames, len(joints), 3))
     for f in range(frames):
         root.loadPose(f)

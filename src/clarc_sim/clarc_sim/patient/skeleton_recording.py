@@ -28,17 +28,12 @@ from pathlib import Path
 
 import numpy as np
 
-from clarc_agents.exceptions import ScenarioError
+from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_agents.gug.skeleton import JOINTS
 from clarc_sim.patient.gait_motion import SEATED_X
 
 MAGIC = "# clarc-skeleton 1"
 SEATED_SPELL = 0.5  # s at the start of a recording the patient sits
-
-
-class RecordingError(ScenarioError):
-    """A skeleton recording that cannot be read or placed; the message names the file, the
-    line and what is wrong."""
 
 
 @dataclass(frozen=True)
@@ -78,27 +73,29 @@ def write(recording: Recording, path: str | Path) -> None:
 
 
 def read(path: str | Path) -> Recording:
-    """The recording in ``path``; ``RecordingError`` naming the line and what is wrong."""
+    """The recording in ``path``; ``SkeletonRecordingError`` naming the line and what is wrong."""
     try:
         with open(path, encoding="utf-8", newline="") as f:
             lines = list(csv.reader(f))
     except OSError as e:
-        raise RecordingError(f"{path}: cannot read: {e.strerror}") from None
+        raise SkeletonRecordingError(f"{path}: cannot read: {e.strerror}") from None
     except (UnicodeDecodeError, csv.Error) as e:
-        raise RecordingError(f"{path}: not a skeleton recording ({e})") from None
+        raise SkeletonRecordingError(f"{path}: not a skeleton recording ({e})") from None
     if not lines or lines[0] != [MAGIC]:
-        raise RecordingError(f"{path}:1: a skeleton recording starts with {MAGIC!r}")
+        raise SkeletonRecordingError(f"{path}:1: a skeleton recording starts with {MAGIC!r}")
     if len(lines) < 3:
-        raise RecordingError(f"{path}: no frames")
+        raise SkeletonRecordingError(f"{path}: no frames")
     joints = _header(path, lines[1])
     t, positions, confidence = [], [], []
     for number, row in enumerate(lines[2:], start=3):
         where = f"{path}:{number}"
         if len(row) != 1 + 4 * len(joints):
-            raise RecordingError(f"{where}: {len(row)} cells, the header has {1 + 4 * len(joints)}")
+            raise SkeletonRecordingError(
+                f"{where}: {len(row)} cells, the header has {1 + 4 * len(joints)}"
+            )
         time = _float(where, "t", row[0])
         if t and time <= t[-1]:
-            raise RecordingError(f"{where}: t {time} does not come after {t[-1]}")
+            raise SkeletonRecordingError(f"{where}: t {time} does not come after {t[-1]}")
         t.append(time)
         p, c = np.full((len(joints), 3), np.nan), np.zeros(len(joints))
         for j, joint in enumerate(joints):
@@ -106,11 +103,13 @@ def read(path: str | Path) -> Recording:
             if not any(cells):
                 continue
             if not all(cells):
-                raise RecordingError(f"{where}: {joint} has some of x, y, z, c empty")
+                raise SkeletonRecordingError(f"{where}: {joint} has some of x, y, z, c empty")
             p[j] = [_float(where, f"{joint}_{k}", v) for k, v in zip("xyz", cells, strict=False)]
             c[j] = _float(where, f"{joint}_c", cells[3])
             if not 0.0 <= c[j] <= 1.0:
-                raise RecordingError(f"{where}: {joint}_c {c[j]} is not a confidence (0..1)")
+                raise SkeletonRecordingError(
+                    f"{where}: {joint}_c {c[j]} is not a confidence (0..1)"
+                )
         positions.append(p)
         confidence.append(c)
     return Recording(np.array(t), joints, np.array(positions), np.array(confidence))
@@ -118,17 +117,21 @@ def read(path: str | Path) -> Recording:
 
 def _header(path, row: list[str]) -> tuple[str, ...]:
     if not row or row[0] != "t" or (len(row) - 1) % 4:
-        raise RecordingError(f"{path}:2: the header is t, then x, y, z, c of each joint")
+        raise SkeletonRecordingError(f"{path}:2: the header is t, then x, y, z, c of each joint")
     joints = []
     for i in range(1, len(row), 4):
         joint = row[i][: -len("_x")]
         if row[i : i + 4] != [f"{joint}_{k}" for k in "xyzc"]:
-            raise RecordingError(f"{path}:2: expected {joint}_x, {joint}_y, {joint}_z, {joint}_c")
+            raise SkeletonRecordingError(
+                f"{path}:2: expected {joint}_x, {joint}_y, {joint}_z, {joint}_c"
+            )
         if joint not in JOINTS:
-            raise RecordingError(f"{path}:2: unknown joint {joint!r}; the joints are {JOINTS}")
+            raise SkeletonRecordingError(
+                f"{path}:2: unknown joint {joint!r}; the joints are {JOINTS}"
+            )
         joints.append(joint)
     if "pelvis" not in joints:
-        raise RecordingError(f"{path}:2: a recording without the pelvis cannot be placed")
+        raise SkeletonRecordingError(f"{path}:2: a recording without the pelvis cannot be placed")
     return tuple(joints)
 
 
@@ -136,23 +139,27 @@ def _float(where: str, what: str, text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise RecordingError(f"{where}: {what} {text!r} is not a number") from None
+        raise SkeletonRecordingError(f"{where}: {what} {text!r} is not a number") from None
     if not math.isfinite(value):
-        raise RecordingError(f"{where}: {what} must be finite, got {text!r}")
+        raise SkeletonRecordingError(f"{where}: {what} must be finite, got {text!r}")
     return value
 
 
 def placed(recording: Recording) -> Recording:
     """``recording`` in the trial's frame: the seated pelvis at the chair, the first walk along
-    +x (see the module's text); ``RecordingError`` if it has no seated start or no walk."""
+    +x (see the module's text); ``SkeletonRecordingError`` if it has no seated start or no walk."""
     pelvis = recording.joint("pelvis")
     seated = (recording.t - recording.t[0] < SEATED_SPELL) & ~np.isnan(pelvis[:, 0])
     if not seated.any():
-        raise RecordingError("the pelvis is not tracked in the recording's first half second")
+        raise SkeletonRecordingError(
+            "the pelvis is not tracked in the recording's first half second"
+        )
     start = np.mean(pelvis[seated], axis=0)
     away = np.hypot(pelvis[:, 0] - start[0], pelvis[:, 1] - start[1])
     if np.all(np.isnan(away)) or np.nanmax(away) < 1.0:
-        raise RecordingError("the pelvis never goes 1 m from where it sits: no walk to place")
+        raise SkeletonRecordingError(
+            "the pelvis never goes 1 m from where it sits: no walk to place"
+        )
     far = pelvis[int(np.nanargmax(away))]
     yaw = math.atan2(far[1] - start[1], far[0] - start[0])
     c, s = math.cos(-yaw), math.sin(-yaw)
