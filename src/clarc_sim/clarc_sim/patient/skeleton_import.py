@@ -21,7 +21,6 @@ moved to z = 0 (``skeleton_recording.floor_at_zero``):
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Callable
 from pathlib import Path
@@ -30,7 +29,7 @@ import numpy as np
 
 from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_agents.gug.skeleton import JOINTS
-from clarc_sim.patient.skeleton_recording import Recording, floor_at_zero
+from clarc_sim.patient.skeleton_recording import Recording, csv_rows, floor_at_zero
 
 # rotations taking the source's up axis to +z (right-handed, a turn, never a mirror)
 UP = {
@@ -131,13 +130,7 @@ def import_recording(
 # ------------------------------------------------------------------ CSV sources
 def _csv(path: Path) -> tuple[list[str], np.ndarray]:
     """The header (lower case) and the numbers of a CSV file (empty cells: NaN)."""
-    try:
-        with open(path, encoding="utf-8", newline="") as f:
-            rows = list(csv.reader(f))
-    except OSError as e:
-        raise SkeletonRecordingError(f"{path}: cannot read: {e.strerror}") from None
-    except (UnicodeDecodeError, csv.Error) as e:
-        raise SkeletonRecordingError(f"{path}: not CSV ({e})") from None
+    rows = csv_rows(path, "CSV")
     if len(rows) < 2:
         raise SkeletonRecordingError(f"{path}: no frames")
     header = [h.strip().lower() for h in rows[0]]

@@ -72,15 +72,20 @@ def write(recording: Recording, path: str | Path) -> None:
             out.writerow(row)
 
 
-def read(path: str | Path) -> Recording:
-    """The recording in ``path``; ``SkeletonRecordingError`` naming the line and what is wrong."""
+def csv_rows(path: str | Path, kind: str) -> list[list[str]]:
+    """The rows of the CSV file ``path`` (a ``kind``, for the error)."""
     try:
         with open(path, encoding="utf-8", newline="") as f:
-            lines = list(csv.reader(f))
+            return list(csv.reader(f))
     except OSError as e:
         raise SkeletonRecordingError(f"{path}: cannot read: {e.strerror}") from None
     except (UnicodeDecodeError, csv.Error) as e:
-        raise SkeletonRecordingError(f"{path}: not a skeleton recording ({e})") from None
+        raise SkeletonRecordingError(f"{path}: not {kind} ({e})") from None
+
+
+def read(path: str | Path) -> Recording:
+    """The recording in ``path``; ``SkeletonRecordingError`` naming the line and what is wrong."""
+    lines = csv_rows(path, "a skeleton recording")
     if not lines or lines[0] != [MAGIC]:
         raise SkeletonRecordingError(f"{path}:1: a skeleton recording starts with {MAGIC!r}")
     if len(lines) < 3:
