@@ -546,9 +546,14 @@ def bench_kinematics(depths: list[int], queries: int) -> dict[str, Any]:
 
 # ---------------------------------------------------------------------------- 5. the Barthel run
 def bench_barthel(
-    work: Path, scale: float, scenario: Path | None = None, security: str = "enforce"
+    work: Path,
+    scale: float,
+    scenario: Path | None = None,
+    security: str = "enforce",
+    db: str = "bench.sqlite",
 ) -> dict[str, Any]:
-    """A whole run through launch.sh (the Barthel default, or ``scenario``): wall and CPU."""
+    """A whole run through launch.sh (the Barthel default, or ``scenario``): wall and CPU, and
+    the result it stored (the newest in the results store ``db``)."""
     report = work / "cpu.txt"
     report.unlink(missing_ok=True)
     env = dict(os.environ, CLARC_CPU_REPORT=str(report))
@@ -558,7 +563,7 @@ def bench_barthel(
             str(ROOT / "scripts" / "launch.sh"),
             *(["--scenario", str(scenario)] if scenario else []),
             "--db",
-            str(work / "bench.sqlite"),
+            str(work / db),
             "--scale",
             str(scale),
             "--run-dir",
@@ -586,8 +591,16 @@ def bench_barthel(
         stamp = re.match(r"\[\s*(\d+\.\d+)s\]", line)
         if stamp:
             test_s = float(stamp.group(1))
+    stored = subprocess.run(
+        ["clarc", "results", "--db", str(work / db), "--json"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    results = json.loads(stored.stdout) if stored.returncode == 0 else []
     return {
         "completed": run.returncode == 0,
+        "result": results[-1] if results else None,
         "security": security,
         "pace": scale,
         "wall_s": wall,
@@ -673,14 +686,32 @@ def latency_samples(ros, writer, arrived, n: int, change, step=lambda: None) -> 
     return samples[n // 10 :]
 
 
-def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> dict[str, Any]:
-    """The skeleton stream's load on the DSR, each figure against the same without the stream."""
-    from clarc_agents.gug.skeleton import parse_skeleton, skeleton_tx
+@contextlib.contextmanager
+def busy_cores(count: int):
+    """``count`` processes spinning on a core each, for as long as the block runs."""
+    spinners = [
+        subprocess.Popen([sys.executable, "-c", "while True: pass"], start_new_session=True)
+        for _ in range(count)
+    ]
+    try:
+        yield
+    finally:
+        for p in spinners:
+            p.kill()
+            p.wait()
+
+
+def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
+    """A patient's skeleton at 30 Hz written as Person writes it (frames taken while a
+    transaction is in flight go together in the next, ``frames_tx``): the server's CPU, frames
+    written of those offered, a Speech-sized change's latency and the journal's growth, each
+    against the same without the stream."""
+    from clarc_agents.gug.skeleton import frames_tx, parse_skeleton
     from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, skeleton
     from clarc_sim.patient.gait_motion import Motion
 
     procs = Procs(work, domain)
-    state = work / "gug_state"
+    state = work / f"gug_state_{domain}"
     out: dict[str, Any] = {}
     try:
         server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
@@ -708,26 +739,32 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
             TrialPlace(4500.0, 0.0, -1200.0, 3.14159),
             KinectModel(random.Random(3), 10.0),
         )
-        stream = {"next": time.perf_counter(), "frames": 0, "written": 0, "in_flight": False}
+        stream: dict[str, Any] = {"next": time.perf_counter(), "frames": 0, "written": 0}
+        stream |= {"txs": 0, "waiting": [], "in_flight": False}
 
-        def step() -> None:  # Person: a frame every 1/30 s, one transaction in flight
+        def frame(t: float):
+            return parse_skeleton(sensor.see(skeleton(motion, t, place), t)[0])
+
+        def step() -> None:  # Person: a frame every 1/30 s, queued while a tx is in flight
             now = time.perf_counter()
-            if now < stream["next"]:
+            if now >= stream["next"]:
+                # a frame every 1/30 s from now on; frames not offered while we did not run
+                # are lost, as a Kinect's are
+                stream["next"] = max(stream["next"], now - 1.0 / 30.0) + 1.0 / 30.0
+                stream["frames"] += 1
+                t = (stream["frames"] / 30.0) % (motion.total + 3.0) - 1.0
+                stream["waiting"].append((frame(t), time.time()))
+            if stream["in_flight"] or not stream["waiting"]:
                 return
-            # a frame every 1/30 s from now on; frames not offered while we did not run are lost
-            stream["next"] = max(stream["next"], now - 1.0 / 30.0) + 1.0 / 30.0
-            stream["frames"] += 1
-            if stream["in_flight"]:
-                return
-            t = (stream["frames"] / 30.0) % (motion.total + 3.0) - 1.0
-            joints = parse_skeleton(sensor.see(skeleton(motion, t, place), t)[0])
+            batch, stream["waiting"] = stream["waiting"], []
             stream["in_flight"] = True
 
             def written(r) -> None:
                 stream["in_flight"] = False
-                stream["written"] += 1 if r.accepted else 0
+                stream["txs"] += 1
+                stream["written"] += len(batch) if r.accepted else 0
 
-            person.send(skeleton_tx(person.graph, joints, time.time()), written)
+            person.send(frames_tx(person.graph, batch), written)
 
         def idle() -> None:
             return None
@@ -754,18 +791,9 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
         elapsed = time.perf_counter() - t0
         out["frames_written_per_s"] = stream["written"] / elapsed
         out["frames_offered_per_s"] = stream["frames"] / elapsed
-        out["delta_bytes"] = len(
-            json.dumps(
-                skeleton_tx(
-                    person.graph,
-                    parse_skeleton(sensor.see(skeleton(motion, 0.0, place), 0.0)[0]),
-                    time.time(),
-                )
-            )
-        )
-        out["journal_bytes_per_min_unbounded"] = (
-            out["delta_bytes"] * stream["written"] / elapsed * 60
-        )
+        out["frames_per_tx"] = stream["written"] / max(stream["txs"], 1)
+        out["delta_bytes"] = len(json.dumps(frames_tx(person.graph, [(frame(0.0), time.time())])))
+        out["journal_bytes_per_min_unbounded"] = out["delta_bytes"] * stream["txs"] / elapsed * 60
         out["journal_largest_bytes"] = largest[0]
         out["compact_every"] = 1000
 
@@ -779,7 +807,54 @@ def bench_gug(work: Path, domain: int, seconds: float, n: int, scale: float) -> 
         ros.close()
     finally:
         procs.stop_all()
-    out["robot"] = bench_barthel(work, scale, ROOT / "scenarios" / "gug_normal.yaml")
+    return out
+
+
+def gug_runs(work: Path, scale: float, tag: str) -> dict[str, Any]:
+    """Every shipped Get Up & Go scenario through launch.sh: what each stored."""
+    runs = {}
+    for scenario in sorted((ROOT / "scenarios").glob("gug_*.yaml")):
+        run = bench_barthel(work, scale, scenario, db=f"gug_{tag}_{scenario.stem}.sqlite")
+        result = run["result"] or {}
+        runs[scenario.stem] = {
+            "completed": run["completed"],
+            "wall_s": run["wall_s"],
+            "cpu_total_s": run["cpu_total_s"],
+            "outcome": result.get("outcome"),
+            "tug_seconds": result.get("tug_seconds"),
+            "trials": result.get("trials"),
+            "void_reasons": result.get("void_reasons"),
+        }
+    return runs
+
+
+def bench_gug(
+    work: Path, domain: int, seconds: float, n: int, scale: float, scenarios: bool
+) -> dict[str, Any]:
+    """The skeleton stream's load on the DSR and a whole GUG run's CPU, quiet; and the same
+    with every core kept busy by another process (``under_load``): frames written of those
+    offered, a Speech change's latency, and (``scenarios``) what each shipped GUG scenario
+    stored, quiet and loaded."""
+    out = gug_stream(work, domain, seconds, n)
+    out["robot"] = bench_barthel(work, scale, ROOT / "scenarios" / "gug_normal.yaml", db="gug.db")
+    cores = os.cpu_count() or 2
+    with busy_cores(cores):
+        loaded = gug_stream(work, domain, seconds, n)
+    out["under_load"] = {"busy_processes": cores} | {
+        k: loaded[k]
+        for k in (
+            "server_cpu_streaming",
+            "frames_written_per_s",
+            "frames_offered_per_s",
+            "frames_per_tx",
+            "latency_quiet",
+            "latency_streaming",
+        )
+    }
+    if scenarios:
+        out["scenarios"] = {"pace": scale, "quiet": gug_runs(work, scale, "quiet")}
+        with busy_cores(cores):
+            out["scenarios"]["loaded"] = gug_runs(work, scale, "loaded")
     return out
 
 
@@ -859,7 +934,8 @@ def table(report: dict[str, Any]) -> str:
         q, st = g["latency_quiet"], g["latency_streaming"]
         lines.append(
             f"get up & go: skeleton at 30 Hz, 14 joints ({g['frames_written_per_s']:.1f} frames/s "
-            f"written of {g['frames_offered_per_s']:.1f}, {g['delta_bytes']} B each)"
+            f"written of {g['frames_offered_per_s']:.1f}, {g['frames_per_tx']:.1f} a "
+            f"transaction, {g['delta_bytes']} B for one)"
         )
         lines.append(
             f"  server CPU {g['server_cpu_streaming']:.1%} streaming vs {g['server_cpu_idle']:.1%}"
@@ -874,6 +950,25 @@ def table(report: dict[str, Any]) -> str:
             f"kept under {g['journal_largest_bytes'] / 1e6:.1f} MB by compaction every "
             f"{g['compact_every']} deltas"
         )
+        u = g["under_load"]
+        ul, uq = u["latency_streaming"], u["latency_quiet"]
+        lines.append(
+            f"  under load ({u['busy_processes']} busy processes): "
+            f"{u['frames_written_per_s']:.1f} frames/s written of "
+            f"{u['frames_offered_per_s']:.1f}, {u['frames_per_tx']:.1f} a transaction; a Speech "
+            f"change p50/p99 {ul['p50_ms']:.3f}/{ul['p99_ms']:.3f} ms streaming vs "
+            f"{uq['p50_ms']:.3f}/{uq['p99_ms']:.3f} ms without the stream"
+        )
+        for load, runs in (
+            (k, v) for k, v in g.get("scenarios", {}).items() if isinstance(v, dict)
+        ):
+            lines.append(f"  GUG scenarios at pace x{g['scenarios']['pace']}, {load}:")
+            for name, v in runs.items():
+                timed = f"{v['tug_seconds']:.1f} s" if v["tug_seconds"] is not None else "-"
+                lines.append(
+                    f"    {name:<24} {v['outcome'] or 'nothing stored':<8} {timed:>7}  "
+                    f"trials {v['trials']}  wall {v['wall_s']:.0f} s"
+                )
         r = g["robot"]
         lines.append(
             f"  whole robot over a GUG run (pace x{r['pace']}): completed {r['completed']}, CPU "
@@ -960,7 +1055,7 @@ def main() -> int:
             report["barthel"] = bench_barthel(work, 0.05 if quick else 0.1)
         if "gug" in sections:
             report["gug"] = bench_gug(
-                work, domain, 5.0 if quick else 20.0, 100 if quick else 500, 0.1
+                work, domain, 5.0 if quick else 20.0, 100 if quick else 500, 0.1, not quick
             )
         if "signed" in sections:
             report["signed"] = bench_signed(

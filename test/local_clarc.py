@@ -17,7 +17,8 @@ from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.behaviours.panel import PanelBehaviour
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.grammar_files import load_grammar
-from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.pelea.hle import Times
+from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire import orientation
 from clarc_sim.hospital.results_store import InvalidResult, check_result
@@ -150,7 +151,7 @@ class Robot:
         )
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link)
-        self.hle = HighLevelExecutive(self.port, Times(), log, definitions.load(test))
+        self.hle = QuestionnaireExecutive(self.port, Times(), log, definitions.load(test))
         self.pelea_restarts = 0
         self.dsr_boot = "boot-1"  # a test changes it to stand for a restarted DSR server
         for runner in (self.person, self.speech_runner, self.panel_runner):
@@ -226,7 +227,7 @@ class Robot:
         self.pelea_restarts += 1
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link, events=self.port.events, stored=self.port.stored)
-        self.hle = HighLevelExecutive(self.port, Times(), log, definitions.load(self.test))
+        self.hle = QuestionnaireExecutive(self.port, Times(), log, definitions.load(self.test))
         self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
         self.hle.on_graph(self.pelea_link.graph)  # its first snapshot
 

@@ -88,6 +88,8 @@ def test_no_pure_module_needs_ros_or_the_web_through_another_module():
     "module",
     [
         "clarc_agents.pelea.hle",
+        "clarc_agents.pelea.questionnaire_executive",
+        "clarc_agents.pelea.gug_executive",
         "clarc_agents.behaviours.speech",
         "clarc_agents.behaviours.panel",
         "clarc_agents.questionnaire.record",
@@ -99,3 +101,21 @@ def test_no_pure_module_needs_ros_or_the_web_through_another_module():
 def test_clarc_logic_is_pure_too(module):
     path = SRC / module.split(".")[0] / Path(*module.split(".")).with_suffix(".py")
     assert not [name for name in imports_of(path) if is_forbidden(name)]
+
+
+@pytest.mark.parametrize(
+    ("module", "not_of"),
+    [
+        ("hle", ("questionnaire", "gug", "barthel", "definitions")),
+        ("questionnaire_executive", ("gug",)),
+        ("gug_executive", ("questionnaire", "barthel", "definitions")),
+    ],
+)
+def test_each_test_is_a_user_of_the_executive_core_and_of_no_other_test(module, not_of):
+    """The core knows no test; a test's executive knows the core, not another test."""
+    path = SRC / "clarc_agents" / "clarc_agents" / "pelea" / f"{module}.py"
+    imported = set(imports_of(path))
+    assert not {
+        name for name in imported for other in not_of if name.startswith(f"clarc_agents.{other}")
+    }
+    assert not {name for name in imported if "_executive" in name}

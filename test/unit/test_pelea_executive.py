@@ -10,7 +10,7 @@ from pyperplan.pddl.parser import Parser
 from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
-from clarc_agents.pelea.hle import HighLevelExecutive
+from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from dsr_graph.exceptions import TimedOutError
 
 from local_clarc import EVERY_PATH, Patient, Robot
@@ -27,9 +27,9 @@ def items(result):
 def test_every_action_of_the_domain_has_a_handler_and_no_handler_is_extra():
     parser = Parser(domain_path())
     domain = parser.parse_domain()
-    assert set(HighLevelExecutive.ACTIONS) == set(domain.actions)
+    assert set(QuestionnaireExecutive.ACTIONS) == set(domain.actions)
     for name, action in domain.actions.items():  # each handler takes the action's parameters
-        code = HighLevelExecutive.ACTIONS[name].__code__
+        code = QuestionnaireExecutive.ACTIONS[name].__code__
         assert code.co_argcount == 2 + len(action.signature), name
 
 

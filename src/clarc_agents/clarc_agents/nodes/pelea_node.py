@@ -30,7 +30,8 @@ from std_msgs.msg import String
 from clarc_agents import definitions, topics
 from clarc_agents.pelea import high_to_low, low_to_high
 from clarc_agents.pelea.gug_executive import GugExecutive
-from clarc_agents.pelea.hle import HighLevelExecutive, Times
+from clarc_agents.pelea.hle import Times
+from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, place_values
 from dsr_graph.formats.default_paths import state_path
@@ -94,7 +95,7 @@ class PeleaNode(DsrNode):
         place = tuple(param(self, "place"))
         place_values(place)  # a wrong place ends the node now, naming what is wrong
         self.executives = [
-            HighLevelExecutive(self, times, self.get_logger(), definitions.load(test), place)
+            QuestionnaireExecutive(self, times, self.get_logger(), definitions.load(test), place)
             for test in definitions.tests()
         ]
         self.executives.append(GugExecutive(self, times, self.get_logger()))

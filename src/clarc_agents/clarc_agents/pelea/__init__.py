@@ -1,6 +1,7 @@
 """PELEA, the deliberative agent (paper, Section III-B), in its five parts:
 
-- ``hle``: the High Level Executive, which runs the test: plans, executes, reacts;
+- ``hle``: the High Level Executive, the loop every test shares: plans, executes, reacts;
+  ``questionnaire_executive`` and ``gug_executive`` are the tests run on it;
 - ``monitoring``: keeps the high-level state and turns deviations into facts for replanning;
 - ``decision_support``: plans with a real automated planner on the PDDL domain of the test;
 - ``high_to_low``: a high-level action as changes to the DSR;

@@ -1,6 +1,6 @@
-"""PELEA's executive for the Get Up & Go test (Timed Up and Go), on the same loop as the
-Barthel test's (``hle.py``: plan -> act -> watch the DSR -> replan on a deviation), with its own
-planning domain (``data/gug_domain.pddl``).
+"""PELEA's executive for the Get Up & Go test (Timed Up and Go), on the loop every test shares
+(``hle.py``: plan -> act -> watch the DSR -> replan on a deviation), with its own planning domain
+(``data/gug_domain.pddl``).
 
 It explains the test, says "go", and waits for the gait analyser's timed result in the DSR's
 ``gait`` node; it never sees the skeleton itself. The DSR holds everything a restarted PELEA
@@ -25,8 +25,7 @@ from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
-from clarc_agents.pelea.result_delivery import STORED, deliver
-from clarc_agents.questionnaire.sentences import Sentence
+from clarc_agents.sentence import Sentence
 from dsr_graph.model.graph import Graph
 
 MAX_TRIALS = 3
@@ -109,28 +108,21 @@ class GugExecutive(HighLevelExecutive):
 
     def __init__(self, port, times, log):
         super().__init__(port, times, log)
+        self.record: GugRecord | None = None
         self.trials = 0
         self.void_reasons: list[str] = []  # why each void trial did not count (test node's)
         self._last_phase = ""  # the analyser's phase last told as an event
 
-    # ------------------------------------------------------------------ inputs
-    def start(self, graph: Graph, patient: str) -> bool:
-        if self.running:
-            self.log.warning(f"a test is already running ({self.record.patient}); start ignored")
-            return False
-        self.graph, self.running, self._stuck, self.trials = graph, True, False, 0
-        self.void_reasons = []
+    # ------------------------------------------------------------------ the test's own part
+    def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
+        self.trials, self.void_reasons = 0, []
         self.record = GugRecord(patient, self.port.now())
         self.state = initial_state(low_to_high.person_present(graph))
-        self.port.event(event="started", patient=patient, test=self.KIND)
-        self.port.send(start_test(graph, patient, self.record.started))
-        self._replan("start")
-        return True
+        return start_test(graph, patient, self.record.started)
 
-    def resume(self, graph: Graph) -> None:
-        """A restarted PELEA goes on from the DSR: a trial being timed is waited for again."""
+    def _restore(self, graph: Graph) -> dict[str, Any]:
+        """A trial being timed is waited for again."""
         t, g = graph.node("test").attrs, gait(graph)
-        self.graph, self.running = graph, True
         self.record = GugRecord(
             str(t.get("patient", "")),
             str(t.get("started", "")),
@@ -156,17 +148,15 @@ class GugExecutive(HighLevelExecutive):
         if self.record.clinician_called:
             facts = (facts - {"(trials-left)"}) | {"(trials-exhausted)", "(clinician-called)"}
         self.state = frozenset(facts)
-        self.port.event(event="resumed", patient=self.record.patient, test=self.KIND)
-        self._replan("resumed after a restart")
+        return {"trial": self.trials}
 
-    # ------------------------------------------------------------------ the loop's hooks
     def _plan(self, state: frozenset[str]) -> list[Step]:
         return decision_support.solve(
             decision_support.domain_path("gug"), problem_pddl(state), state, GOAL
         )
 
-    def _monitor(self) -> bool:
-        return False  # no deviation is visible only at the high level here
+    def _result(self) -> dict[str, Any]:
+        return result(self.graph, self.record)
 
     def _trials_facts(self) -> set[str]:
         return {"(trials-left)"} if self.trials < MAX_TRIALS else {"(trials-exhausted)"}
@@ -191,27 +181,26 @@ class GugExecutive(HighLevelExecutive):
             state = self._void(state, "the patient left during the trial")
         return state
 
-    def _check_wait(self, graph: Graph) -> None:
-        wait = self._wait
-        if isinstance(wait, GaitWait):
-            g = gait(graph)
-            if g.get("trial") == wait.trial and g.get("status") == "timed":
-                self.port.event(
-                    event="timed",
-                    trial=wait.trial,
-                    tug_seconds=g.get("tug_seconds"),
-                    band=g.get("band"),
-                )
-                self._complete(wait.token)
-            elif g.get("trial") == wait.trial and g.get("status") == "void":
-                # the analyser could not time it (frames missing): try again at once
-                reason = str(g.get("reason", "")) or "the gait analyser could not time it"
-                self.log.warning(f"trial {wait.trial} is void: {reason}")
-                self._complete(wait.token, self._void(self.state, reason))
-            elif g.get("trial") == wait.trial and g.get("phase"):
-                self._phase_seen(g["phase"])
+    def _check_test_wait(self, graph: Graph, wait: Any) -> None:
+        if not isinstance(wait, GaitWait):
             return
-        super()._check_wait(graph)
+        g = gait(graph)
+        if g.get("trial") != wait.trial:
+            return
+        if g.get("status") == "timed":
+            self.port.event(
+                event="timed",
+                trial=wait.trial,
+                tug_seconds=g.get("tug_seconds"),
+                band=g.get("band"),
+            )
+            self._complete(wait.token)
+        elif g.get("status") == "void":  # the analyser could not time it: try again at once
+            reason = str(g.get("reason", "")) or "the gait analyser could not time it"
+            self.log.warning(f"trial {wait.trial} is void: {reason}")
+            self._complete(wait.token, self._void(self.state, reason))
+        elif g.get("phase"):
+            self._phase_seen(g["phase"])
 
     def _phase_seen(self, phase: str) -> None:
         if phase != self._last_phase:
@@ -270,61 +259,26 @@ class GugExecutive(HighLevelExecutive):
         reason = f"not timed within {TRIAL_TIMEOUT:g} s of go"
         self._complete(token, self._void(self.state, reason))
 
-    def _store_result(self, step: Step) -> None:
-        token = self._token
-
-        def ended(doc: dict[str, Any], outcome: str) -> None:
-            self.port.send(high_to_low.finish_test(self.graph))
-            self.port.event(event="finished" if outcome == STORED else "refused", result=doc)
-            self._complete(token)
-
-        self._deliver(token, ended)
-
-    def _deliver(self, token: int, ended) -> None:
-        """The result as the DSR holds it, to CGAmed (``ended(doc, outcome)`` once it is
-        stored or refused), after the test node says when the test finished."""
-
-        def written(r) -> None:
-            if token != self._token:
-                return
-            doc = result(self.graph, self.record)
-            deliver(
-                self.port,
-                doc,
-                self.times.store_retry,
-                self.log,
-                lambda: token == self._token,
-                lambda outcome: ended(doc, outcome),
-                self._set_timer,
-            )
-
-        self.record.finished = self.port.now()
-        self.port.send(high_to_low.record_test(finished=self.record.finished), written)
-
     def _say_goodbye(self, step: Step) -> None:
         self._say(Sentence(sentences.DONE, needs_person=False))
 
     def _call_clinician(self, step: Step) -> None:
-        self.record.clinician_called = True
-        message = (
-            f"{self.record.patient} could not be timed in the Get Up & Go test "
-            f"({self.trials} trial{'s' if self.trials != 1 else ''}): please come and attend."
+        trials = f"{self.trials} trial{'s' if self.trials != 1 else ''}"
+        self._tell_clinician(
+            f"{self.record.patient} could not be timed in the Get Up & Go test ({trials}): "
+            "please come and attend.",
+            [],
         )
-        self.port.notify_clinician(message)
-        self.port.event(event="clinician_called", unanswered=[])
-        self.port.send(high_to_low.call_clinician(self.graph))
         self._complete(self._token)
 
     def _end_untimed(self, step: Step) -> None:
         """No trial could be timed: stored as "unable to perform", with each trial's reason."""
-        token = self._token
 
         def ended(doc: dict[str, Any], outcome: str) -> None:
-            self.port.send(high_to_low.finish_test(self.graph))
             self.port.event(event="finished_untimed", patient=self.record.patient, result=doc)
             self._say(Sentence(sentences.DONE, needs_person=False))
 
-        self._deliver(token, ended)
+        self._deliver(self._token, ended)
 
     ACTIONS = {
         "ask-to-sit": _ask_to_sit,
@@ -334,7 +288,7 @@ class GugExecutive(HighLevelExecutive):
         "seat-patient": _seat_patient,
         "say-go": _say_go,
         "await-result": _await_result,
-        "store-result": _store_result,
+        "store-result": HighLevelExecutive._store_result,
         "say-goodbye": _say_goodbye,
         "call-clinician": _call_clinician,
         "end-untimed": _end_untimed,

@@ -8,7 +8,7 @@ from typing import Any
 from clarc_agents.behaviours.item_options import answer_attrs, item_node
 from clarc_agents.definitions import Definition
 from clarc_agents.questionnaire.record import ItemResult
-from clarc_agents.questionnaire.sentences import Sentence
+from clarc_agents.sentence import Sentence
 from dsr_graph.model.graph import Graph
 
 

@@ -1,41 +1,39 @@
-"""The High Level Executive: runs a questionnaire test, the Barthel test (paper, Section III-B)
-or any other its definition file describes (the MMSE, the Lawton scale).
-
-Crash-only: Start arrives as a request in the DSR, and everything needed to go on (the steps
-done, each item's attempts and answer, the clinician called, how often the person left) is
-written to the DSR as the test runs; an executive that finds a running test there (it was
-restarted) rebuilds its state from it and replans, asking the item in progress again. The
-stored result is read from the DSR, never from memory alone. Pure logic behind a small
-``Port`` (send a transaction, start a timer, report, store the result), so the whole course of
-a test can be driven by unit tests with a local graph; ``node.py`` connects it to ROS.
+"""PELEA's High Level Executive (paper, Section III-B): the loop every test shares.
 
 Loop: plan from the current state (Decision Support) -> execute the first action (HighToLow)
 -> watch the DSR (LowToHigh) -> on completion apply the action's effects and go on; on a
-deviation (no answer, words not understood, the person left, two items unanswered) record it
-as facts (Monitoring) and plan again from there.
+deviation record it as facts (Monitoring) and plan again from there.
+
+Crash-only: Start arrives as a request in the DSR, and everything needed to go on is written to
+the DSR as the test runs; an executive that finds its test running there (it was restarted)
+rebuilds its state from it and replans. The stored result is read from the DSR, never from
+memory alone. Pure logic behind a small ``Port`` (send a transaction, start a timer, report,
+store the result), so the whole course of a test can be driven by unit tests with a local
+graph; ``nodes/pelea_node.py`` connects it to ROS.
+
+What the core does for every test: take the Starts of its kind (and refuse others while one
+runs), resume after a restart, plan and step, wait for the DSR (a sentence said and shown, the
+person back) with timers, notice the person leaving and coming back, say sentences, call the
+clinician, and deliver the result to CGAmed. A test is a subclass that says what is its own:
+how it begins and is rebuilt from the DSR (``_begin``, ``_restore``), how it plans
+(``_plan``), what the person leaving means (``_person_lost_state``), what else it waits for
+(``_check_test_wait``), its result (``_result``) and its plan's actions (``ACTIONS``).
+``questionnaire_executive`` runs every test a definition file describes (Barthel, MMSE,
+Lawton); ``gug_executive`` the Get Up & Go.
 """
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
-from datetime import datetime
-from typing import Any, Protocol
+from typing import Any, ClassVar, Protocol
 
-from clarc_agents import definitions
-from clarc_agents.definitions import Definition
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.result_delivery import STORED, deliver
-from clarc_agents.questionnaire import orientation, sentences
-from clarc_agents.questionnaire.record import QuestionnaireRecord
+from clarc_agents.sentence import Sentence
 from dsr_graph.model.graph import Graph
-from dsr_graph.protocol.presence import PRESENCE_LEASE
-
-# Actions that must not be broken off when the person leaves: the test is over by then.
-CLOSING = ("say-goodbye", "store-result")
-# Steps whose completion is written on the test node (the other steps leave their own trace).
-PROGRESS_FLAGS = {"greet": "greeted", "explain": "explained", "say-goodbye": "said_goodbye"}
 
 
 @dataclass
@@ -71,39 +69,12 @@ class PersonWait:
     token: int
 
 
-@dataclass(frozen=True)
-class AnswerWait:
-    """An answer (or a failed answer window) for ``item``, in its first or second ``window``."""
-
-    item: str
-    window: int
-    token: int
-    boot: str  # the DSR server that opened the window (its heartbeat's boot)
-    losses: int = 0  # how often an agent had gone out of the server's reach when it opened
-
-
-@dataclass
-class Overtime:
-    """What an answer window that timed out still waits for before it is closed (seconds of
-    wall time: these are matters of the network, not of the session)."""
-
-    margin: bool = False  # waited long enough for a cut that had begun to be told
-    away: int = 0  # looks spent waiting for agents out of reach to come back
-    settled: bool = False  # waited for what agents sent during a cut to arrive
-
-
-Wait = SentenceWait | PersonWait | AnswerWait
-
-
-CLOSE_RETRY = 0.2  # seconds before a refused close of an answer window is tried again
-# The server tells a cut-off agent a liveliness lease after the cut began (dsr_graph presence):
-# a window that times out waits that long before it believes the silence.
-PRESENCE_MARGIN = PRESENCE_LEASE + 0.5
 REACH_RECHECK = 0.5  # seconds between looks at whether agents out of reach are back
-CUT_PATIENCE = 60.0  # seconds a window waits for agents out of reach, at most
 # seconds for what agents sent during a cut to arrive once it ends (DDS delivers what it held at
 # once; an agent sends again a request unanswered for 3 s)
 CUT_SETTLE = 4.0
+# Steps whose completion is written on the test node (the other steps leave their own trace).
+PROGRESS_FLAGS = {"greet": "greeted", "explain": "explained", "say-goodbye": "said_goodbye"}
 
 
 class Timer(Protocol):
@@ -125,39 +96,25 @@ class Port(Protocol):
     def reach_losses(self) -> int: ...  # how often an agent has gone out of its reach
 
 
-class HighLevelExecutive:
-    KIND = "barthel"  # the test this executive runs (the Start request's requested_test)
-    CLOSING = CLOSING
+class HighLevelExecutive(ABC):
+    KIND: str = ""  # the test this executive runs (the Start request's requested_test)
+    CLOSING: tuple[str, ...] = ()  # actions not broken off when the person leaves: it is over
+    ACTIONS: ClassVar[dict[str, Callable[..., None]]] = {}  # the plan's actions, each a handler
 
-    def __init__(
-        self,
-        port: Port,
-        times: Times,
-        log,
-        definition: Definition | None = None,
-        place: tuple[str, ...] = orientation.DEFAULT_PLACE,
-    ):
+    def __init__(self, port: Port, times: Times, log):
         self.port = port
         self.times = times
         self.log = log
-        # the test as its file says it (by default this executive's KIND's); filled with today's
-        # date and the place when it runs
-        if definition is None and self.KIND in definitions.tests():
-            definition = definitions.load(self.KIND)
-        self.template = self.definition = definition
-        if definition is not None:
-            self.KIND = definition.test
-        self.place = tuple(place)
         self.graph: Graph | None = None
         self.running = False
-        self.record: QuestionnaireRecord | None = None
+        self.record: Any = None  # the test's own record: patient, person_lost_count, finished
         self.state: frozenset[str] = frozenset()
         self.plan: list[Step] = []
         self.current: Step | None = None
         self._token = 0  # identifies the step in progress; stale callbacks compare it
-        self._wait: Wait | None = None  # what the current step waits for in the graph
+        self._wait: Any = None  # what the current step waits for in the graph
         self._timer: Timer | None = None
-        self._pending_say: sentences.Sentence | None = None
+        self._pending_say: Sentence | None = None
         self._untaken_warned = False  # said once per sentence that no agent took it
         self._sentence_cut = False  # the sentence in progress waited for agents out of reach
         self._say_in_flight = False
@@ -165,6 +122,39 @@ class HighLevelExecutive:
         # Start requests already taken or refused, as (patient, when pressed): the replica shows
         # a request until the server's answer to our transaction comes back
         self._handled: set[tuple[str, Any]] = set()
+
+    # ------------------------------------------------------------------ what a test says
+    @abstractmethod
+    def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
+        """A new test for ``patient``: set ``record`` and ``state``; the transaction that takes
+        the Start request and writes the test in the DSR."""
+
+    @abstractmethod
+    def _restore(self, graph: Graph) -> dict[str, Any]:
+        """The test running in the DSR, taken over after a restart: set ``record`` and
+        ``state``; what the "resumed" event says of where it was."""
+
+    @abstractmethod
+    def _plan(self, state: frozenset[str]) -> list[Step]: ...
+
+    @abstractmethod
+    def _person_lost_state(self) -> frozenset[str]:
+        """The facts after the person left in the middle of the plan (and what the step in
+        progress held open in the DSR undone)."""
+
+    @abstractmethod
+    def _result(self) -> dict[str, Any]:
+        """The result to store, as the DSR holds it."""
+
+    @abstractmethod
+    def _check_test_wait(self, graph: Graph, wait: Any) -> None:
+        """The graph changed while the step waits for something of the test's own (not a
+        sentence, not the person)."""
+
+    def _monitor(self) -> str | None:
+        """A deviation visible only at the high level: written in ``state``, and the reason to
+        replan returned."""
+        return None
 
     # ------------------------------------------------------------------ inputs
     def start(self, graph: Graph, patient: str) -> bool:
@@ -174,36 +164,19 @@ class HighLevelExecutive:
                 f"a test is already running (patient {self.record.patient}); start ignored"
             )
             return False
-        self.graph = graph
-        self.running = True
-        self._stuck = False
-        self.definition = self._today()
-        self.record = QuestionnaireRecord(self.definition, patient, self.port.now())
-        self.state = decision_support.initial_state(
-            low_to_high.person_present(graph), self.definition
-        )
+        self.graph, self.running, self._stuck = graph, True, False
+        tx = self._begin(graph, patient)
         self.port.event(event="started", patient=patient, test=self.KIND)
-        self.port.send(high_to_low.start_test(graph, patient, self.record.started, self.definition))
+        self.port.send(tx)
         self._replan("start")
         return True
 
     def resume(self, graph: Graph) -> None:
-        """A test is running in the DSR and this executive was not running it (it restarted):
-        go on from what the DSR says, asking the item in progress again."""
-        self.graph = graph
-        self.running = True
-        self.definition = self._today()
-        self.record = low_to_high.record(graph, self.definition)
-        self.state = low_to_high.facts(graph, self.definition)
-        reset = high_to_low.reset_answer(graph)
-        if reset is not None:  # a window left open by the previous run: it is asked again
-            self.port.send(reset)
-            item = graph.node("test").attrs.get("item")
-            if item in self.record.items and not self.record.items[item].closed:
-                self._window_ended(item, "interrupted")
-        self.port.event(
-            event="resumed", patient=self.record.patient, item=graph.node("test").attrs.get("item")
-        )
+        """A test of ours is running in the DSR and this executive was not running it (it
+        restarted): go on from what the DSR says."""
+        self.graph, self.running = graph, True
+        where = self._restore(graph)
+        self.port.event(event="resumed", patient=self.record.patient, test=self.KIND, **where)
         self._replan("resumed after a restart")
 
     def on_graph(self, graph: Graph) -> None:
@@ -260,19 +233,6 @@ class HighLevelExecutive:
         )
         self._next()
 
-    def _today(self) -> Definition:
-        """The test's definition with orientation filled in: today's date (the robot's local
-        time) and the place."""
-        today = datetime.fromtimestamp(self.port.epoch()).date()
-        return self.template.filled(orientation.values(today, self.place))
-
-    def _plan(self, state: frozenset[str]) -> list[Step]:
-        return decision_support.plan(state, self.definition)
-
-    def _person_lost_state(self) -> frozenset[str]:
-        """The facts after the person left in the middle of the plan."""
-        return monitoring.person_lost(self.state, self._current_item())
-
     def _next(self) -> None:
         if not self.plan:
             self.running = False
@@ -299,24 +259,14 @@ class HighLevelExecutive:
             self.state = step.apply(self.state)
             if step.name in PROGRESS_FLAGS:  # so that a restarted executive does not redo it
                 self.port.send(high_to_low.record_test(**{PROGRESS_FLAGS[step.name]: True}))
-            if self._monitor():
-                self._replan("two items unanswered: call the clinician")
+            deviation = self._monitor()
+            if deviation:
+                self._replan(deviation)
             else:
                 self._next()
         else:
             self.state = state
             self._replan(f"deviation in {step}")
-
-    def _monitor(self) -> bool:
-        """Deviations visible only at the high level: two unanswered items need the clinician."""
-        if (
-            not self.record.clinician_called
-            and len(self.record.unanswered) >= 2
-            and "(clinician-ok)" in self.state
-        ):
-            self.state = monitoring.clinician_needed(self.state)
-            return True
-        return False
 
     def _cancel_step(self) -> None:
         self._token += 1
@@ -330,16 +280,21 @@ class HighLevelExecutive:
             self._timer.cancel()
             self._timer = None
 
+    def _set_timer(self, timer: Timer) -> None:
+        self._timer = timer
+
     # ------------------------------------------------------------------ waiting on the graph
     def _check_wait(self, graph: Graph) -> None:
         wait = self._wait
-        if isinstance(wait, SentenceWait) and low_to_high.sentence_done(graph, wait.sid):
-            self._complete(wait.token)
-        elif isinstance(wait, PersonWait) and low_to_high.person_present(graph):
-            self.port.event(event="person_back")
-            self._complete(wait.token)
-        elif isinstance(wait, AnswerWait):
-            self._on_answer(graph, wait)
+        if isinstance(wait, SentenceWait):
+            if low_to_high.sentence_done(graph, wait.sid):
+                self._complete(wait.token)
+        elif isinstance(wait, PersonWait):
+            if low_to_high.person_present(graph):
+                self.port.event(event="person_back")
+                self._complete(wait.token)
+        elif wait is not None:
+            self._check_test_wait(graph, wait)
 
     def _watch_person(self, graph: Graph) -> None:
         present = low_to_high.person_present(graph)
@@ -350,10 +305,6 @@ class HighLevelExecutive:
             if self.current is not None and self.current.name in self.CLOSING:
                 self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
                 return
-            if isinstance(self._wait, AnswerWait):
-                close = high_to_low.close_answer(graph)
-                if close is not None:
-                    self.port.send(close)
             self.state = self._person_lost_state()
             self._replan("the person left")
         elif "(person-absent)" in self.state and present:
@@ -363,14 +314,9 @@ class HighLevelExecutive:
             self.state = monitoring.person_back(self.state)
             self._replan("the person is back")
 
-    def _current_item(self) -> str:
-        return next(
-            (f[len("(current ") : -1] for f in self.state if f.startswith("(current ")),
-            self.definition.order[0],
-        )
-
     # ------------------------------------------------------------------ sentences
-    def _say(self, sentence: sentences.Sentence) -> None:
+    def _say(self, sentence: Sentence) -> None:
+        """Say (and show) ``sentence``; the step completes when Speech and Panel are done."""
         self._pending_say = sentence
         self.port.event(event="say", text=sentence.text, item=sentence.item)
         if low_to_high.channels_idle(self.graph):
@@ -434,206 +380,32 @@ class HighLevelExecutive:
         self.port.event(event="warning", message=f"sentence not finished in time: {text}")
         self._complete(token)
 
-    # ------------------------------------------------------------------ the actions of the plan
-    def _ask_to_sit(self, step: Step) -> None:
-        self._say(sentences.sit_down())
-
+    # ------------------------------------------------------------------ actions every test has
     def _wait_for_person(self, step: Step) -> None:
         self._wait = PersonWait(self._token)
         self._check_wait(self.graph)
 
-    def _greet(self, step: Step) -> None:
-        self._say(sentences.greet(self.definition, self.record.patient))
-
-    def _explain(self, step: Step) -> None:
-        self._say(sentences.explain(self.definition))
-
-    def _introduce(self, step: Step, item: str) -> None:
-        self.port.event(event="item", item=item, position=self.definition.order.index(item) + 1)
-        self._say(sentences.introduce(self.definition, item))
-
-    def _describe_options(self, step: Step, item: str) -> None:
-        self._say(sentences.describe_options(self.definition, item))
-
-    def _nothing_to_describe(self, step: Step, item: str) -> None:
-        self._complete(self._token)
-
-    def _ask(self, step: Step, item: str) -> None:
-        self._say(sentences.ask(self.definition, item))
-
-    def _options_again(self, step: Step, item: str) -> None:
-        self._say(sentences.options_again(self.definition, item))
-
-    def _clarify(self, step: Step, item: str) -> None:
-        self._say(sentences.clarify(self.definition, item))
-
-    def _await_answer(self, step: Step, item: str) -> None:
-        self._open_window(item, 1)
-
-    def _await_answer_again(self, step: Step, item: str) -> None:
-        self._open_window(item, 2)
-
-    def _open_window(self, item: str, window: int) -> None:
-        token = self._token
-        result = self.record.items[item]
-        result.attempts += 1
-        self.port.send(high_to_low.record_item(result))
-        self.port.event(event="listening", item=item, window=window)
-
-        def opened(r) -> None:
-            if token != self._token:
-                return
-            if not r.accepted:  # the person left at this very moment: _watch_person replans
-                self.log.info(f"could not open the answer window: {r.error}")
-                return
-            wait = AnswerWait(item, window, token, self.port.dsr_boot(), self.port.reach_losses())
-            self._wait = wait
-            self._timer = self.port.after(
-                self.times(self.times.answer_timeout), lambda: self._answer_timed_out(wait)
-            )
-            self._check_wait(self.graph)
-
-        self.port.send(high_to_low.open_answer(self.graph, item), opened)
-
-    def _on_answer(self, graph: Graph, wait: AnswerWait) -> None:
-        item, window, token = wait.item, wait.window, wait.token
-        answer = low_to_high.answer(graph)
-        if answer is None:
-            return
-        self.port.send(high_to_low.consume_answer())
-        if answer.item != item:
-            return
-        spec = self.definition.item(item)
-        valid = (
-            answer.points is None and bool(answer.drawing)
-            if spec.needs_clinician
-            else answer.points in spec.points
-        )
-        if answer.outcome == "answered" and not valid:
-            # written by an agent that did not check it: not an answer to this item
-            self.log.warning(f"{answer.points} points is not a score of {item}: not understood")
-            answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
-        if answer.outcome == "answered":
-            self.record.answer(item, answer.points, answer.via, answer.heard, answer.drawing)
-            self._window_ended(item, "answered")
-            self.port.event(event="answer", item=item, points=answer.points, via=answer.via)
-            self._complete(token)
-        else:
-            self._window_ended(item, answer.outcome, answer.heard)
-            self.port.event(event=answer.outcome, item=item, heard=answer.heard, window=window)
-            self._complete(
-                token, monitoring.window_failed(self.state, item, window, answer.outcome)
-            )
-
-    def _window_ended(self, item: str, outcome: str, heard: str = "") -> None:
-        """Written to the item's node: how its window ended, for observers and for a restart."""
-        result = self.record.items[item]
-        result.outcomes.append(outcome)
-        if heard:
-            result.heard = heard
-        self.port.send(high_to_low.record_item(result))
-
-    def _answer_timed_out(self, wait: AnswerWait, over: Overtime | None = None) -> None:
-        item, window, token = wait.item, wait.window, wait.token
-        over = over or Overtime()
-        if token != self._token or self.graph is None:
-            return
-        close = high_to_low.close_answer(self.graph)
-        if close is None:
-            return  # the answer is already there; _check_wait takes it
-
-        def later(seconds: float) -> None:
-            self._timer = self.port.after(seconds, lambda: self._answer_timed_out(wait, over))
-
-        # A network cut between the hosts: what the patient said may be held on the other side
-        # (the listener heard it; its write waits for the link). Keep the window open.
-        if not over.margin:
-            over.margin = True
-            later(PRESENCE_MARGIN)
-            return
-        away = self.port.out_of_reach()
-        if away and over.away * REACH_RECHECK < CUT_PATIENCE:
-            if over.away == 0:
-                message = f"{', '.join(sorted(away))} out of the DSR's reach: the window stays open"
-                self.log.warning(message)
-                self.port.event(event="warning", message=message)
-            over.away += 1
-            later(REACH_RECHECK)
-            return
-        cut = self.port.reach_losses() != wait.losses
-        if cut and not over.settled:
-            over.settled = True
-            later(CUT_SETTLE)
-            return
-        # a listener restarted during the window, none ever took it, or one was cut off for a
-        # while: what the patient said was not heard, so the window does not count as silence
-        interrupted = (
-            cut
-            or low_to_high.window_interrupted(self.graph)
-            or low_to_high.window_untaken(self.graph)
-        )
-
-        def closed(r) -> None:
-            if not r.accepted:
-                # Either an answer won the race (it is in the graph: _check_wait takes it), or
-                # the window changed under the close (Speech re-sent can -> waiting after a
-                # restart of the server): then close it again as it is now.
-                retry = lambda: self._answer_timed_out(wait, over)  # noqa: E731
-                self._timer = self.port.after(CLOSE_RETRY, retry)
-                return
-            # A DSR server that restarted during the window may have lost an answer given then:
-            # Speech sends it again, but the close may reach the new server first. Such a
-            # window is asked again, never counted as silence.
-            if interrupted or self.port.dsr_boot() != wait.boot:
-                self._window_ended(item, "interrupted")
-                self.port.event(event="window_interrupted", item=item, window=window)
-                self._complete(token, monitoring.window_interrupted(self.state, item, window))
-                return
-            if self.definition.item(item).kind == "eyes" and window >= 2:
-                # asked twice, the camera never saw the eyes close: not done, 0 points (a
-                # first window without it is asked again, as silence is)
-                self.record.answer(item, 0, "camera")
-                self._window_ended(item, "answered")
-                self.port.event(event="answer", item=item, points=0, via="camera")
-                self._complete(token)
-                return
-            self._window_ended(item, "no_answer")
-            self.port.event(event="no_answer", item=item, window=window)
-            self._complete(token, monitoring.window_failed(self.state, item, window, "no_answer"))
-
-        self.port.send(close, closed)
-
-    def _skip_item(self, step: Step, item: str) -> None:
-        self.record.give_up(item)
-        self.port.send(high_to_low.record_item(self.record.items[item]))
-        self.port.event(event="unanswered", item=item)
-        self._complete(self._token)
-
-    def _next_item(self, step: Step, item: str, following: str) -> None:
-        self.port.send(high_to_low.current_item(following))
-        self._complete(self._token)
-
-    def _call_clinician(self, step: Step) -> None:
+    def _tell_clinician(self, message: str, unanswered: list[str]) -> None:
+        """The clinician is called (CGAmed tells them ``message``) and the DSR says so."""
         self.record.clinician_called = True
-        unanswered = ", ".join(self.record.unanswered)
-        self.port.notify_clinician(
-            f"{self.record.patient} left {len(self.record.unanswered)} questions unanswered "
-            f"({unanswered}) in the {self.definition.title}: please come and attend."
-        )
-        self.port.event(event="clinician_called", unanswered=self.record.unanswered)
+        self.port.notify_clinician(message)
+        self.port.event(event="clinician_called", unanswered=unanswered)
         self.port.send(high_to_low.call_clinician(self.graph))
-        self._say(sentences.call_clinician())
-
-    def _say_goodbye(self, step: Step, item: str) -> None:
-        self._say(sentences.goodbye(self.definition, self.record.patient))
-
-    def _set_timer(self, timer: Timer) -> None:
-        self._timer = timer
 
     def _store_result(self, step: Step) -> None:
-        """The result, as the DSR holds it, to CGAmed (which stores a test once, however often
-        it is sent); the test is finished in the DSR once CGAmed acknowledged it."""
+        """The result to CGAmed; the step completes once it is stored (or refused)."""
         token = self._token
+
+        def ended(doc: dict[str, Any], outcome: str) -> None:
+            self.port.event(event="finished" if outcome == STORED else "refused", result=doc)
+            self._complete(token)
+
+        self._deliver(token, ended)
+
+    def _deliver(self, token: int, ended: Callable[[dict[str, Any], str], None]) -> None:
+        """The result, as the DSR holds it, to CGAmed (which stores a test once, however often
+        it is sent), after the test node says when the test finished; once CGAmed stored or
+        refused it the test is finished in the DSR and ``ended(result, outcome)`` is called."""
         finished = self.graph.node("test").attrs.get("finished") or self.port.now()
 
         def written(r) -> None:
@@ -641,46 +413,24 @@ class HighLevelExecutive:
                 return
             if not r.accepted:
                 self.log.warning(f"could not record the end of the test: {r.error}; retrying")
-                self._timer = self.port.after(
-                    self.times.store_retry, lambda: self._store_result(step)
-                )
+                retry = lambda: self._deliver(token, ended)  # noqa: E731
+                self._timer = self.port.after(self.times.store_retry, retry)
                 return
-            result = low_to_high.record(self.graph, self.definition).to_json()
             self.record.finished = finished
+            doc = self._result()
+
+            def stored(outcome: str) -> None:
+                self.port.send(high_to_low.finish_test(self.graph))
+                ended(doc, outcome)
+
             deliver(
                 self.port,
-                result,
+                doc,
                 self.times.store_retry,
                 self.log,
                 lambda: token == self._token,
-                lambda outcome: ended(result, outcome),
+                stored,
                 self._set_timer,
             )
 
-        def ended(result: dict[str, Any], outcome: str) -> None:
-            self.port.send(high_to_low.finish_test(self.graph))
-            self.port.event(event="finished" if outcome == STORED else "refused", result=result)
-            self._complete(token)
-
         self.port.send(high_to_low.record_test(finished=finished), written)
-
-    # The plan's actions, each with its handler; a test checks it against the PDDL domain.
-    ACTIONS: dict[str, Callable[..., None]] = {
-        "ask-to-sit": _ask_to_sit,
-        "wait-for-person": _wait_for_person,
-        "greet": _greet,
-        "explain": _explain,
-        "introduce": _introduce,
-        "describe-options": _describe_options,
-        "nothing-to-describe": _nothing_to_describe,
-        "ask": _ask,
-        "options-again": _options_again,
-        "clarify": _clarify,
-        "await-answer": _await_answer,
-        "await-answer-again": _await_answer_again,
-        "skip-item": _skip_item,
-        "next-item": _next_item,
-        "call-clinician": _call_clinician,
-        "say-goodbye": _say_goodbye,
-        "store-result": _store_result,
-    }

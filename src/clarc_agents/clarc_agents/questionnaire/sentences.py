@@ -6,9 +6,8 @@ it shows (pictures, targets, a written instruction) and what it takes from the p
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 from clarc_agents.definitions import Definition, Item
+from clarc_agents.sentence import Sentence
 
 ASK = "Which option fits you best? Say it, or touch it on the screen."
 AGAIN = "Let me say the options again."
@@ -17,17 +16,6 @@ CLARIFY = "Sorry, I did not understand."
 # what the screen takes from the patient while an item of each kind is asked
 INPUTS = {"choose": "options", "words": "", "touches": "targets", "drawing": "drawing"}
 INPUTS |= {"eyes": "", "serial": ""}
-
-
-@dataclass(frozen=True)
-class Sentence:
-    text: str
-    needs_person: bool = True
-    item: str = ""
-    options: list[str] = field(default_factory=list)  # shown as buttons
-    option_points: list[float] = field(default_factory=list)
-    shows: list[str] = field(default_factory=list)  # pictures, targets or a written instruction
-    input: str = ""  # what the screen takes: options, targets, drawing, or nothing
 
 
 def greet(definition: Definition, patient: str) -> Sentence:
