@@ -187,6 +187,66 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
     assert "restored" in log and "not loaded (state exists)" in log and "resume:=true" in log
 
 
+def test_kill9_while_sensor_data_streams_loses_no_symbol(ros):
+    """Volatile frames (not journalled) stream between symbols; kill -9 mid-stream: every symbol
+    accepted comes back, at the same seq, and the stream goes on after the restart."""
+    state, _ = start(ros, compact_every=20)
+    agent = agent_in_session(ros)
+    person = {"translation": [1.0, 0.0, 0.0], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
+    setup = [
+        {"op": "insert_node", "name": "kinect", "type": "transform"},
+        {"op": "insert_node", "name": "person", "type": "person"},
+        {"op": "insert_edge", "from": "kinect", "to": "person", "type": "RT", "rt": person},
+    ]
+    assert send_and_wait(ros, agent, {"ops": setup}).accepted
+    verdicts = []
+
+    def frame(i):
+        moved = dict(person, translation=[1.0 + i / 1000, 0.0, 0.0])
+        return {
+            "ops": [
+                {"op": "set_rt", "from": "kinect", "to": "person", "rt": moved},
+                {"op": "set_node_attrs", "node": "person", "attrs": {"frame_time": float(i)}},
+            ]
+        }
+
+    for i in range(300):  # a frame each, a symbol every tenth, nothing waited for
+        agent.send(frame(i), verdicts.append)
+        if i % 10 == 9:
+            agent.send(
+                {"ops": [{"op": "insert_node", "name": f"s{i}", "type": "transform"}]},
+                verdicts.append,
+            )
+        ros.session.executor.spin_once(timeout_sec=0.001)
+    wait_for(lambda: len(verdicts) >= 200, 20, "most verdicts", ros.session)
+    ros.procs.kill9("server")
+    accepted = [v for v in verdicts if v.accepted]
+    frames = [v for v in accepted if "volatile" in v.delta]
+    symbols = [v.delta for v in accepted if "volatile" not in v.delta]
+    assert frames and symbols and all(d["seq"] > 0 for d in symbols)
+    last = max(d["seq"] for d in symbols)
+    assert all(v.delta["seq"] <= last for v in frames)  # each follows a durable seq
+    journal = (state / "journal.jsonl").read_text()
+    assert '"volatile"' not in journal and '"frame_time"' not in journal
+
+    ros.procs.start_server(state)
+    after = snapshot_via(ros.session, timeout=20)
+    names = {n["name"] for n in after["nodes"]}
+    made = {op["name"] for d in symbols for op in d["ops"]}
+    # (requests the dead server never answered are sent again by the agent: symbols too)
+    assert made <= names and after["seq"] >= last
+    wait_for(lambda: agent.ready, 15, "the agent to see the new server", ros.session)
+    result = send_and_wait(ros, agent, frame(1000))
+    assert result.accepted and "volatile" in result.delta
+    assert result.delta["seq"] == agent.replica.seq >= last
+    wait_for(
+        lambda: agent.graph.node("person").attrs.get("frame_time") == 1000.0,
+        10,
+        "the stream to go on",
+        ros.session,
+    )
+
+
 def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
     start(ros, max_request_bytes=100000)
     rejections = []

@@ -29,6 +29,7 @@ from mcap_ros2.decoder import DecoderFactory
 
 from dsr_graph.exceptions import RecordingError
 from dsr_graph.protocol.history import History
+from dsr_graph.protocol.volatility import follows
 
 PROFILE = "ros2"
 SCHEMA_ENCODING = "ros2msg"
@@ -146,7 +147,7 @@ def replay_history(path: str | Path, vocabulary=None) -> History:
     for kind, _time, doc in dsr_events(path):
         if kind == "snapshot":
             history.reset(doc)
-        elif history.graph is not None and doc["seq"] == history.seq + 1:
+        elif history.graph is not None and follows(doc, history.seq):
             history.add(doc)
         # a delta the last snapshot already holds (or one before the first snapshot) is skipped
     if history.graph is None:

@@ -3,6 +3,11 @@
 It is data (``data/vocabulary.json`` is the default), loaded at start and checked by the graph,
 so adding a type needs a file, not a rebuild. A file may say ``"extends": "default"`` to add to
 the default instead of replacing it.
+
+Sensor data is declared volatile (``docs/FORMAT.md``, "Volatile values"): an attribute with
+``"volatile": true``, and the pose of a node type with ``"volatile_pose": true`` (its RT edge from
+its parent, as ``set_rt`` changes it). A change that only sets such values is broadcast without
+waiting for the disk and is not journalled; every other change is durable before it is seen.
 """
 
 from __future__ import annotations
@@ -28,6 +33,8 @@ class Vocabulary:
     edge_types: dict[str, str] = field(default_factory=dict)  # type -> doc
     attributes: dict[str, str] = field(default_factory=dict)  # name -> value type
     attribute_docs: dict[str, str] = field(default_factory=dict)
+    volatile: set[str] = field(default_factory=set)  # attributes that hold sensor data
+    volatile_poses: set[str] = field(default_factory=set)  # node types whose pose is sensor data
 
     def __post_init__(self) -> None:
         self.edge_types.setdefault(
@@ -74,9 +81,11 @@ class Vocabulary:
         }
         if unknown:
             raise VocabularyError(f"{source}: unknown keys {sorted(unknown)}")
+        node_types, volatile_poses = _node_types(doc.get("node_types", {}), source)
         vocab = cls(
-            node_types=_doc_map(doc.get("node_types", {}), source, "node_types"),
+            node_types=node_types,
             edge_types=_doc_map(doc.get("edge_types", {}), source, "edge_types"),
+            volatile_poses=volatile_poses,
         )
         for name, spec in _object(doc.get("attributes", {}), source, "attributes").items():
             if isinstance(spec, str):
@@ -86,9 +95,20 @@ class Vocabulary:
                     f'{source}: attribute {name!r} needs "type" in {list(VALUE_TYPES)}, '
                     f"got {spec!r}"
                 )
+            unknown = set(spec) - {"type", "doc", "volatile"}
+            if unknown:
+                raise VocabularyError(
+                    f"{source}: attribute {name!r}: unknown keys {sorted(unknown)}"
+                )
+            if not isinstance(spec.get("volatile", False), bool):
+                raise VocabularyError(
+                    f'{source}: attribute {name!r}: "volatile" must be true or false'
+                )
             vocab.attributes[name] = spec["type"]
             if spec.get("doc"):
                 vocab.attribute_docs[name] = str(spec["doc"])
+            if spec.get("volatile"):
+                vocab.volatile.add(name)
         extends = doc.get("extends")
         if extends is None:
             return vocab
@@ -110,6 +130,8 @@ class Vocabulary:
             edge_types={**self.edge_types, **other.edge_types},
             attributes={**self.attributes, **other.attributes},
             attribute_docs={**self.attribute_docs, **other.attribute_docs},
+            volatile=self.volatile | other.volatile,
+            volatile_poses=self.volatile_poses | other.volatile_poses,
         )
 
     # -- queries ---------------------------------------------------------------------------
@@ -117,19 +139,23 @@ class Vocabulary:
         return self.attributes.get(name)
 
     def to_json(self) -> dict:
+        def node_type(name: str, doc: str) -> Any:
+            return {"doc": doc, "volatile_pose": True} if name in self.volatile_poses else doc
+
+        def attribute(name: str, type_name: str) -> dict[str, Any]:
+            spec: dict[str, Any] = {"type": type_name}
+            if name in self.attribute_docs:
+                spec["doc"] = self.attribute_docs[name]
+            if name in self.volatile:
+                spec["volatile"] = True
+            return spec
+
         return {
             "format": FORMAT,
             "version": VERSION,
-            "node_types": dict(sorted(self.node_types.items())),
+            "node_types": {n: node_type(n, d) for n, d in sorted(self.node_types.items())},
             "edge_types": dict(sorted(self.edge_types.items())),
-            "attributes": {
-                name: (
-                    {"type": t, "doc": self.attribute_docs[name]}
-                    if name in self.attribute_docs
-                    else {"type": t}
-                )
-                for name, t in sorted(self.attributes.items())
-            },
+            "attributes": {n: attribute(n, t) for n, t in sorted(self.attributes.items())},
         }
 
 
@@ -137,6 +163,25 @@ def _object(value: Any, source: str, key: str) -> Mapping[str, Any]:
     if not isinstance(value, dict):
         raise VocabularyError(f'{source}: "{key}" must be an object')
     return value
+
+
+def _node_types(value: Any, source: str) -> tuple[dict[str, str], set[str]]:
+    """Node types: a description each, or {"doc", "volatile_pose"}; and those whose pose is
+    volatile."""
+    docs, volatile = {}, set()
+    for name, spec in _object(value, source, "node_types").items():
+        if isinstance(spec, dict):
+            unknown = set(spec) - {"doc", "volatile_pose"}
+            if unknown or not isinstance(spec.get("volatile_pose", False), bool):
+                raise VocabularyError(
+                    f'{source}: node_types[{name!r}] may say only "doc" and "volatile_pose" '
+                    f"(true or false), got {spec!r}"
+                )
+            if spec.get("volatile_pose"):
+                volatile.add(name)
+            spec = spec.get("doc", "")
+        docs |= _doc_map({name: spec}, source, "node_types")
+    return docs, volatile
 
 
 def _doc_map(value: Any, source: str, key: str) -> dict[str, str]:

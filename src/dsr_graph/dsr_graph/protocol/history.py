@@ -11,6 +11,7 @@ from dsr_graph.exceptions import SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
+from dsr_graph.protocol.volatility import follows, is_volatile
 
 CHECKPOINT_EVERY = 500  # deltas between stored snapshots: bounds the replay when scrubbing
 MAX_DELTAS = 200_000  # the oldest history is forgotten beyond this
@@ -37,9 +38,13 @@ class History:
         self._checkpoint(text)
 
     def add(self, delta: dict[str, Any]) -> None:
-        if self.graph is None or delta["seq"] != self.seq + 1:
+        """The next delta. A volatile one (sensor data) changes the graph now but takes no place
+        in the timeline: a past seq shows its sensor values as of the checkpoint before it."""
+        if self.graph is None or not follows(delta, self.seq):
             raise SeqUnavailable(f"delta {delta.get('seq')} does not follow seq {self.seq}")
         apply_ops(self.graph, delta["ops"])
+        if is_volatile(delta):
+            return
         self.seq = delta["seq"]
         self.deltas.append(delta)
         self._seqs.append(delta["seq"])

@@ -32,6 +32,7 @@ from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.protocol.presence import PRESENCE_LEASE
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Rejection, Result, ServerCore
+from dsr_graph.protocol.volatility import is_volatile
 
 Listener = Callable[[list[dict[str, Any]], bool], None]
 MAX_DELIVERIES = 1_000_000  # per run: more means agents answer each other forever
@@ -218,6 +219,8 @@ class LocalAgent:
         if applied:
             for listener in list(self._listeners):
                 listener(applied, False)
+        if not applied and is_volatile(delta):  # skipped here, accepted all the same
+            applied = [delta]
         for done in applied:
             callback = self._pending.pop(done.get("id"), None)
             if callback is not None:

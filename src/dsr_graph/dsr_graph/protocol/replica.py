@@ -3,7 +3,9 @@
 A delta that arrives before its predecessors is kept aside and the replica reports a gap; the
 agent then fetches a snapshot (``load_snapshot``), after which the kept deltas newer than the
 snapshot are applied. Duplicates (seq already applied) are ignored. Before the first snapshot
-(late join) every delta is kept aside. Pure logic: the ROS side is in ``agent.py``.
+(late join) every delta is kept aside. A volatile delta (sensor data, ``volatility.py``) is
+applied only by a replica at exactly the seq it follows, and otherwise skipped, never kept: the
+next one carries newer values. Pure logic: the ROS side is in ``agent.py``.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from dsr_graph.model.claims import ClaimTable
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
 from dsr_graph.model.vocabulary import Vocabulary
+from dsr_graph.protocol.volatility import follows, is_volatile
 
 MAX_PENDING = 100_000  # deltas kept aside while waiting for a snapshot
 
@@ -46,12 +49,24 @@ class Replica:
         """Take a delta off the wire; returns the deltas actually applied now, in order."""
         seq = delta["seq"]
         self.server_seq = max(self.server_seq, seq)
+        if is_volatile(delta):
+            return self._apply_volatile(delta)
         if self.synced and seq <= self.seq:
             return []  # duplicate
         if len(self._pending) >= MAX_PENDING:
             self._pending.clear()  # far behind: a snapshot will cover all of it
         self._pending[seq] = delta
         return self._drain() if self.synced else []
+
+    def _apply_volatile(self, delta: dict[str, Any]) -> list[dict[str, Any]]:
+        if not self.synced or self._pending or not follows(delta, self.seq):
+            return []  # behind (or ahead): the next one will do
+        try:
+            apply_ops(self.graph, delta["ops"])
+        except TransactionRejected:  # diverged (never expected): start over from a snapshot
+            self.synced = False
+            return []
+        return [delta]
 
     def observe_server_seq(self, seq: int) -> None:
         """The server says it has reached ``seq`` (heartbeat): a silent gap becomes visible."""

@@ -5,6 +5,8 @@ accepted change as a delta (or the rejection with its reason). The ROS node
 Delta (JSON, one per accepted transaction, in sequence order; see docs/FORMAT.md):
     {"seq": 12, "stamp": 1764000000.5, "agent": "/speech", "id": "speech-7",
      "ops": [canonical ops], "claims": {"granted": [...], "released": [...]}}
+A change that only sets volatile values (sensor data, ``volatility.py``) takes no seq of its
+own: its delta carries the seq it follows and ``"volatile": n``, and it is not journalled.
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touc
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.transaction import apply_ops, parse_transaction
+from dsr_graph.protocol.volatility import VOLATILE, only_volatile, without_absent_volatile
 
 SERVER_AGENT = "dsr_server"
 REMEMBERED_IDS = 100_000  # request ids kept in memory to recognise a request sent again
@@ -92,6 +95,7 @@ class ServerCore:
         self.graph = graph
         self.policy = policy  # who may write what, and every claim's priority
         self.seq = seq
+        self.volatile_count = 0  # volatile deltas since this core started
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
         self.max_ops = max_ops
@@ -191,7 +195,8 @@ class ServerCore:
         canonical = apply_ops(self.graph, tx.ops, tx.preconditions)  # raises, graph unchanged
 
         changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
-        return self._commit(tx.agent, tx.id, canonical, changes, now)
+        volatile = not changes and only_volatile(self.graph, canonical)
+        return self._commit(tx.agent, tx.id, canonical, changes, now, volatile)
 
     def _check_limits(self, tx) -> None:
         """The server's limits, each refusal naming the limit (the graph is not touched)."""
@@ -253,17 +258,23 @@ class ServerCore:
         return changes
 
     def _commit(
-        self, agent: str, ident: str, ops: list[dict[str, Any]], changes: dict[str, Any], now: float
+        self,
+        agent: str,
+        ident: str,
+        ops: list[dict[str, Any]],
+        changes: dict[str, Any],
+        now: float,
+        volatile: bool = False,
     ) -> dict[str, Any]:
         self.claims.apply_changes(changes)
-        self.seq += 1
-        delta: dict[str, Any] = {
-            "seq": self.seq,
-            "stamp": now,
-            "agent": agent,
-            "id": ident,
-            "ops": ops,
-        }
+        delta: dict[str, Any]
+        if volatile:  # follows the seq it was applied at, as a replica must be to apply it
+            self.volatile_count += 1
+            delta = {"seq": self.seq, VOLATILE: self.volatile_count}
+        else:
+            self.seq += 1
+            delta = {"seq": self.seq}
+        delta |= {"stamp": now, "agent": agent, "id": ident, "ops": ops}
         if changes:
             delta["claims"] = changes
         self._remember(ident, self.seq)
@@ -301,7 +312,7 @@ class ServerCore:
             raise ValueError(
                 f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}"
             )
-        apply_ops(self.graph, delta["ops"])
+        apply_ops(self.graph, [without_absent_volatile(self.graph, op) for op in delta["ops"]])
         self.claims.apply_changes(delta.get("claims", {}))
         self.seq = delta["seq"]
         self._remember(delta.get("id") or "", self.seq)

@@ -37,6 +37,7 @@ from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
+from dsr_graph.protocol.volatility import is_volatile
 from dsr_graph.ros.json_topics import READING_ERRORS
 from dsr_graph.ros.qos import qos_latched, qos_requests, qos_stream
 from dsr_msgs.srv import GetSnapshot
@@ -201,6 +202,11 @@ class DsrAgent:
             self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
             return
         self._deliver(applied, resynced=False)
+        if not applied and is_volatile(delta):  # skipped here, accepted all the same
+            self._unanswered.pop(delta.get("id"), None)
+            callback = self._pending.pop(delta.get("id"), None)
+            if callback is not None:
+                callback(Result(delta["id"], True, delta=delta))
 
     def _deliver(self, applied: list[dict[str, Any]], resynced: bool) -> None:
         if applied or resynced:

@@ -27,7 +27,8 @@ Subscriptions:
     dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
         while exactly one node publishes on it; otherwise each request gets a rejection.
 Publishers:
-    dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order.
+    dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order (a
+        volatile one, sensor data, carries the seq it follows: protocol/volatility.py).
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
     dsr/alarms (std_msgs/String): {kind, topic, intruders, message} when a request topic has a
         publisher that is not its owner (at most one per topic and intruders every 5 s).
@@ -78,6 +79,7 @@ from dsr_graph.protocol.server_core import (
 )
 from dsr_graph.protocol.signing import Verified
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
+from dsr_graph.protocol.volatility import is_volatile
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
@@ -420,11 +422,15 @@ class DsrServer(DsrNode):
 
     def _accept(self, deltas: list[dict[str, Any]]) -> None:
         """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
-        is on disk is consistent, an accepted change that is not on disk would not be."""
+        is on disk is consistent, an accepted change that is not on disk would not be. Volatile
+        deltas (sensor data) are broadcast at once and never journalled: a crash loses the
+        latest of them, never a symbol."""
+        durable = [delta for delta in deltas if not is_volatile(delta)]
         try:
-            for delta in deltas:
+            for delta in durable:
                 self.store.append(delta)
-            self.store.flush()
+            if durable:
+                self.store.flush()
         except OSError as e:
             self.get_logger().fatal(
                 f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)"

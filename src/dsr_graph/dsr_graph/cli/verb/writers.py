@@ -25,6 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from dsr_graph.formats import dsr_json
     from dsr_graph.formats.mcap_recording import dsr_events
     from dsr_graph.model.policy import VERSION, observe_writes
+    from dsr_graph.protocol.volatility import follows
 
     merged: dict[str, dict[str, set[str]]] = {}
     counts: dict[str, int] = {}
@@ -34,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
             for kind, _time, doc in dsr_events(path):
                 if kind == "snapshot":
                     graph, seq = dsr_json.snapshot_from_json(doc)
-                elif graph is not None and doc["seq"] == seq + 1:  # as replay_history reads it
+                elif graph is not None and follows(doc, seq):  # as replay_history reads it
                     observe_writes(merged, graph, doc)
                     seq = doc["seq"]
                     counts[doc.get("agent", "")] = counts.get(doc.get("agent", ""), 0) + 1
