@@ -133,13 +133,15 @@ def test_a_replica_applies_a_volatile_delta_only_at_its_seq():
     replica = Replica(core.graph.vocabulary)
     replica.load_snapshot(core.snapshot())
     v1 = submit(core, reading(1.0))
-    assert replica.receive(v1) == [v1]
+    assert replica.receive(v1) == [v1] and replica.applied == 1  # progress, seq unchanged
     assert replica.graph.node("cam").attrs["reading"] == [1.0]
     d = submit(core, {"op": "set_node_attrs", "node": "cam", "attrs": {"label": "x"}})
     v2 = submit(core, reading(2.0))
     assert follows(v2, d["seq"]) and not follows(v2, d["seq"] - 1)
+    applied = replica.applied
     assert replica.receive(v2) == []  # behind: d never came; skipped, not kept
     assert replica.needs_resync and not replica.has_hole
+    assert replica.applied == applied  # no progress: an agent stalled so fetches a snapshot
     assert replica.receive(d) == [d]  # the durable one applies; the skipped one is gone
     assert replica.graph.node("cam").attrs["reading"] == [1.0]
     v3 = submit(core, reading(3.0))

@@ -9,7 +9,10 @@ sides swapped when the body faces away), the scenario's lost frames and its brie
 (frames without a body, 0.1 to 0.35 s each); or, when the trial
 names a skeleton recording, its frames as recorded, placed at the trial's chair and played from
 the recording's ``offset`` at "go", at the run's pace (before "go": its first frame; after its
-end: its last).
+end: its last). Skeleton frames are captured on the sensor's own clock, every 1/skeleton_hz s of
+the patient's time, each stamped when it was captured: a stand-in held up by a busy machine
+delivers the frames it owes late, in a burst, as a real sensor's driver does, never a hole
+(up to BACKLOG_S of the patient's time; beyond that they are gone).
 
 ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
 trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
@@ -44,6 +47,8 @@ from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
 from dsr_graph.ros.qos import qos_latched, qos_sensor
 
+BACKLOG_S = 5.0  # seconds of the patient's time of frames a late stand-in still delivers
+
 
 class KinectStandIn(DsrNode):
     NAME = "kinect"
@@ -76,13 +81,16 @@ class KinectStandIn(DsrNode):
         self._random = random.Random(7)
 
     def setup(self) -> None:
-        self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_sensor())
+        # deep enough for a burst of the frames a late stand-in owes (BACKLOG_S)
+        depth = int(BACKLOG_S * float_param(self, "skeleton_hz"))
+        self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_sensor(depth))
         subscribe_json(self, sim_topics.PATIENT_PRESENCE, self.on_presence, qos_latched())
         subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
         self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
         self.scale = float_param(self, "time_scale") or 1.0
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
         self._skeleton_timer = None  # made with the first trial: a Barthel test needs none
+        self._next_capture: float | None = None  # when the sensor takes its next frame
 
     def on_presence(self, doc: dict[str, Any]) -> None:
         self.presence = {
@@ -127,12 +135,22 @@ class KinectStandIn(DsrNode):
         publish_json(self._frames, frame)
 
     def on_skeleton_frame(self) -> None:
+        """Every frame the sensor took since the last call, each at its capture time."""
+        now = time.time()
+        period = self.scale / float_param(self, "skeleton_hz")
+        oldest = now - BACKLOG_S * self.scale
+        if self._next_capture is None or self._next_capture < oldest:
+            self._next_capture = max(self._next_capture or now, oldest)
+        while self._next_capture <= now:
+            self._capture(self._next_capture)
+            self._next_capture += period
+
+    def _capture(self, now: float) -> None:
         trial = self.trial
         if trial is None or not self.presence["present"]:
             return
         if dropped(self._random, trial["drop_rate"]):
             return
-        now = time.time()
         t = -1.0 if trial["go"] is None else (now - trial["go"]) / self.scale
         if any(start <= t < end for start, end in trial["losses"]):
             publish_json(self._frames, {"present": False, "stamp": now})  # tracking lost

@@ -31,6 +31,9 @@ class Replica:
         self.seq = 0
         self.synced = False  # a snapshot has been loaded
         self.server_seq = 0  # highest seq the server is known to have reached
+        # deltas applied so far, volatile ones included: a replica working through a queue of
+        # volatile deltas is advancing although its seq is not
+        self.applied = 0
         self._pending: dict[int, dict[str, Any]] = {}
 
     @property
@@ -66,6 +69,7 @@ class Replica:
         except TransactionRejected:  # diverged (never expected): start over from a snapshot
             self.synced = False
             return []
+        self.applied += 1
         return [delta]
 
     def observe_server_seq(self, seq: int) -> None:
@@ -96,5 +100,6 @@ class Replica:
                 break
             self.claims.apply_changes(delta.get("claims", {}))
             self.seq = delta["seq"]
+            self.applied += 1
             applied.append(delta)
         return applied

@@ -76,10 +76,9 @@ class DsrAgent:
         self._snapshot_future = None
         self._snapshot_asked = 0.0
         self._gap_since: float | None = None
-        self._progress = (
-            0,
-            0.0,
-        )  # (seq, when it was reached): a replica still advancing is behind, not broken
+        # (deltas applied, when that count was reached): a replica still advancing is behind,
+        # not broken
+        self._progress = (0, 0.0)
         self.resyncs = 0
         self.security = Security()
         self.forged = 0  # messages dropped because the server did not sign them
@@ -293,8 +292,8 @@ class DsrAgent:
         self._send_again(older_than=RESEND_AFTER)
         self._flush_outbox()
         now = time.monotonic()
-        if self.replica.seq != self._progress[0]:
-            self._progress = (self.replica.seq, now)
+        if self.replica.applied != self._progress[0]:
+            self._progress = (self.replica.applied, now)
         if not self.replica.needs_resync:
             self._gap_since = None
             return
