@@ -607,8 +607,8 @@ def bench_barthel(
             str(work / db),
             "--scale",
             str(scale),
-            "--run-dir",
-            str(work / ("gug_run" if scenario else "barthel_run")),
+            "--run-dir",  # a fresh DSR each run (a run directory reused resumes its graph)
+            str(work / f"run_{Path(db).stem}_{security}"),
             "--viewer-port",
             "0",
             "--dashboard-port",

@@ -11,6 +11,10 @@ PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}
 # Kinect -> Person, every frame: {"present", "face": [x, y, z] mm}; a skeleton frame adds
 # "stamp" (epoch seconds) and "skeleton": {joint: {"p": [x, y, z] mm, "c": confidence}}
 KINECT_PERSON = "clarc/kinect/person"
+# frames kept on each side of KINECT_PERSON (reliable): a minute of a 30 Hz sensor, so a robot
+# that falls behind on a busy machine (at the fast pace, 300 frames a second of wall time) gets
+# every frame late rather than loses one
+KINECT_FRAMES_KEPT = 1800
 PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
 CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
 CGAMED_NOTIFICATIONS = (

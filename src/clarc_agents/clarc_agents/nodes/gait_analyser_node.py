@@ -56,6 +56,8 @@ class GaitAnalyserNode(DsrNode):
             self._in_flight = False
             if not result.accepted:  # the trial ended meanwhile (PELEA voided it)
                 self.get_logger().warning(f"gait not written: {result.error}")
+            elif attrs.get("status") == "void":
+                self.get_logger().warning(f"trial void: {attrs.get('reason', '')}")
             elif "tug_seconds" in attrs:
                 self.get_logger().info(
                     f"trial timed: {attrs['tug_seconds']} s ({attrs['band']}), phases "

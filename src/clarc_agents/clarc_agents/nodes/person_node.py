@@ -37,10 +37,11 @@ from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
 from dsr_graph.ros.parameters import declare, float_param, param
-from dsr_graph.ros.qos import qos_sensor
+from dsr_graph.ros.qos import qos_every_frame
 from dsr_graph.rules.runner import Process
 
 DEVICE_UNIT = "mm"  # of clarc/kinect/person's face
+SENSOR_HOLE = 0.5  # s of the patient's time between skeleton frames that Person reports
 
 
 class PersonAgent(GrammarAgentNode):
@@ -79,6 +80,7 @@ class PersonAgent(GrammarAgentNode):
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self._waiting: list = []  # skeleton frames for the next transaction, oldest first
+        self._last_written: float | None = None  # the capture stamp of the last frame taken
         self.skeletons_dropped = 0
         self._posture = PostureTracker(self.scale)
 
@@ -86,7 +88,9 @@ class PersonAgent(GrammarAgentNode):
         return {}
 
     def setup(self) -> None:
-        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, qos_sensor(depth=300))
+        # every frame (a Get Up & Go's trial needs them all), kept while Person is busy
+        kept = qos_every_frame(topics.KINECT_FRAMES_KEPT)
+        subscribe_json(self, topics.KINECT_PERSON, self.on_frame, kept)
         super().setup()
 
     def _with_robot(self) -> bool:
@@ -127,6 +131,7 @@ class PersonAgent(GrammarAgentNode):
                 self.runner.signal("moved", pose=pose)
                 self._last_face = face
         else:
+            self._last_written = None  # a frame without a body is not a hole in the stream
             if self._absent_frames == 0:
                 self._absent_since = self._stamp_of(frame)
             self._absent_frames, self._present_frames = self._absent_frames + 1, 0
@@ -168,6 +173,14 @@ class PersonAgent(GrammarAgentNode):
             self.runner.signal("posture", posture=posture)
 
     def _write_skeleton(self, joints, stamp: float) -> None:
+        last = self._waiting[-1][1] if self._waiting else self._last_written
+        hole = (stamp - last) / self.scale if last is not None else 0.0
+        if hole > SENSOR_HOLE:  # said where it is seen, so a voided trial's hole can be placed
+            self.get_logger().warning(
+                f"no skeleton frame came from the Kinect for {hole:.2f} s of the patient's time "
+                "(by the frames' capture stamps)"
+            )
+        self._last_written = stamp
         self._waiting.append((joints, stamp))
         extra = len(self._waiting) - param(self, "max_batch")
         if extra > 0:  # the DSR stalled for longer than max_batch frames: the gap will show

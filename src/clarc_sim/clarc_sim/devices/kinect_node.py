@@ -18,7 +18,7 @@ ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scal
 trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
 front of the Get Up & Go chair, facing the walk; default [4500, 0, -1200, pi], the CLARC room's
 gug_chair). Subscriptions: clarc/sim/patient/presence, clarc/sim/patient/trial (latched).
-Publishers: clarc/kinect/person.
+Publishers: clarc/kinect/person (reliable: a Get Up & Go needs every frame).
 """
 
 from __future__ import annotations
@@ -45,9 +45,9 @@ from clarc_sim.patient.skeleton_recording import placed, read
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
-from dsr_graph.ros.qos import qos_latched, qos_sensor
+from dsr_graph.ros.qos import qos_every_frame, qos_latched
 
-BACKLOG_S = 5.0  # seconds of the patient's time of frames a late stand-in still delivers
+BACKLOG_S = 60.0  # seconds of the patient's time of frames a late stand-in still delivers
 
 
 class KinectStandIn(DsrNode):
@@ -81,9 +81,10 @@ class KinectStandIn(DsrNode):
         self._random = random.Random(7)
 
     def setup(self) -> None:
-        # deep enough for a burst of the frames a late stand-in owes (BACKLOG_S)
-        depth = int(BACKLOG_S * float_param(self, "skeleton_hz"))
-        self._frames = self.create_publisher(String, topics.KINECT_PERSON, qos_sensor(depth))
+        # reliable and deep: a reader that needs every frame gets them on a busy machine too
+        self._frames = self.create_publisher(
+            String, topics.KINECT_PERSON, qos_every_frame(topics.KINECT_FRAMES_KEPT)
+        )
         subscribe_json(self, sim_topics.PATIENT_PRESENCE, self.on_presence, qos_latched())
         subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
         self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
@@ -140,6 +141,11 @@ class KinectStandIn(DsrNode):
         period = self.scale / float_param(self, "skeleton_hz")
         oldest = now - BACKLOG_S * self.scale
         if self._next_capture is None or self._next_capture < oldest:
+            if self._next_capture is not None:
+                self.get_logger().warning(
+                    f"held up for {(now - self._next_capture) / self.scale:.2f} s of the "
+                    f"patient's time: frames older than {BACKLOG_S:g} s are lost"
+                )
             self._next_capture = max(self._next_capture or now, oldest)
         while self._next_capture <= now:
             self._capture(self._next_capture)

@@ -63,6 +63,18 @@ def qos_sensor(depth: int | None = None) -> QoSProfile:
     )
 
 
+def qos_every_frame(depth: int) -> QoSProfile:
+    """A sensor stream whose reader needs every frame (Person's skeleton in a Get Up & Go: a
+    hole voids the trial): reliable, so a frame lost on a busy machine is sent again, and
+    ``depth`` deep on each side. Publishing so, a sensor still serves best-effort readers."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=depth,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.VOLATILE,
+    )
+
+
 def qos_latched() -> QoSProfile:
     """State (poses, heartbeat): the last value reaches late joiners."""
     return QoSProfile(
