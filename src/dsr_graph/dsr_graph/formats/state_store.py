@@ -29,6 +29,7 @@ from typing import Any
 from dsr_graph.exceptions import CorruptState, StateDirLocked
 from dsr_graph.formats.private_files import private_dir
 from dsr_graph.formats.world_files import write_json_atomically
+from dsr_graph.model.binary import dumps
 
 log = logging.getLogger("dsr_graph.state_store")
 
@@ -152,7 +153,7 @@ class StateStore:
         """Write a delta to the journal (durable after ``flush``)."""
         if self._journal is None:
             self._journal = open(self.dir / JOURNAL, "a", encoding="utf-8")
-        self._journal.write(json.dumps(delta, separators=(",", ":")) + "\n")
+        self._journal.write(dumps(delta, separators=(",", ":")) + "\n")
         self._since_compaction += 1
 
     def flush(self) -> None:

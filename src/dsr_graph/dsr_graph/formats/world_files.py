@@ -11,6 +11,7 @@ from typing import Any, NamedTuple
 from dsr_graph.exceptions import FormatError, Violation, WorldLoadError
 from dsr_graph.formats import cortex, dsr_json
 from dsr_graph.formats.private_files import current_umask
+from dsr_graph.model.binary import to_json_value
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
@@ -78,7 +79,13 @@ def write_json_atomically(doc: Any, path: str | Path, indent: int | None = 2) ->
     os.fchmod(fd, 0o666 & ~current_umask())  # mkstemp makes 0600; the umask decides
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(doc, f, indent=indent, separators=None if indent else (",", ":"))
+            json.dump(
+                doc,
+                f,
+                indent=indent,
+                separators=None if indent else (",", ":"),
+                default=to_json_value,
+            )
             f.write("\n")
             f.flush()
             os.fsync(f.fileno())

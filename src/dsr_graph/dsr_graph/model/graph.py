@@ -31,7 +31,7 @@ from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Vi
 from dsr_graph.model import rigid
 from dsr_graph.model.rt_tree import RtTree
 from dsr_graph.model.undo_log import UndoLog
-from dsr_graph.model.values import UINT64_MAX, coerce
+from dsr_graph.model.values import BINARY, UINT64_MAX, coerce
 from dsr_graph.model.vocabulary import RT, Vocabulary
 
 NodeRef = int | str  # a node id (int) or name (str)
@@ -508,10 +508,16 @@ class Graph:
         """Load a snapshot written by a DSR server, which only ever holds a valid graph, without
         checking each element again (a late joiner of a 100k-node graph would spend seconds on
         it). The attribute dicts of the freshly parsed document are taken over, not copied; the
-        indexes are built by the same primitive as every other change."""
+        indexes are built by the same primitive as every other change. Binary values, base64 in
+        the document, are decoded (only where the vocabulary declares one)."""
         ids = self._ids
+        binary_names = {
+            name for name, type_name in self.vocabulary.attributes.items() if type_name in BINARY
+        }
+        decode = self._binary_decoder(binary_names)
         for n in nodes:
-            node = Node(n["id"], n["name"], n["type"], n.get("attrs") or {}, n.get("version", 1))
+            attrs = decode(n.get("attrs") or {})
+            node = Node(n["id"], n["name"], n["type"], attrs, n.get("version", 1))
             self._nodes[node.id] = node
             ids[node.name] = node.id
         if self._nodes:
@@ -524,11 +530,24 @@ class Graph:
                     ids[e["from"]],
                     ids[e["to"]],
                     e["type"],
-                    e.get("attrs") or {},
+                    decode(e.get("attrs") or {}),
                     matrix,
                     e.get("version", 1),
                 )
             )
+
+    def _binary_decoder(self, names: set[str]):
+        """attrs -> attrs with the binary values among ``names`` decoded (the same dict)."""
+        if not names:
+            return lambda attrs: attrs
+
+        def decode(attrs: dict[str, Any]) -> dict[str, Any]:
+            if not names.isdisjoint(attrs):
+                for name in names.intersection(attrs):
+                    attrs[name] = coerce(self.vocabulary.attributes[name], attrs[name])
+            return attrs
+
+        return decode
 
     # ------------------------------------------------------------------ versions (snapshots)
     def restore_versions(

@@ -15,9 +15,10 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from dsr_graph.exceptions import RuleViolation, TransactionRejected, Violation
-from dsr_graph.model import rigid
+from dsr_graph.exceptions import RuleViolation, TransactionRejected, ValueTypeError, Violation
+from dsr_graph.model import binary, rigid
 from dsr_graph.model.graph import Edge, Graph, Node, NodeRef
+from dsr_graph.model.values import coerce
 
 FORMAT = "dsr-graph"
 VERSION = 1
@@ -251,12 +252,18 @@ def check_preconditions(graph: Graph, checks: list[dict[str, Any]]) -> None:
             if element is None:
                 _reject("precondition", label, "does not exist", at)
             actual = element.attrs.get(check["attr"], _MISSING)
-            if actual is _MISSING or not _equal(actual, check["value"]):
-                shown = "absent" if actual is _MISSING else repr(actual)
+            expected = check["value"]
+            if binary.is_binary(actual):  # given as JSON: read as the attribute's type
+                try:
+                    expected = coerce(graph.vocabulary.attribute_type(check["attr"]), expected)
+                except ValueTypeError:
+                    expected = None
+            if actual is _MISSING or not _equal(actual, expected):
+                shown = "absent" if actual is _MISSING else _shown(actual)
                 _reject(
                     "precondition",
                     label,
-                    f"expected {check['attr']} == {check['value']!r}, found {shown}",
+                    f"expected {check['attr']} == {_shown(check['value'])}, found {shown}",
                     at,
                 )
         elif kind == "version_equals":
@@ -275,11 +282,19 @@ def check_preconditions(graph: Graph, checks: list[dict[str, Any]]) -> None:
 _MISSING = object()
 
 
+def _shown(value: Any) -> str:
+    """A value as a rejection names it: a binary one by its size, not its bytes."""
+    size = binary.declared_size(value)
+    if size or binary.is_binary(value):
+        return f"a binary value of {size} bytes"
+    return repr(value)
+
+
 def _equal(actual: Any, expected: Any) -> bool:
     # Stored values are canonical (floats widened); compare numbers by value, not by JSON type.
     if isinstance(actual, bool) or isinstance(expected, bool):
         return type(actual) is type(expected) and actual == expected
-    return actual == expected
+    return binary.equal(actual, expected)
 
 
 # ---------------------------------------------------------------------------- operations

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.exceptions import ValueTypeError
+from dsr_graph.model.binary import ARRAYS, BYTES, array_coercer, coerce_bytes
 
 UINT32_MAX = 2**32 - 1
 UINT64_MAX = 2**64 - 1
@@ -104,9 +105,12 @@ COERCERS: dict[str, Callable[[Any], Any]] = {
     "byte_vector": _byte_vector,
     "string_vector": _string_vector,
     "float_matrix": _float_matrix,
+    BYTES: coerce_bytes,  # binary values (binary.py): base64 in JSON
+    **{name: array_coercer(name) for name in ARRAYS},
 }
 
 VALUE_TYPES = tuple(COERCERS)
+BINARY = frozenset({BYTES, *ARRAYS})  # types whose values are bytes, not JSON
 
 
 def coerce(type_name: str, value: Any) -> Any:

@@ -5,11 +5,13 @@ from __future__ import annotations
 import json
 from typing import Any
 
+from dsr_graph.model.binary import short_text
+
 
 def _attrs(attrs: dict[str, Any]) -> str:
     if not attrs:
         return ""
-    return " {" + ", ".join(f"{k}={json.dumps(v)}" for k, v in attrs.items()) + "}"
+    return " {" + ", ".join(f"{k}={short_text(v)}" for k, v in attrs.items()) + "}"
 
 
 def op_text(op: dict[str, Any]) -> str:

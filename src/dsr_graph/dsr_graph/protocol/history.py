@@ -9,6 +9,7 @@ from typing import Any
 
 from dsr_graph.exceptions import SeqUnavailable
 from dsr_graph.formats import dsr_json
+from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
 from dsr_graph.protocol.volatility import follows, is_volatile
@@ -31,7 +32,7 @@ class History:
         """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint. The
         document may share its attribute dicts with a live graph (``to_json`` of a replica):
         the history's graph is built from its text, so the two never share anything."""
-        text = json.dumps(snapshot)
+        text = dumps(snapshot)
         self.graph, self.seq = dsr_json.snapshot_from_json(
             json.loads(text), self.vocabulary, trusted=True
         )
@@ -51,7 +52,8 @@ class History:
         if len(self.deltas) > MAX_DELTAS:
             self._forget()
         if self.seq - self._checkpoints[-1] >= CHECKPOINT_EVERY:
-            self._checkpoint(json.dumps(dsr_json.to_json(self.graph, "snapshot", seq=self.seq)))
+            snapshot = dsr_json.to_json(self.graph, "snapshot", seq=self.seq)
+            self._checkpoint(dumps(snapshot))
 
     @property
     def first_seq(self) -> int:

@@ -27,6 +27,7 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.exceptions import TimedOutError
+from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.protocol.presence import PRESENCE_LEASE
@@ -60,13 +61,13 @@ class LocalBus:
     def agent(self, name: str) -> LocalAgent:
         """A new agent, synced with the graph as it is now."""
         agent = LocalAgent(self, name, run=len(self.agents))
-        agent.replica.load_snapshot(json.loads(json.dumps(self.core.snapshot())))
+        agent.replica.load_snapshot(json.loads(dumps(self.core.snapshot())))
         self.agents.append(agent)
         return agent
 
     # ------------------------------------------------------------------ the server's side
     def submit(self, sender: LocalAgent, doc: dict[str, Any]) -> None:
-        result = self.core.submit(json.dumps(doc), now=self.now, sender=sender.name)
+        result = self.core.submit(dumps(doc), now=self.now, sender=sender.name)
         if isinstance(result, Rejection) and result.duplicate_of is not None:
             verdict = Result(result.id, True, delta={"seq": result.duplicate_of, "id": result.id})
             self.soon(lambda: sender.rejected(verdict))
@@ -77,7 +78,7 @@ class LocalBus:
             )
             self.soon(lambda: sender.rejected(verdict))
             return
-        wire = json.dumps(result)
+        wire = dumps(result)
         for agent in list(self.agents):
             self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
 
@@ -96,7 +97,7 @@ class LocalBus:
             self.reach_losses += 1
             delta = self.core.end_claims_of(away, "unreachable", self.now)
             if delta is not None:
-                wire = json.dumps(delta)
+                wire = dumps(delta)
                 for agent in list(self.agents):
                     self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
 

@@ -19,6 +19,7 @@ from typing import Any
 
 from dsr_graph.exceptions import TransactionRejected, Violation
 from dsr_graph.formats import dsr_json, safe_json, units
+from dsr_graph.model.binary import declared_size
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
@@ -32,6 +33,7 @@ DEFAULT_MAX_REQUEST_BYTES = 4 * 1024 * 1024  # UTF-8 bytes
 DEFAULT_MAX_OPS = 10_000  # operations in one transaction
 DEFAULT_MAX_NODES = 1_000_000  # nodes in the graph
 DEFAULT_MAX_LEASE = 300.0  # seconds a claim may last before it must be taken again
+DEFAULT_MAX_VALUE_BYTES = 8 * 1024 * 1024  # one binary value (an image): 8 MiB
 
 
 @dataclass
@@ -91,6 +93,7 @@ class ServerCore:
         max_ops: int = DEFAULT_MAX_OPS,
         max_nodes: int = DEFAULT_MAX_NODES,
         max_lease: float = DEFAULT_MAX_LEASE,
+        max_value_bytes: int = DEFAULT_MAX_VALUE_BYTES,
     ):
         self.graph = graph
         self.policy = policy  # who may write what, and every claim's priority
@@ -101,6 +104,7 @@ class ServerCore:
         self.max_ops = max_ops
         self.max_nodes = max_nodes
         self.max_lease = max_lease
+        self.max_value_bytes = max_value_bytes
         # request id -> seq, for the most recent requests: a request sent again (the agent
         # did not hear the verdict, e.g. the server restarted) is answered, not applied twice
         self.accepted_ids: OrderedDict[str, int] = OrderedDict()
@@ -217,6 +221,20 @@ class ServerCore:
                     "claim",
                 )
             )
+        for i, op in enumerate(tx.ops):
+            attrs = op.get("attrs")
+            for name, value in attrs.items() if isinstance(attrs, dict) else ():
+                size = declared_size(value)
+                if size > self.max_value_bytes:
+                    raise TransactionRejected(
+                        Violation(
+                            "too-large",
+                            f"attribute {name!r}",
+                            f"a value of {size} bytes exceeds max_value_bytes "
+                            f"({self.max_value_bytes})",
+                            f"op {i} ({op.get('op')})",
+                        )
+                    )
         added = sum(op.get("op") == "insert_node" for op in tx.ops)
         removed = sum(op.get("op") == "delete_node" for op in tx.ops)
         if added > removed and len(self.graph) + added - removed > self.max_nodes:

@@ -31,6 +31,7 @@ from std_msgs.msg import String
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.formats.safe_json import loads_object
+from dsr_graph.model.binary import dumps
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.identity import agent_topic
@@ -148,7 +149,7 @@ class DsrAgent:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         doc.setdefault("id", self.next_id())
-        text = self.security.sign(topic_names.TRANSACTIONS, json.dumps(doc))
+        text = self.security.sign(topic_names.TRANSACTIONS, dumps(doc))
         self._pending[doc["id"]] = on_done
         self._unanswered[doc["id"]] = (text, time.monotonic())
         self._outbox.append(text)

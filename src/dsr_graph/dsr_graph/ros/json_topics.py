@@ -4,7 +4,6 @@ never kills a node: it is refused with one warning that names the topic and what
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable
 from typing import Any
 
@@ -13,6 +12,7 @@ from rclpy.qos import QoSProfile
 from std_msgs.msg import String
 
 from dsr_graph.formats.safe_json import DEFAULT_MAX_BYTES, loads_object
+from dsr_graph.model.binary import dumps
 
 MAX_QUOTED = 200  # characters of a bad message quoted in the warning
 # what a callback raises when a message does not have the shape it reads
@@ -45,4 +45,4 @@ def subscribe_json(
 
 
 def publish_json(publisher, doc: dict[str, Any]) -> None:
-    publisher.publish(String(data=json.dumps(doc)))
+    publisher.publish(String(data=dumps(doc)))

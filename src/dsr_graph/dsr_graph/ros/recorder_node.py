@@ -46,6 +46,7 @@ from dsr_graph.formats.mcap_recording import (
     SCHEMA_ENCODING,
     message_definition,
 )
+from dsr_graph.model.binary import to_json_value
 from dsr_graph.protocol import topic_names
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -305,7 +306,7 @@ class Recorder(DsrNode):
 
 
 def _text(doc: dict[str, Any]) -> str:
-    return orjson.dumps(doc).decode()
+    return orjson.dumps(doc, default=to_json_value).decode()
 
 
 main = main_for(Recorder)

@@ -12,6 +12,7 @@ ROS Parameters:
     max_ops (int): transactions of more operations are rejected (default 10000).
     max_nodes (int): a transaction that would grow the graph beyond it is rejected (1000000).
     max_lease (float): longest claim lease in seconds; a longer one is rejected (default 300).
+    max_value_bytes (int): a binary value (bytes, an image) of more bytes is rejected (8 MiB).
     publish_poses (bool): publish a PoseStamped per geometric node (default true).
     markers_period (float): seconds between checks for a changed graph to draw on dsr/markers
         (default 1.0; 0: no markers). Graphs above 1000 nodes are not drawn.
@@ -48,7 +49,6 @@ Services:
 
 from __future__ import annotations
 
-import json
 import time
 import uuid
 from typing import Any
@@ -62,6 +62,7 @@ from dsr_graph.exceptions import KeystoreError, StateMismatch, Violation
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
+from dsr_graph.model.binary import dumps, to_json_value
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.vocabulary import RT, Vocabulary
@@ -74,6 +75,7 @@ from dsr_graph.protocol.server_core import (
     DEFAULT_MAX_NODES,
     DEFAULT_MAX_OPS,
     DEFAULT_MAX_REQUEST_BYTES,
+    DEFAULT_MAX_VALUE_BYTES,
     Rejection,
     ServerCore,
 )
@@ -167,6 +169,14 @@ class DsrServer(DsrNode):
         )
         declare(
             node,
+            "max_value_bytes",
+            DEFAULT_MAX_VALUE_BYTES,
+            "a binary value (bytes, an image) of more bytes is rejected",
+            read_only=True,
+            minimum=1,
+        )
+        declare(
+            node,
             "publish_poses",
             True,
             "publish geometry_msgs/PoseStamped per geometric node",
@@ -208,7 +218,7 @@ class DsrServer(DsrNode):
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
         self._pose_pubs: dict[str, Any] = {}
-        self._snapshot_cache = (-1, "")
+        self._snapshot_cache = ((-1, -1), -1, "")  # (version, seq, signed text)
         self._missing_since: dict[str, float] = {}
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
@@ -301,7 +311,7 @@ class DsrServer(DsrNode):
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
-        self._drawn_seq = -1
+        self._drawn = (-1, -1)
         if float_param(self, "markers_period") > 0:
             self.create_timer(float_param(self, "markers_period"), self.on_markers)
         self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
@@ -340,7 +350,7 @@ class DsrServer(DsrNode):
         return security
 
     def _publish(self, publisher, channel: str, doc: dict[str, Any]) -> None:
-        text = json.dumps(doc, separators=(",", ":"))
+        text = dumps(doc, separators=(",", ":"))
         publisher.publish(String(data=self.security.sign(channel, text)))
 
     def _limits(self) -> dict[str, Any]:
@@ -349,6 +359,7 @@ class DsrServer(DsrNode):
             "max_ops": param(self, "max_ops"),
             "max_nodes": param(self, "max_nodes"),
             "max_lease": float_param(self, "max_lease"),
+            "max_value_bytes": param(self, "max_value_bytes"),
         }
 
     def close(self) -> None:
@@ -466,9 +477,9 @@ class DsrServer(DsrNode):
         """The graph drawn again when it changed since the last drawing (throttled by the
         timer: a burst of deltas costs one drawing)."""
         graph = self.core.graph
-        if self.core.seq == self._drawn_seq:
+        if self._version() == self._drawn:
             return
-        self._drawn_seq = self.core.seq
+        self._drawn = self._version()
         if len(graph) > MAX_DRAWN_NODES:
             self.get_logger().warning(
                 f"{len(graph)} nodes: too many to draw on {topic_names.MARKERS}",
@@ -545,7 +556,7 @@ class DsrServer(DsrNode):
             self.core.graph, request.node, request.attribute, request.edge_to, request.edge_type
         )
         response.found = answer.found
-        response.value_json = json.dumps(answer.value) if answer.found else ""
+        response.value_json = dumps(answer.value) if answer.found else ""
         response.value_type = answer.value_type
         response.version = answer.version
         response.seq = self.core.seq
@@ -555,21 +566,24 @@ class DsrServer(DsrNode):
     def on_get_node(self, request: GetNode.Request, response: GetNode.Response):
         doc = queries.node_json(self.core.graph, request.node)
         response.found = doc is not None
-        response.node_json = json.dumps(doc) if doc is not None else ""
+        response.node_json = dumps(doc) if doc is not None else ""
         response.seq = self.core.seq
         response.error = "" if doc is not None else f"no node {request.node!r}"
         return response
 
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
-        # Late joiners often come together (a launch): encode a seq's snapshot once.
-        if self._snapshot_cache[0] != self.core.seq:
-            text = orjson.dumps(self.core.snapshot()).decode()
-            self._snapshot_cache = (
-                self.core.seq,
-                self.security.sign(topic_names.GET_SNAPSHOT, text),
-            )
-        response.seq, response.snapshot_json = self._snapshot_cache
+        # Late joiners often come together (a launch): encode each state's snapshot once.
+        if self._snapshot_cache[0] != self._version():
+            text = orjson.dumps(self.core.snapshot(), default=to_json_value).decode()
+            signed = self.security.sign(topic_names.GET_SNAPSHOT, text)
+            self._snapshot_cache = (self._version(), self.core.seq, signed)
+        _, response.seq, response.snapshot_json = self._snapshot_cache
         return response
+
+    def _version(self) -> tuple[int, int]:
+        """What the graph holds now: its seq, and the volatile changes since it started (they
+        change it without a seq of their own)."""
+        return self.core.seq, self.core.volatile_count
 
 
 main = main_for(DsrServer)

@@ -4,11 +4,12 @@ asyncio loop, ``stream`` as the handler of an events URL."""
 from __future__ import annotations
 
 import asyncio
-import json
 from collections.abc import Callable
 from typing import Any
 
 from aiohttp import web
+
+from dsr_graph.model.binary import dumps
 
 
 class Broadcaster:
@@ -18,7 +19,7 @@ class Broadcaster:
         self._queues: set[asyncio.Queue] = set()
 
     def publish(self, kind: str, data: Any) -> None:
-        text = f"event: {kind}\ndata: {json.dumps(data, separators=(',', ':'))}\n\n"
+        text = f"event: {kind}\ndata: {dumps(data, separators=(',', ':'))}\n\n"
         for queue in list(self._queues):
             if queue.qsize() > 1000:  # a page that stopped reading: drop it, it reconnects
                 self._queues.discard(queue)
@@ -36,7 +37,7 @@ class Broadcaster:
         self._queues.add(queue)
         try:
             for kind, data in first() if first else []:
-                await response.write(f"event: {kind}\ndata: {json.dumps(data)}\n\n".encode())
+                await response.write(f"event: {kind}\ndata: {dumps(data)}\n\n".encode())
             while True:
                 try:
                     text = await asyncio.wait_for(queue.get(), timeout=15)

@@ -7,6 +7,7 @@ import json
 
 from dsr_graph.cli.api import DsrError, error, fetch_snapshot
 from dsr_graph.formats import dsr_json
+from dsr_graph.model.binary import short_text
 
 NAME = "graph"
 HELP = "print the live graph (nodes, edges, RT tree); --json for the snapshot"
@@ -32,14 +33,14 @@ def run(args: argparse.Namespace) -> int:
     for node in sorted(graph.nodes(), key=lambda n: n.id):
         parent = graph.rt_parent(node.id)
         where = f"  RT parent {parent.name}" if parent else ""
-        attrs = ", ".join(f"{k}={json.dumps(v)}" for k, v in node.attrs.items())
+        attrs = ", ".join(f"{k}={short_text(v)}" for k, v in node.attrs.items())
         print(
             f"  [{node.id}] {node.name} : {node.type}  v{node.version}{where}"
             + (f"  {{{attrs}}}" if attrs else "")
         )
     for edge in sorted(graph.edges(), key=lambda e: (e.src, e.dst, e.type)):
         if edge.type != "RT":
-            attrs = ", ".join(f"{k}={json.dumps(v)}" for k, v in edge.attrs.items())
+            attrs = ", ".join(f"{k}={short_text(v)}" for k, v in edge.attrs.items())
             print(
                 f"  {graph.node(edge.src).name} -{edge.type}-> {graph.node(edge.dst).name}"
                 + (f"  {{{attrs}}}" if attrs else "")

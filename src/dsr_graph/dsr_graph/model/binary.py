@@ -1,0 +1,187 @@
+"""Binary attribute values: raw bytes, and typed numeric arrays with a shape (a camera's RGB and
+depth images, embeddings) (pure).
+
+In the graph a ``bytes`` value is a Python ``bytes``; an array value is a read-only, C-ordered
+``numpy.ndarray`` of its declared element type. In JSON (world files, snapshots, the journal) a
+value is an object that says what it is, the bytes in base64:
+
+    {"$bytes": "aGVsbG8="}
+    {"$array": "AAEC...", "dtype": "uint8", "shape": [480, 640, 3]}
+
+Array element types are fixed-size and little-endian, whatever the machine: ``uint8``,
+``uint16`` (a depth image in millimetres) and ``float32``.
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import json
+import math
+from typing import Any
+
+import numpy as np
+
+from dsr_graph.exceptions import ValueTypeError
+
+BYTES = "bytes"
+# vocabulary type -> (element type name in JSON, numpy dtype)
+ARRAYS = {
+    "uint8_array": ("uint8", np.dtype("u1")),
+    "uint16_array": ("uint16", np.dtype("<u2")),
+    "float32_array": ("float32", np.dtype("<f4")),
+}
+MAX_DIMENSIONS = 8
+
+
+def _decoded(text: Any, what: str) -> bytes:
+    if not isinstance(text, str):
+        raise ValueTypeError(f"{what} must be base64 text, got {type(text).__name__}")
+    try:
+        return base64.b64decode(text, validate=True)
+    except (binascii.Error, ValueError):
+        raise ValueTypeError(f"{what} is not valid base64") from None
+
+
+def coerce_bytes(value: Any) -> bytes:
+    """``bytes`` from bytes (or a bytearray, a memoryview) or {"$bytes": base64}."""
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return bytes(value)
+    if isinstance(value, dict) and set(value) == {"$bytes"}:
+        return _decoded(value["$bytes"], '"$bytes"')
+    raise ValueTypeError(
+        f'expected bytes ({{"$bytes": base64}} in JSON), got {type(value).__name__} {_short(value)}'
+    )
+
+
+def array_coercer(type_name: str):
+    """The coercer of an array type: a numpy array of its element type (any shape), or its JSON
+    object; the result is read-only, so a value in the graph cannot change under it."""
+    element, dtype = ARRAYS[type_name]
+
+    def check(value: Any) -> np.ndarray:
+        if isinstance(value, np.ndarray):
+            if value.dtype.kind != dtype.kind or value.dtype.itemsize != dtype.itemsize:
+                raise ValueTypeError(f"expected an array of {element}, got {value.dtype}")
+            # little-endian, C order; a caller's writable array is copied, never shared
+            copy = True if value.flags.writeable else None
+            array = np.array(value, dtype=dtype, order="C", copy=copy)
+        elif isinstance(value, dict) and set(value) == {"$array", "dtype", "shape"}:
+            if value["dtype"] != element:
+                raise ValueTypeError(f"expected an array of {element}, got {value['dtype']!r}")
+            shape = _shape(value["shape"])
+            data = _decoded(value["$array"], '"$array"')
+            expected = math.prod(shape) * dtype.itemsize
+            if len(data) != expected:
+                raise ValueTypeError(
+                    f"an array of shape {list(shape)} of {element} has {expected} bytes, "
+                    f"got {len(data)}"
+                )
+            array = np.frombuffer(data, dtype=dtype).reshape(shape)
+        else:
+            raise ValueTypeError(
+                f'expected an array of {element} ({{"$array": base64, "dtype": "{element}", '
+                f'"shape": [...]}} in JSON), got {type(value).__name__} {_short(value)}'
+            )
+        if array.ndim == 0:
+            raise ValueTypeError("an array needs at least one dimension")
+        if array.dtype.kind == "f" and not np.isfinite(array).all():
+            raise ValueTypeError(f"an array of {element} must hold finite numbers only")
+        array.flags.writeable = False
+        return array
+
+    return check
+
+
+def _shape(value: Any) -> tuple[int, ...]:
+    if (
+        not isinstance(value, list)
+        or not 1 <= len(value) <= MAX_DIMENSIONS
+        or not all(isinstance(n, int) and not isinstance(n, bool) and n >= 0 for n in value)
+    ):
+        raise ValueTypeError(
+            f'"shape" must be a list of 1 to {MAX_DIMENSIONS} sizes (integers >= 0), '
+            f"got {_short(value)}"
+        )
+    return tuple(value)
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def is_binary(value: Any) -> bool:
+    return isinstance(value, (bytes, np.ndarray))
+
+
+def size_of(value: Any) -> int:
+    """Bytes a binary value holds (0 for any other value)."""
+    if isinstance(value, bytes):
+        return len(value)
+    if isinstance(value, np.ndarray):
+        return int(value.nbytes)
+    return 0
+
+
+def declared_size(value: Any) -> int:
+    """Bytes a value as a request gives it would hold once read (0: not a binary value), known
+    before it is decoded, so an oversized one is refused without building it."""
+    if isinstance(value, dict):
+        if isinstance(value.get("$bytes"), str):
+            return len(value["$bytes"]) * 3 // 4
+        if isinstance(value.get("$array"), str):
+            itemsize = next((d.itemsize for e, d in ARRAYS.values() if e == value.get("dtype")), 1)
+            shape = value.get("shape")
+            if isinstance(shape, list) and all(isinstance(n, int) for n in shape):
+                return math.prod(shape) * itemsize
+            return len(value["$array"]) * 3 // 4
+    return size_of(value)
+
+
+def to_json_value(value: Any) -> Any:
+    """A binary value as its JSON object (anything else unchanged): the ``default`` of a JSON
+    encoder (``json.dumps(doc, default=to_json_value)``)."""
+    if isinstance(value, bytes):
+        return {"$bytes": base64.b64encode(value).decode("ascii")}
+    if isinstance(value, np.ndarray):
+        element = next(e for e, d in ARRAYS.values() if d == value.dtype)
+        return {
+            "$array": base64.b64encode(value.tobytes()).decode("ascii"),
+            "dtype": element,
+            "shape": list(value.shape),
+        }
+    raise TypeError(f"{type(value).__name__} is not a DSR value")
+
+
+def equal(a: Any, b: Any) -> bool:
+    """Value equality that arrays take part in (same type, shape and elements)."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return (
+            isinstance(a, np.ndarray)
+            and isinstance(b, np.ndarray)
+            and a.dtype == b.dtype
+            and a.shape == b.shape
+            and bool(np.array_equal(a, b))
+        )
+    return a == b
+
+
+def short_text(value: Any) -> str:
+    """A value as a person reads it in a terminal: a binary one (decoded or as JSON) by its type
+    and size, anything else as JSON."""
+    if isinstance(value, np.ndarray):
+        element = next((e for e, d in ARRAYS.values() if d == value.dtype), str(value.dtype))
+        return f"<{element} {'x'.join(map(str, value.shape))}>"
+    if isinstance(value, bytes):
+        return f"<{len(value)} bytes>"
+    if isinstance(value, dict) and ("$bytes" in value or "$array" in value):
+        if "$array" in value and isinstance(value.get("shape"), list):
+            return f"<{value.get('dtype')} {'x'.join(map(str, value['shape']))}>"
+        return f"<{declared_size(value)} bytes>"
+    return json.dumps(value)
+
+
+def dumps(doc: Any, **kwargs: Any) -> str:
+    """JSON text of a document that may hold binary values (``json.dumps`` otherwise)."""
+    return json.dumps(doc, default=to_json_value, **kwargs)
