@@ -1055,8 +1055,8 @@ def main() -> int:
     parser.add_argument(
         "--quick",
         action="store_true",
-        help="under a minute: fewer samples, sizes up to 10k, 1 and 8 agents, "
-        "a Barthel run at pace x0.05",
+        help="about 4 minutes: fewer samples, sizes up to 10k, 1 and 8 agents, a Barthel run "
+        "at pace x0.05, no Get Up & Go scenarios",
     )
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The DSR benchmarks, each figure next to its baseline measured in the same run (bench/run.py).
 #   scripts/bench.sh [--quick] [--out FILE] [--only SECTION...]
-# --quick finishes in under a minute; the full run takes about 13 minutes and adds 100k nodes,
+# --quick takes about 4 minutes; the full run about 13 and adds 100k nodes,
 # 4 agents, more samples, and every shipped Get Up & Go scenario through launch.sh quiet and
 # with both cores busy. Report: bench-results/bench.json, and a table on stdout.
 set -euo pipefail
