@@ -7,7 +7,6 @@ from rclpy.qos import (
     LivelinessPolicy,
     QoSProfile,
     ReliabilityPolicy,
-    qos_profile_sensor_data,
 )
 
 from dsr_graph.protocol.presence import PRESENCE_LEASE
@@ -48,18 +47,6 @@ def qos_presence() -> QoSProfile:
         durability=DurabilityPolicy.VOLATILE,
         liveliness=LivelinessPolicy.AUTOMATIC,
         liveliness_lease_duration=Duration(seconds=PRESENCE_LEASE),
-    )
-
-
-def qos_sensor(depth: int | None = None) -> QoSProfile:
-    """Sensor streams (Kinect frames): ROS's sensor-data profile, best effort and shallow. A
-    lost frame is replaced by the next; a late one is worth nothing. ``depth``: a reader that
-    needs every frame (Person in a Get Up & Go) keeps more while it is busy."""
-    return QoSProfile(
-        history=qos_profile_sensor_data.history,
-        depth=depth or qos_profile_sensor_data.depth,
-        reliability=qos_profile_sensor_data.reliability,
-        durability=qos_profile_sensor_data.durability,
     )
 
 
