@@ -122,6 +122,7 @@ class PersonAgent(GrammarAgentNode):
                 self._write_skeleton(joints, float(frame.get("stamp", 0.0)))
                 self._follow_posture(joints, float(frame.get("stamp", 0.0)))
             elif not self._with_robot():
+                self._last_written = None  # not written: no hole in what Person writes
                 if self._present_frames >= param(self, "seen_frames"):
                     self.runner.signal("seen", pose=pose)
                     self._last_face = face
