@@ -31,6 +31,8 @@ ARRAYS = {
     "uint16_array": ("uint16", np.dtype("<u2")),
     "float32_array": ("float32", np.dtype("<f4")),
 }
+ELEMENT_OF = {dtype: element for element, dtype in ARRAYS.values()}  # numpy dtype -> JSON name
+ITEMSIZE_OF = {element: dtype.itemsize for element, dtype in ARRAYS.values()}
 MAX_DIMENSIONS = 8
 
 
@@ -131,7 +133,7 @@ def declared_size(value: Any) -> int:
         if isinstance(value.get("$bytes"), str):
             return len(value["$bytes"]) * 3 // 4
         if isinstance(value.get("$array"), str):
-            itemsize = next((d.itemsize for e, d in ARRAYS.values() if e == value.get("dtype")), 1)
+            itemsize = ITEMSIZE_OF.get(value.get("dtype"), 1)
             shape = value.get("shape")
             if isinstance(shape, list) and all(isinstance(n, int) for n in shape):
                 return math.prod(shape) * itemsize
@@ -140,15 +142,14 @@ def declared_size(value: Any) -> int:
 
 
 def to_json_value(value: Any) -> Any:
-    """A binary value as its JSON object (anything else unchanged): the ``default`` of a JSON
+    """A binary value as its JSON object (TypeError for anything else): the ``default`` of a JSON
     encoder (``json.dumps(doc, default=to_json_value)``)."""
     if isinstance(value, bytes):
         return {"$bytes": base64.b64encode(value).decode("ascii")}
     if isinstance(value, np.ndarray):
-        element = next(e for e, d in ARRAYS.values() if d == value.dtype)
         return {
             "$array": base64.b64encode(value.tobytes()).decode("ascii"),
-            "dtype": element,
+            "dtype": ELEMENT_OF[value.dtype],
             "shape": list(value.shape),
         }
     raise TypeError(f"{type(value).__name__} is not a DSR value")
@@ -171,7 +172,7 @@ def short_text(value: Any) -> str:
     """A value as a person reads it in a terminal: a binary one (decoded or as JSON) by its type
     and size, anything else as JSON."""
     if isinstance(value, np.ndarray):
-        element = next((e for e, d in ARRAYS.values() if d == value.dtype), str(value.dtype))
+        element = ELEMENT_OF.get(value.dtype, str(value.dtype))
         return f"<{element} {'x'.join(map(str, value.shape))}>"
     if isinstance(value, bytes):
         return f"<{len(value)} bytes>"
