@@ -89,6 +89,7 @@ class KinectStandIn(DsrNode):
         subscribe_json(self, sim_topics.PATIENT_TRIAL, self.on_trial, qos_latched())
         self.place = TrialPlace(*(float(v) for v in param(self, "trial_place")))
         self.scale = float_param(self, "time_scale") or 1.0
+        self._period = self.scale / float_param(self, "skeleton_hz")  # s of wall time per frame
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
         self._skeleton_timer = None  # made with the first trial: a Barthel test needs none
         self._next_capture: float | None = None  # when the sensor takes its next frame
@@ -123,8 +124,7 @@ class KinectStandIn(DsrNode):
             self._random, int(doc.get("tracking_losses", 0)), length
         )
         if self._skeleton_timer is None:
-            period = self.scale / float_param(self, "skeleton_hz")
-            self._skeleton_timer = self.create_timer(period, self.on_skeleton_frame)
+            self._skeleton_timer = self.create_timer(self._period, self.on_skeleton_frame)
 
     def on_frame(self) -> None:
         if self.trial is not None and self.presence["present"]:
@@ -138,7 +138,6 @@ class KinectStandIn(DsrNode):
     def on_skeleton_frame(self) -> None:
         """Every frame the sensor took since the last call, each at its capture time."""
         now = time.time()
-        period = self.scale / float_param(self, "skeleton_hz")
         oldest = now - BACKLOG_S * self.scale
         if self._next_capture is None or self._next_capture < oldest:
             if self._next_capture is not None:
@@ -149,7 +148,7 @@ class KinectStandIn(DsrNode):
             self._next_capture = max(self._next_capture or now, oldest)
         while self._next_capture <= now:
             self._capture(self._next_capture)
-            self._next_capture += period
+            self._next_capture += self._period
 
     def _capture(self, now: float) -> None:
         trial = self.trial

@@ -165,7 +165,9 @@ class CgamedStandIn(DsrNode):
             return response
         if self.store.notified("result_stored", response.test_id):
             return response  # the same test sent again (PELEA or CGAmed restarted): stored once
-        if result.get("test") == "get_up_and_go":
+        if result.get("test") == "get_up_and_go" and result.get("tug_seconds") is None:
+            score = f"{result['band']} after {result['trials']} trials, fall risk"  # unable
+        elif result.get("test") == "get_up_and_go":
             score = f"{result['tug_seconds']:.1f} s, {result['band']}" + (
                 ", fall risk" if result["fall_risk"] else ""
             )

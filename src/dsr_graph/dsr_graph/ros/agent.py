@@ -203,26 +203,27 @@ class DsrAgent:
             return
         self._deliver(applied, resynced=False)
         if not applied and is_volatile(delta):  # skipped here, accepted all the same
-            self._unanswered.pop(delta.get("id"), None)
-            callback = self._pending.pop(delta.get("id"), None)
-            if callback is not None:
-                callback(Result(delta["id"], True, delta=delta))
+            self._accepted(delta)
 
     def _deliver(self, applied: list[dict[str, Any]], resynced: bool) -> None:
         if applied or resynced:
             for listener in list(self._listeners):
                 listener(applied, resynced)
         for delta in applied:
-            self._unanswered.pop(delta.get("id"), None)
-            callback = self._pending.pop(delta.get("id"), None)
-            if callback is not None:
-                callback(Result(delta["id"], True, delta=delta))
+            self._accepted(delta)
         for ident, seq in list(self._accepted_before.items()):
             if seq <= self.replica.seq:  # accepted by an earlier send; the replica has it now
                 del self._accepted_before[ident]
                 callback = self._pending.pop(ident, None)
                 if callback is not None:
                     callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
+
+    def _accepted(self, delta: dict[str, Any]) -> None:
+        """The request that made ``delta`` (if it is ours) hears it was accepted."""
+        self._unanswered.pop(delta.get("id"), None)
+        callback = self._pending.pop(delta.get("id"), None)
+        if callback is not None:
+            callback(Result(delta["id"], True, delta=delta))
 
     def _on_rejection(self, msg: String) -> None:
         text = self._from_server(topic_names.REJECTIONS, msg.data)
