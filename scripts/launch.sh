@@ -247,17 +247,17 @@ start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
 # A test started from now on is this run's: the monitor tells it from its start, even when it
 # joins (or is restarted) after the test began, and ends when the DSR says it is finished.
 since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)
+echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/?token=$viewer_token"
+echo "[launch] clinician's dashboard: http://127.0.0.1:$dashboard_port/ (log in)"
+if [ -z "$(clarc user list --db "$db" 2>/dev/null)" ]; then
+  echo "[launch] the dashboard has no user yet: clarc user add NAME --role admin --db $db (then clinicians and technicians: --role clinician, --role technician)"
+fi
 if [ "$wait_start" = 1 ]; then
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
   clarc start "$patient" --test "$test_kind" --timeout 60 --ros-args -r __node:=clarc_start \
     >> "$run/log/start.log" 2>&1 ||
     { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
-fi
-echo "[launch] DSR viewer: http://127.0.0.1:$viewer_port/?token=$viewer_token"
-echo "[launch] clinician's dashboard: http://127.0.0.1:$dashboard_port/ (log in)"
-if [ -z "$(clarc user list --db "$db" 2>/dev/null)" ]; then
-  echo "[launch] the dashboard has no user yet: clarc user add NAME --role admin --db $db (then clinicians and technicians: --role clinician, --role technician)"
 fi
 
 # The monitor prints the test as it goes, read from the DSR, and exits 0 when the DSR says the

@@ -32,15 +32,26 @@ class GugRobot(Robot):
         drop_rate: float = 0.0,
         leave: float | None = None,
         rises: bool = True,
+        seen_for: float | None = None,
+        hz: float = HZ,
+        lag_per_second: float = 0.0,
+        analyser: bool = True,
     ):
+        """``seen_for``: seconds after go the Kinect sees the patient (default: the motion and
+        3 s more); ``lag_per_second``: a busy machine, each frame reaching the DSR this many
+        seconds later per second since go (its stamp still its capture time); ``analyser``:
+        whether a gait analyser runs."""
         super().__init__()
         self.motion, self.noise_mm, self.drop_rate = motion, noise_mm, drop_rate
         self.leave, self.rises, self.left_trial = leave, rises, False
+        self.seen_for = motion.total + 3.0 if seen_for is None else seen_for
+        self.hz, self.lag_per_second = hz, lag_per_second
         self.gug = GugExecutive(self.port, Times(), log)
         self.pelea_link.add_listener(lambda d, r: self.gug.on_graph(self.pelea_link.graph))
         self.analyser_link = self.bus.agent("/gait_analyser")
         self.analyser = GaitAnalyser()
-        self.analyser_link.add_listener(lambda d, r: self._analyse(None if r else d))
+        if analyser:
+            self.analyser_link.add_listener(lambda d, r: self._analyse(None if r else d))
         self.rng = random.Random(11)
         self.trial = 0
         self.present = True
@@ -96,6 +107,14 @@ class GugRobot(Robot):
             self.left_trial = True
             self.bus.after(self.leave, self._walk_away)
 
+        def deliver(joints, stamp: float) -> None:
+            self.person_link.send(skeleton_tx(self.person_link.graph, joints, stamp))
+            # what Person does with the frame's geometry: the posture percept
+            pelvis = pelvis_in_room(self.person_link.graph, joints)
+            posture = self.posture.update(stamp, pelvis)
+            if posture is not None:
+                self.person.signal("posture", posture=posture)
+
         def frame() -> None:
             if trial != self.trial or not self.present:
                 return
@@ -104,15 +123,14 @@ class GugRobot(Robot):
                 t = min(t, -0.1)  # stays seated
             if not dropped(self.rng, self.drop_rate):
                 raw, _ = sensor.see(skeleton(self.motion, t, PLACE), t)
-                stamp, joints = self.port.epoch(), parse_skeleton(raw)
-                self.person_link.send(skeleton_tx(self.person_link.graph, joints, stamp))
-                # what Person does with the frame's geometry: the posture percept
-                pelvis = pelvis_in_room(self.person_link.graph, joints)
-                posture = self.posture.update(stamp, pelvis)
-                if posture is not None:
-                    self.person.signal("posture", posture=posture)
-            if self.bus.now - go < self.motion.total + 3.0:
-                self.bus.after(1.0 / HZ, frame)
+                joints, stamp = parse_skeleton(raw), self.port.epoch()
+                lag = self.lag_per_second * (self.bus.now - go)
+                if lag > 0.0:  # later frames are later still: never out of order
+                    self.bus.after(lag, lambda: deliver(joints, stamp))
+                else:
+                    deliver(joints, stamp)
+            if self.bus.now - go < self.seen_for:
+                self.bus.after(1.0 / self.hz, frame)
 
         frame()
 

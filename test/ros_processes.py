@@ -179,13 +179,22 @@ def run_robot(script, *args, run_dir, timeout=240, env=None):
     log of the run if not. Returns the finished process."""
     repo = Path(__file__).resolve().parents[1]
     env = env or dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
-    done = subprocess.run(
-        [str(repo / "scripts" / script), *map(str, args), "--run-dir", str(run_dir)],
-        capture_output=True,
-        text=True,
-        timeout=timeout,
-        env=env,
+    argv = [str(repo / "scripts" / script), *map(str, args), "--run-dir", str(run_dir)]
+    proc = subprocess.Popen(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
     )
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:  # stopped as a user would (Ctrl-C), showing how far it got
+        proc.send_signal(signal.SIGINT)
+        try:
+            out, err = proc.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate()
+        err = f"{err}\n[test] {script} still ran after {timeout} s: interrupted\n"
+        proc.returncode = proc.returncode or -1
+    done = subprocess.CompletedProcess(argv, proc.returncode, out, err)
     if done.returncode != 0:
         logs = "\n".join(
             f"--- {p.name}\n{p.read_text(errors='replace')[-2000:]}"

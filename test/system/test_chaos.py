@@ -1,5 +1,6 @@
 """The chaos test, as a user runs it: ``scripts/chaos.sh`` kills -9 each of pelea, dsr_server,
-speech, panel, person and cgamed at a moment drawn from a seed during a Barthel run, and every
+speech, panel, person and cgamed at a moment drawn from a seed during a Barthel run (two of
+them in each of three runs), and every
 run must store exactly one result equal to an undisturbed run's. The seed is printed (CI uses a
 fixed one; ``CHAOS_SEED=N`` replays or explores another)."""
 
@@ -22,7 +23,9 @@ def test_any_process_killed_at_any_moment_the_test_completes_with_the_same_resul
             "--seed",
             seed,
             "--runs",
-            "6",
+            "3",
+            "--kills",
+            "2",
             "--work",
             str(tmp_path),
         ],
@@ -32,4 +35,4 @@ def test_any_process_killed_at_any_moment_the_test_completes_with_the_same_resul
     )
     print(done.stdout[-4000:])
     assert done.returncode == 0, done.stdout[-4000:] + done.stderr[-2000:]
-    assert "6 of 6 runs equal the undisturbed one" in done.stdout
+    assert "3 of 3 runs equal the undisturbed one" in done.stdout

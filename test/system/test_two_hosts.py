@@ -1,9 +1,9 @@
 """CLARC on two hosts (scripts/two_hosts.sh): two network namespaces joined by a veth pair, the
 DSR server, PELEA and CGAmed on one, the devices and their agents on the other, the keystore
-enforced on both; the link is cut in the middle of the test, for 5 s, and for 60 s (longer than
-the 10 s DDS lease: participants dropped and found again come back without their node names,
-which signed requests do not need), and the test still completes with the result of an
-undisturbed run, no answer lost or counted twice, and the monitor shows the cut."""
+enforced on both; the link is cut in the middle of the test, for 5 s, and for 20 s (twice the
+10 s DDS lease the script sets across hosts: participants dropped and found again come back
+without their node names, which signed requests do not need), and the test still completes with
+the result of an undisturbed run, no answer lost or counted twice, and the monitor shows the cut."""
 
 import os
 import shutil
@@ -27,7 +27,7 @@ def namespaces_possible() -> str:
 
 
 @pytest.mark.timeout(600)
-@pytest.mark.parametrize("seconds", [5, 60])
+@pytest.mark.parametrize("seconds", [5, 20])
 def test_a_cut_between_the_hosts_loses_no_answer(tmp_path, seconds):
     why = namespaces_possible()
     if why:

@@ -115,3 +115,12 @@ def test_an_observer_started_for_a_test_under_way_tells_it_from_its_start():
     answered = [e["item"] for e in events if e["event"] == "answer"]
     assert answered == [i["item"] for i in result["items"] if i["via"]]
     assert "following" not in [e["event"] for e in events]
+    # every item it passed is told, in order, each before what happened in it
+    told = [e["item"] for e in events if e["event"] == "item"]
+    assert told == [i["item"] for i in result["items"]]
+    reached: list[str] = []
+    for e in events:
+        if e["event"] == "item":
+            reached.append(e["item"])
+        elif e["event"] in ("answer", "no_answer", "unanswered"):
+            assert e["item"] in reached, e

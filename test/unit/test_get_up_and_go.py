@@ -12,7 +12,15 @@ from gug_checks import as_result, check_timed
 
 from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.gait_analyser import GaitAnalyser
-from clarc_agents.gug.phases import PHASES, NotATrial, band, fall_risk, sample, time_trial
+from clarc_agents.gug.phases import (
+    PHASES,
+    WITHIN,
+    NotATrial,
+    band,
+    fall_risk,
+    sample,
+    time_trial,
+)
 from clarc_agents.gug.skeleton import (
     frames_in,
     frames_on,
@@ -331,3 +339,25 @@ def test_an_analyser_that_joins_a_trial_late_voids_it():
     bus.deliver()
     tx = GaitAnalyser().on_graph(late.graph)
     assert tx["ops"][0]["attrs"]["status"] == "void"
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.1])
+def test_a_patient_not_seated_again_within_90_s_of_go_is_void_by_the_frames_time(scale):
+    # a patient who never rises, seen 4 times a second: the frames' stamps say when 90 s of the
+    # patient's time have passed, at any pace and however late they reach the analyser
+    bus, person = dsr_with_a_seated_person()
+    analyser_link, analyser = bus.agent("/gait_analyser"), GaitAnalyser(scale=scale)
+    verdicts = []
+    seated = skeleton(NORMAL, -0.5, PLACE)
+    for k in range(int((WITHIN + 2.0) * 4)):
+        t = k / 4.0
+        person.send(skeleton_tx(person.graph, parse_skeleton(seated), 1000.0 + t * scale))
+        bus.deliver()
+        tx = analyser.on_graph(analyser_link.graph)
+        if tx is not None:
+            verdicts.append((t, tx["ops"][0]["attrs"]))
+            analyser_link.send(tx)
+            bus.deliver()
+    [(t, attrs)] = [(t, a) for t, a in verdicts if a.get("status")]
+    assert attrs["status"] == "void" and t == pytest.approx(WITHIN + 0.25)
+    assert attrs["reason"] == "not seated again within 90 s of go"

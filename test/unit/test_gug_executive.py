@@ -9,8 +9,9 @@ from local_gug import GugRobot
 from pyperplan.pddl.parser import Parser
 
 from clarc_agents.gug import sentences
+from clarc_agents.gug.phases import WITHIN
 from clarc_agents.pelea import decision_support
-from clarc_agents.pelea.gug_executive import MAX_TRIALS, GugExecutive
+from clarc_agents.pelea.gug_executive import MAX_TRIALS, VERDICT_WAIT, GugExecutive
 from clarc_sim.patient.gait_motion import Motion
 
 MOTION = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
@@ -51,19 +52,49 @@ def test_a_patient_who_walks_away_mid_trial_is_asked_to_sit_and_the_trial_repeat
 
 
 def test_a_patient_who_never_rises_is_stored_unable_to_perform_and_the_clinician_called():
-    robot = GugRobot(MOTION, rises=False)
+    robot = GugRobot(MOTION, rises=False, seen_for=WITHIN + 5.0, hz=5.0)
     result = robot.run_gug()
     assert result["outcome"] == "unable" and result["band"] == "unable to perform"
     assert result["tug_seconds"] is None and result["phases"] is None
     assert result["trials"] == MAX_TRIALS and result["fall_risk"] is True
     assert result["void_reasons"] == [
-        f"trial {n}: not timed within 90 s of go" for n in range(1, MAX_TRIALS + 1)
+        f"trial {n}: not seated again within 90 s of go" for n in range(1, MAX_TRIALS + 1)
     ]
     assert result["clinician_called"] is True
     assert robot.said.count(sentences.GO) == MAX_TRIALS
     assert robot.port.notifications and "could not be timed" in robot.port.notifications[0]
     test = robot.bus.core.graph.node("test").attrs
     assert test["status"] == "finished" and test["clinician_called"] is True
+
+
+def test_frames_that_come_late_are_judged_on_their_stamps_and_the_trial_is_timed():
+    # a busy machine: the end of the trial reaches the DSR long after the 90 s limit
+    robot = GugRobot(MOTION, lag_per_second=9.0)
+    result = robot.run_gug()
+    within_tolerance(result)
+    assert result["trials"] == 1 and not result["void_reasons"]
+    timed = next(e["t"] for e in robot.port.events if e["event"] == "timed")
+    go = next(e["t"] for e in robot.port.events if e["event"] == "trial")
+    assert timed - go > WITHIN + VERDICT_WAIT  # PELEA waited on while frames still came
+
+
+def test_no_gait_analyser_voids_each_trial_once_its_frames_pass_the_limit():
+    robot = GugRobot(MOTION, analyser=False, seen_for=WITHIN + 2 * VERDICT_WAIT + 5.0, hz=2.0)
+    result = robot.run_gug()
+    assert result["outcome"] == "unable" and result["trials"] == MAX_TRIALS
+    assert result["void_reasons"] == [
+        f"trial {n}: the gait analyser gave no verdict on frames past its 90 s limit"
+        for n in range(1, MAX_TRIALS + 1)
+    ]
+
+
+def test_no_frames_after_go_voids_the_trial_naming_the_silence():
+    robot = GugRobot(MOTION, seen_for=0.0, hz=1.0)  # the Kinect stops at go
+    result = robot.run_gug()
+    assert result["outcome"] == "unable"
+    assert result["void_reasons"] == [
+        f"trial {n}: no frames of the patient after 0.0 s from go" for n in range(1, MAX_TRIALS + 1)
+    ]
 
 
 @pytest.mark.parametrize("moment", [2.0, 12.0, 20.0, 30.0])

@@ -160,6 +160,32 @@ def _item_changes(key: str, before: ItemResult, after: ItemResult) -> list[dict[
     return events
 
 
+def _questionnaire_changes(before: TestView, after: TestView) -> list[dict[str, Any]]:
+    """The items reached and what happened in each, in the test's order: an observer that
+    joins late, or reads several changes at once, tells every item it passed, each before its
+    answer (not only the item the test is at now)."""
+    order = _definition(after.kind).order
+    was, now = position(before.item, after.kind), position(after.item, after.kind)
+    reached = {order[k - 1] for k in range(was + 1, now + 1)}
+    if after.item != before.item and now:
+        reached.add(after.item)  # the test went back to an item (it does not, but told so)
+    events: list[dict[str, Any]] = []
+    items = dict(after.items)
+    for key in (*order, *(k for k in items if k not in order)):
+        if key in reached:
+            events.append(
+                {
+                    "event": "item",
+                    "item": key,
+                    "position": position(key, after.kind),
+                    "of": len(order),
+                }
+            )
+        if key in items:
+            events.extend(_item_changes(key, before.of(key), items[key]))
+    return events
+
+
 def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, Any]]:
     """The steps of the test between two views of it, in the order a person would tell them."""
     events: list[dict[str, Any]] = []
@@ -175,17 +201,8 @@ def changes(before: TestView, after: TestView, graph: Graph) -> list[dict[str, A
         return events
     if after.kind == "get_up_and_go":
         events.extend(_gait_changes(before, after))
-    elif after.item != before.item:
-        events.append(
-            {
-                "event": "item",
-                "item": after.item,
-                "position": position(after.item, after.kind),
-                "of": items_in(after.kind),
-            }
-        )
-    for key, item in after.items if after.kind != "get_up_and_go" else ():
-        events.extend(_item_changes(key, before.of(key), item))
+    else:
+        events.extend(_questionnaire_changes(before, after))
     if after.running and before.person_present != after.person_present and not new_test:
         events.append({"event": "person_back" if after.person_present else "person_lost"})
     if after.clinician_called and not before.clinician_called:

@@ -9,9 +9,9 @@ and is seated again the whole trial is timed (``phases.time_trial``, with the li
 chair's ``line_m``, 3 m by default) and written back: ``tug_seconds``, ``reaction_seconds``,
 ``phase_seconds`` (in ``PHASES`` order), ``still_seconds``, ``band``, ``fall_risk``,
 ``status: timed``; or ``status: void`` with the ``reason`` (a hole in the frames, not seated at
-go, the line not reached, no turn). Times are the frames' capture stamps (epoch seconds) turned
-into the patient's time with ``scale`` (the session's pace), so a result is the same at any
-pace and however late the frames came.
+go, the line not reached, no turn, not seated again within ``WITHIN``, 90 s, of go). Times are
+the frames' capture stamps (epoch seconds) turned into the patient's time with ``scale`` (the
+session's pace), so a result is the same at any pace and however late the frames came.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from clarc_agents.gug.phases import (
     MAX_GAP,
     MIN_RISE,
     PHASES,
+    WITHIN,
     NotATrial,
     Sample,
     band,
@@ -108,6 +109,8 @@ class GaitAnalyser:
             return self._void(timed)
         if timed is not None:
             return self._result_tx(timed)
+        if new.t > WITHIN:  # judged on the frames' stamps, so a busy machine never voids it
+            return self._void(f"not seated again within {WITHIN:g} s of go")
         phase = self._phase_now()
         # the phase in progress only moves on (noise must not make it flicker back)
         if ORDER.index(phase) > ORDER.index(self.phase):

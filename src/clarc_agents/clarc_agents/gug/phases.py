@@ -45,6 +45,9 @@ MAX_GAP = 0.5  # s without a frame that a trial may have (lost frames leave 0.1 
 PAUSE = 0.5  # s between two movements that count as standing still
 SETTLED = 0.5  # s seated and still before the trial is over
 LINE = 3.0  # m from the chair to the line, by default
+# s from "go" the whole trial may take: a patient not seated again by then cannot do the test
+# this time (the trial is void; three such and the test is "unable to perform", FORMAT.md)
+WITHIN = 90.0
 LINE_SLACK = 0.3  # m: the feet reach the line while the hips are still this far behind it
 MIN_RISE = 0.15  # m the hips rise from seated to standing, at least
 TURNED = 0.5 * math.pi  # rad: less than this at the far end is no turn round

@@ -179,3 +179,10 @@ def frames_on(graph: Graph) -> list[tuple[float, dict[str, tuple[np.ndarray, flo
     """The frames of the person's last write, as the graph holds them (after a resync)."""
     person = graph.find("person")
     return [] if person is None else rows_to_frames(person.attrs.get("skeleton_frames"))
+
+
+def latest_frame_time(graph: Graph) -> float | None:
+    """The capture stamp (epoch s) of the newest frame Person wrote; None: no frame yet."""
+    person = graph.find("person")
+    stamp = None if person is None else person.attrs.get("frame_time")
+    return float(stamp) if isinstance(stamp, int | float) else None

@@ -21,7 +21,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from clarc_agents.gug import sentences
+from clarc_agents.gug.phases import WITHIN
 from clarc_agents.gug.record import GugRecord, gait, result
+from clarc_agents.gug.skeleton import latest_frame_time
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
@@ -29,7 +31,11 @@ from clarc_agents.sentence import Sentence
 from dsr_graph.model.graph import Graph
 
 MAX_TRIALS = 3
-TRIAL_TIMEOUT = 90.0  # s of a session from "go" until a timed result, at most
+# s of a session PELEA waits for the analyser's verdict beyond its own limit (``WITHIN`` of the
+# frames' time from go), then between looks while frames still come, late, on a busy machine:
+# the trial is void when no frame came since the last look, or the frames passed the limit
+# with no verdict (no analyser)
+VERDICT_WAIT = 30.0
 ABSENT_TIMEOUT = 60.0  # s of a session the patient may stay away before the clinician is called
 GOAL = ("(said-goodbye)",)
 
@@ -248,15 +254,31 @@ class GugExecutive(HighLevelExecutive):
         self.port.send(time_trial(trial, ended if ended is not None else self.port.epoch()))
         self.port.event(event="trial", trial=trial)
         self._wait = GaitWait(trial, token)
+        self._look_for_verdict(token, trial, latest_frame_time(self.graph), WITHIN + VERDICT_WAIT)
+
+    def _look_for_verdict(self, token: int, trial: int, seen: float | None, wait: float) -> None:
         self._timer = self.port.after(
-            self.times(TRIAL_TIMEOUT), lambda: self._trial_timed_out(token, trial)
+            self.times(wait), lambda: self._no_verdict(token, trial, seen)
         )
 
-    def _trial_timed_out(self, token: int, trial: int) -> None:
+    def _no_verdict(self, token: int, trial: int, seen_before: float | None) -> None:
+        """No verdict yet: waited for again while new frames come that the analyser may not have
+        judged (the last look's were short of its limit: a busy machine, they come late), else
+        the trial is void."""
         if token != self._token:
             return
-        self.log.warning(f"trial {trial} was not timed in time: it is void")
-        reason = f"not timed within {TRIAL_TIMEOUT:g} s of go"
+        go = float(gait(self.graph).get("go_at") or self.port.epoch())
+        seen = latest_frame_time(self.graph)
+        if seen is None or (seen_before is not None and seen <= seen_before):
+            after = max((seen or go) - go, 0.0) / self.times(1.0)
+            reason = f"no frames of the patient after {after:.1f} s from go"
+        elif seen_before is None or seen_before - go <= self.times(WITHIN):
+            self.log.info(f"trial {trial}: its frames come late (a busy machine): waiting on")
+            self._look_for_verdict(token, trial, seen, VERDICT_WAIT)
+            return
+        else:
+            reason = f"the gait analyser gave no verdict on frames past its {WITHIN:g} s limit"
+        self.log.warning(f"trial {trial} is void: {reason}")
         self._complete(token, self._void(self.state, reason))
 
     def _say_goodbye(self, step: Step) -> None:
