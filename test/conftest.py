@@ -62,3 +62,26 @@ def ros(tmp_path):
         yield world
     finally:
         world.close()
+
+
+@pytest.fixture(scope="session")
+def default_run(tmp_path_factory):
+    """The default Barthel scenario through ``scripts/launch.sh --record``, once for the
+    session: its result (test_barthel_scenarios.py) and its recording (test_recording.py) are
+    checked from the one run. (the folder: run.mcap, cgamed.sqlite, run/; the finished launch)"""
+    from ros_processes import run_robot
+
+    tmp = tmp_path_factory.mktemp("default_run")
+    run = run_robot(
+        "launch.sh",
+        "--scenario",
+        REPO / "scenarios" / "default.yaml",
+        "--record",
+        tmp / "run.mcap",
+        "--db",
+        tmp / "cgamed.sqlite",
+        "--timeout",
+        "150",
+        run_dir=tmp / "run",
+    )
+    return tmp, run

@@ -2,7 +2,7 @@
 process): each shipped GUG scenario's stored result against the scenario's own truth, with the
 issue's tolerances (tug_seconds and the reaction within 0.5 s of the script's, each phase within
 two boundaries' 0.5 s, the parts adding up to the total), the band (Podsiadlo & Richardson
-1991) and the fall risk (Shumway-Cook 2000); one of them also at another pace."""
+1991) and the fall risk (Shumway-Cook 2000); and a real recorded patient, at another pace."""
 
 from pathlib import Path
 
@@ -28,6 +28,13 @@ def check(stored, scenario: str, log: str) -> None:
     truth = load(str(REPO / "scenarios" / scenario))
     motion = truth.motion
     assert stored["test"] == "get_up_and_go" and stored["patient"] == truth.patient
+    if not truth.rises:  # three void trials: stored "unable to perform", the clinician told
+        assert stored["outcome"] == "unable" and stored["tug_seconds"] is None, stored
+        assert stored["band"] == "unable to perform" and stored["fall_risk"] is True
+        assert stored["trials"] == 3 and stored["clinician_called"] is True
+        assert len(stored["void_reasons"]) == 3, stored["void_reasons"]
+        assert "unable to perform" in log and "could not be timed" in log, log[-3000:]
+        return
     assert stored["outcome"] == "timed", (stored, log[-3000:])
     check_timed(stored, motion)
     assert stored["band"] == band(stored["tug_seconds"])
@@ -43,6 +50,7 @@ def test_the_shipped_suite_covers_the_issue_s_cases():
     assert any(s.leave is not None for s in loaded)  # leaves mid-trial
     assert any(s.noise_mm >= 20 for s in loaded) and any(s.drop_rate >= 0.3 for s in loaded)
     assert {band(s.motion.total) for s in loaded} >= {"normal", "variable mobility"}  # and slow
+    assert any(not s.rises for s in loaded)  # unable to perform
 
 
 @pytest.mark.parametrize("scenario", SCENARIOS)
@@ -52,15 +60,13 @@ def test_a_get_up_and_go_scenario_through_the_launch(scenario, tmp_path):
     check(stored, scenario, run.stdout)
 
 
-def test_the_time_is_the_patient_s_at_another_pace(tmp_path):
-    run, stored = run_gug("gug_normal.yaml", tmp_path, "--scale", "0.3")
-    check(stored, "gug_normal.yaml", run.stdout)
-
-
 def test_a_recorded_patient_is_timed_through_the_launch(tmp_path, motion_dir):
     """../shared's recorded Timed Up and Go, imported with ``clarc skeleton import`` and played
     by a scenario's ``recording:`` through the Kinect stand-in, Person, the DSR and the gait
-    analyser: timed within 0.5 s of the hand reading (gug_checks.F77_READ)."""
+    analyser: timed within 0.5 s of the hand reading (gug_checks.F77_READ), at another pace than
+    the other scenarios' (x0.3: the times are the patient's at any pace). Its 100 frames a second
+    of wall time a busy machine carries; x0.1's 300, ten times a real Kinect's, it may not (its
+    long stand-still piles them up: frames lost, trials void)."""
     import subprocess
 
     from gug_checks import F77_READ, F77_TOTAL
@@ -76,7 +82,7 @@ def test_a_recorded_patient_is_timed_through_the_launch(tmp_path, motion_dir):
     scenario.write_text("test: get_up_and_go\npatient: Rosa\nrecording: tug_f77.csv\n")
     from ros_processes import launch_scenario
 
-    run, stored = launch_scenario(scenario, tmp_path)
+    run, stored = launch_scenario(scenario, tmp_path, "--scale", "0.3")
     assert len(stored) == 1, (stored, run.stdout[-3000:])
     [result] = stored
     assert result["outcome"] == "timed" and result["patient"] == "Rosa", run.stdout[-3000:]

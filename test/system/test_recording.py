@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from browser import chromium_page, free_port, http_get
-from ros_processes import run_robot, wait_for
+from ros_processes import wait_for
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
@@ -49,19 +49,10 @@ def server_graph_at_end(state_dir: Path) -> dict:
     return json.loads(json.dumps(dsr_json.to_json(graph, "snapshot", seq=last[0])))
 
 
-@pytest.fixture(scope="module")
-def recorded_run(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("recorded")
-    run = run_robot(
-        "launch.sh",
-        "--record",
-        tmp / "run.mcap",
-        "--db",
-        tmp / "cgamed.sqlite",
-        "--timeout",
-        "150",
-        run_dir=tmp / "run",
-    )
+@pytest.fixture
+def recorded_run(default_run):
+    """The default scenario's launch, recorded (conftest.py: the Barthel scenarios' run too)."""
+    tmp, run = default_run
     assert "[launch] recorded " in run.stdout and str(tmp / "run.mcap") in run.stdout
     return tmp
 

@@ -285,6 +285,7 @@ def test_a_get_up_and_go_scenario_reads_its_motion():
     assert s.test == "get_up_and_go" and s.patient == "Carlos"
     assert s.motion.total == 16.0 and (s.noise_mm, s.drop_rate, s.leave) == (10.0, 0.1, 6.0)
     assert parse("patient: Ana\n").test == "barthel"
+    assert s.rises is True and parse(GUG + "rises: false\n").rises is False
 
 
 @pytest.mark.parametrize(
@@ -297,6 +298,7 @@ def test_a_get_up_and_go_scenario_reads_its_motion():
         (GUG.replace("test: get_up_and_go", "test: tug"), ":1: test must be one of"),
         (GUG + "items: {}\n", "unknown key 'items'"),
         (GUG.replace("noise_mm: 10", "noise_mm: loud"), "noise_mm must be a number"),
+        (GUG + "rises: sometimes\n", ":7: rises is true or false, got 'sometimes'"),
     ],
 )
 def test_a_bad_get_up_and_go_scenario_names_the_line(text, error):

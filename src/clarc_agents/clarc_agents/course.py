@@ -18,7 +18,7 @@ not_understood (item, heard, attempt), skip (item), window_interrupted (item, at
 unanswered (item), person_lost, person_back, clinician_called (unanswered), finished (result).
 A Get Up & Go test (``started`` says ``test``) has instead: trial (trial), phase (trial, phase),
 timed (trial, tug_seconds, band), trial_void (trial), and finished (result: the stored result, or
-``{"test", "patient", "timed": false}`` when no trial could be timed).
+``{"test", "patient", "timed": false, "void_reasons"}`` when no trial could be timed).
 """
 
 from __future__ import annotations
@@ -115,7 +115,13 @@ def _result(graph: Graph, after: TestView) -> dict[str, Any]:
     if after.kind != TIMED:
         return record(graph, _definition(after.kind)).to_json()
     if dict(after.gait).get("status") != "timed":
-        return {"test": after.kind, "patient": after.patient, "timed": False}
+        reasons = graph.node("test").attrs.get("void_reasons") or []
+        return {
+            "test": after.kind,
+            "patient": after.patient,
+            "timed": False,
+            "void_reasons": [str(r) for r in reasons],
+        }
     return result(graph, GugRecord(after.patient, after.started))
 
 

@@ -76,8 +76,10 @@ def describe_step(event: dict) -> str | None:
         return "the person left"
     if kind == "person_back":
         return "the person is back"
-    if kind == "clinician_called":
+    if kind == "clinician_called" and event["unanswered"]:
         return f"the clinician is called ({', '.join(event['unanswered'])} unanswered)"
+    if kind == "clinician_called":
+        return "the clinician is called"
     return None
 
 

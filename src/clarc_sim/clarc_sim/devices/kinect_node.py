@@ -6,7 +6,8 @@ second of the patient's time, each with every joint (mm, in the Kinect's frame) 
 confidence, as a Kinect v2 would give them (``skeleton_frames.KinectModel``: slow noise of the
 scenario's size, confidence falling with range and occlusion, a range warning beyond 4.5 m, the
 sides swapped when the body faces away), the scenario's lost frames and its brief tracking losses
-(frames without a body, 0.1 to 0.35 s each); or, when the trial
+(frames without a body, 0.1 to 0.35 s each), or a patient who cannot rise (``rises: false``:
+seated as before "go"); or, when the trial
 names a skeleton recording, its frames as recorded, placed at the trial's chair and played from
 the recording's ``offset`` at "go", at the run's pace (before "go": its first frame; after its
 end: its last). Skeleton frames are captured on the sensor's own clock, every 1/skeleton_hz s of
@@ -117,6 +118,7 @@ class KinectStandIn(DsrNode):
             "offset": float(doc.get("offset", 0.0)),
             "go": None if doc.get("go") is None else float(doc["go"]),
             "drop_rate": float(doc.get("drop_rate", 0.0)),
+            "rises": doc.get("rises", True) is not False,
             "sensor": KinectModel(self._random, float(doc.get("noise_mm", 0.0))),
         }
         length = recording.duration if recording is not None else self.trial["motion"].total
@@ -157,6 +159,8 @@ class KinectStandIn(DsrNode):
         if dropped(self._random, trial["drop_rate"]):
             return
         t = -1.0 if trial["go"] is None else (now - trial["go"]) / self.scale
+        if not trial["rises"]:
+            t = min(t, -1.0)  # stays seated as before "go"
         if any(start <= t < end for start, end in trial["losses"]):
             publish_json(self._frames, {"present": False, "stamp": now})  # tracking lost
             return

@@ -93,6 +93,7 @@ class SimulatedPatient(DsrNode):
         s = self.scenario
         trial = {"go": go, "noise_mm": s.noise_mm, "drop_rate": s.drop_rate}
         trial["tracking_losses"] = s.tracking_losses
+        trial["rises"] = s.rises
         if s.recording is not None:
             trial |= {"recording": s.recording, "offset": s.offset}
         else:
@@ -104,7 +105,10 @@ class SimulatedPatient(DsrNode):
             return
         s = self.scenario
         what = f"the recording {s.recording}" if s.recording else f"a {s.motion.total:.1f} s trial"
-        self.get_logger().info(f"hears go: gets up ({what})")
+        if s.rises:
+            self.get_logger().info(f"hears go: gets up ({what})")
+        else:
+            self.get_logger().info("hears go: cannot get up")
         # from when the speaker ended "go" (its stamp), as the robot times it, however late we
         # heard of it
         self._publish_trial(float(event.get("stamp", time.time())))

@@ -42,6 +42,7 @@ A Get Up & Go scenario says ``test: get_up_and_go``:
     drop_rate: 0.1    # optional: share of Kinect frames lost
     tracking_losses: 2  # optional: brief spells (0.1-0.35 s) the Kinect sees no body
     leave: 6.0        # optional: walks out of view this long after "go", once
+    rises: false      # optional: cannot get up (each trial void: "unable to perform")
 
 ``motion`` gives the seconds of each part of the trial in the patient's time (all six, each
 positive but ``reaction``, which may be 0); their sum is the truth a measured ``tug_seconds`` is
@@ -82,6 +83,7 @@ GUG_KEYS = (
     "drop_rate",
     "tracking_losses",
     "leave",
+    "rises",
 )
 
 VIAS = ("voice", "touch", "camera", "silence")
@@ -111,6 +113,7 @@ class Scenario:
     drop_rate: float = 0.0
     tracking_losses: int = 0
     leave: float | None = None  # seconds after "go" the patient walks out of view
+    rises: bool = True  # False: stays seated whatever is said (cannot do the test)
 
     def plan(self, item: str) -> ItemPlan:
         return self.items[item]
@@ -253,6 +256,11 @@ def _get_up_and_go(source: str, root: Any) -> Scenario:
         scenario.tracking_losses = losses
     if "leave" in values:
         scenario.leave = _number(source, values["leave"], "leave")
+    if "rises" in values:
+        rises = _scalar(values["rises"])
+        if not isinstance(rises, bool):
+            raise _err(source, values["rises"], f"rises is true or false, got {rises!r}")
+        scenario.rises = rises
     return scenario
 
 
