@@ -3,6 +3,7 @@ graph's incremental bookkeeping), for tests."""
 
 import numpy as np
 
+from dsr_graph.model.binary import equal
 from dsr_graph.model.values import coerce
 
 RT = "RT"
@@ -17,7 +18,7 @@ def assert_invariants(graph):
         assert n.type in graph.vocabulary.node_types
         assert n.version >= 1
         for k, v in n.attrs.items():
-            assert coerce(graph.vocabulary.attributes[k], v) == v
+            assert equal(coerce(graph.vocabulary.attributes[k], v), v)
     parent = {}
     children = {}
     for e in graph.edges():

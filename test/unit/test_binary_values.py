@@ -72,7 +72,8 @@ def test_bytes_and_arrays_round_trip_through_json():
         ("uint8_array", {"$array": "AAE=", "dtype": "uint8", "shape": [3]}, "has 3 bytes, got 2"),
         ("uint8_array", {"$array": "AAE=", "dtype": "uint8", "shape": [-2]}, "shape"),
         ("uint8_array", {"$array": "AAE=", "dtype": "uint8", "shape": "2"}, "shape"),
-        ("uint8_array", [1, 2, 3], "expected an array of uint8"),
+        ("uint8_array", [1, 2, 300], "must hold bytes"),
+        ("uint8_array", "text", "expected an array of uint8"),
         ("float32_array", np.array([1.0, np.nan], np.float32), "finite"),
         ("uint8_array", np.uint8(3), "expected an array"),
     ],
@@ -163,7 +164,7 @@ def test_a_binary_type_given_a_plain_json_value_is_a_rule_violation():
     graph = Graph(vocabulary())
     graph.insert_node("cam", "camera")
     with pytest.raises(RuleViolation, match="image"):
-        graph.set_node_attrs("cam", {"image": [1, 2, 3]})
+        graph.set_node_attrs("cam", {"image": "a picture"})
 
 
 def test_a_terminal_shows_a_binary_value_by_its_type_and_size():

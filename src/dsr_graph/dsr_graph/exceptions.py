@@ -80,6 +80,14 @@ class ValueTypeError(DsrError, ValueError):
     """A value does not fit its declared attribute type."""
 
 
+class MissingBlob(DsrError, ValueError):
+    """A binary value's reference whose bytes have not come (protocol/blobs.py)."""
+
+    def __init__(self, digest: str):
+        super().__init__(f"the binary value {digest} did not come on the blob topic")
+        self.digest = digest
+
+
 class SeqUnavailable(DsrError, LookupError):
     """The graph at that seq is not in the history (before the viewer started, or in a gap)."""
 

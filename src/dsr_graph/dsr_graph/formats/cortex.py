@@ -19,6 +19,7 @@ from dsr_graph.exceptions import FormatError, Violation
 from dsr_graph.formats import units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import rigid
+from dsr_graph.model.binary import is_binary
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT, Vocabulary
 
@@ -31,6 +32,11 @@ TYPE_CODES = {
     "byte_vector": 5,
     "uint": 6,
     "uint64": 7,
+    # binary values are CORTEX's byte vectors of the same bytes (a camera's cam_rgb, cam_depth)
+    "bytes": 5,
+    "uint8_array": 5,
+    "uint16_array": 5,
+    "float32_array": 5,
 }
 RT_KEYS = ("rt_translation", "rt_rotation_euler_xyz")
 
@@ -137,7 +143,11 @@ def _attribute(graph: Graph, element: str, name: str, value: Any) -> dict[str, A
         raise FormatError(
             f"{element}: attribute {name!r} is {type_name}, which CORTEX files cannot hold"
         )
-    return {"type": code, "value": str(value) if type_name == "uint64" else value}
+    if type_name == "uint64":
+        value = str(value)
+    elif is_binary(value):
+        value = list(value if isinstance(value, bytes) else value.tobytes())
+    return {"type": code, "value": value}
 
 
 def to_cortex(graph: Graph) -> dict[str, Any]:

@@ -9,7 +9,10 @@ value is an object that says what it is, the bytes in base64:
     {"$array": "AAEC...", "dtype": "uint8", "shape": [480, 640, 3]}
 
 Array element types are fixed-size and little-endian, whatever the machine: ``uint8``,
-``uint16`` (a depth image in millimetres) and ``float32``.
+``uint16`` (a depth image in millimetres) and ``float32``. A list of bytes (0..255), as CORTEX's
+files hold a camera's ``cam_rgb``, is taken as the value's bytes (an array of one dimension).
+Large values travel beside the JSON on the wire (``protocol/blobs.py``): a replica that has not
+had their bytes holds a ``BlobRef``.
 """
 
 from __future__ import annotations
@@ -36,6 +39,32 @@ ITEMSIZE_OF = {element: dtype.itemsize for element, dtype in ARRAYS.values()}
 MAX_DIMENSIONS = 8
 
 
+class BlobRef:
+    """A binary value a replica knows by its digest only: its bytes travel beside the delta
+    (``protocol/blobs.py``) and did not reach this replica (fetched with dsr/get_blob).
+    ``dtype``: "bytes" or an array element type; ``shape``: an array's (None for bytes)."""
+
+    __slots__ = ("digest", "dtype", "shape", "size")
+
+    def __init__(self, digest: str, dtype: str, shape: tuple[int, ...] | None, size: int):
+        self.digest, self.dtype, self.shape, self.size = digest, dtype, shape, size
+
+    def to_json(self) -> dict[str, Any]:
+        doc: dict[str, Any] = {"$blob": self.digest, "dtype": self.dtype, "size": self.size}
+        if self.shape is not None:
+            doc["shape"] = list(self.shape)
+        return doc
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, BlobRef) and self.digest == other.digest
+
+    def __hash__(self) -> int:
+        return hash(self.digest)
+
+    def __repr__(self) -> str:
+        return f"BlobRef({self.digest[:19]}..., {self.dtype}, {self.shape}, {self.size})"
+
+
 def _decoded(text: Any, what: str) -> bytes:
     if not isinstance(text, str):
         raise ValueTypeError(f"{what} must be base64 text, got {type(text).__name__}")
@@ -49,6 +78,10 @@ def coerce_bytes(value: Any) -> bytes:
     """``bytes`` from bytes (or a bytearray, a memoryview) or {"$bytes": base64}."""
     if isinstance(value, (bytes, bytearray, memoryview)):
         return bytes(value)
+    if isinstance(value, BlobRef) and value.dtype == BYTES:
+        return value  # a replica's value not fetched yet
+    if isinstance(value, list):  # a byte vector (CORTEX files)
+        return _byte_list(value, "bytes")
     if isinstance(value, dict) and set(value) == {"$bytes"}:
         return _decoded(value["$bytes"], '"$bytes"')
     raise ValueTypeError(
@@ -62,12 +95,23 @@ def array_coercer(type_name: str):
     element, dtype = ARRAYS[type_name]
 
     def check(value: Any) -> np.ndarray:
+        if isinstance(value, BlobRef):
+            if value.dtype != element:
+                raise ValueTypeError(f"expected an array of {element}, got {value.dtype!r}")
+            return value  # a replica's value not fetched yet
         if isinstance(value, np.ndarray):
             if value.dtype.kind != dtype.kind or value.dtype.itemsize != dtype.itemsize:
                 raise ValueTypeError(f"expected an array of {element}, got {value.dtype}")
             # little-endian, C order; a caller's writable array is copied, never shared
             copy = True if value.flags.writeable else None
             array = np.array(value, dtype=dtype, order="C", copy=copy)
+        elif isinstance(value, list):  # a byte vector of the array's bytes (CORTEX files)
+            data = _byte_list(value, element)
+            if len(data) % dtype.itemsize:
+                raise ValueTypeError(
+                    f"{len(data)} bytes are not a whole number of {element} ({dtype.itemsize} each)"
+                )
+            array = np.frombuffer(data, dtype=dtype)
         elif isinstance(value, dict) and set(value) == {"$array", "dtype", "shape"}:
             if value["dtype"] != element:
                 raise ValueTypeError(f"expected an array of {element}, got {value['dtype']!r}")
@@ -95,6 +139,12 @@ def array_coercer(type_name: str):
     return check
 
 
+def _byte_list(value: list, element: str) -> bytes:
+    if not all(isinstance(v, int) and not isinstance(v, bool) and 0 <= v <= 255 for v in value):
+        raise ValueTypeError(f"a list given for an array of {element} must hold bytes (0..255)")
+    return bytes(value)
+
+
 def _shape(value: Any) -> tuple[int, ...]:
     if (
         not isinstance(value, list)
@@ -114,7 +164,7 @@ def _short(value: Any) -> str:
 
 
 def is_binary(value: Any) -> bool:
-    return isinstance(value, (bytes, np.ndarray))
+    return isinstance(value, (bytes, np.ndarray, BlobRef))
 
 
 def size_of(value: Any) -> int:
@@ -123,6 +173,8 @@ def size_of(value: Any) -> int:
         return len(value)
     if isinstance(value, np.ndarray):
         return int(value.nbytes)
+    if isinstance(value, BlobRef):
+        return value.size
     return 0
 
 
@@ -152,6 +204,8 @@ def to_json_value(value: Any) -> Any:
             "dtype": ELEMENT_OF[value.dtype],
             "shape": list(value.shape),
         }
+    if isinstance(value, BlobRef):
+        return value.to_json()
     raise TypeError(f"{type(value).__name__} is not a DSR value")
 
 
@@ -176,6 +230,9 @@ def short_text(value: Any) -> str:
         return f"<{element} {'x'.join(map(str, value.shape))}>"
     if isinstance(value, bytes):
         return f"<{len(value)} bytes>"
+    if isinstance(value, BlobRef):
+        shape = "x".join(map(str, value.shape)) if value.shape is not None else ""
+        return f"<{value.dtype} {shape or value.size}, not fetched>"
     if isinstance(value, dict) and ("$bytes" in value or "$array" in value):
         if "$array" in value and isinstance(value.get("shape"), list):
             return f"<{value.get('dtype')} {'x'.join(map(str, value['shape']))}>"

@@ -13,17 +13,18 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any
 
-from dsr_graph.exceptions import TransactionRejected, Violation
+from dsr_graph.exceptions import MissingBlob, TransactionRejected, ValueTypeError, Violation
 from dsr_graph.formats import dsr_json, safe_json, units
 from dsr_graph.model.binary import declared_size
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.transaction import apply_ops, parse_transaction
+from dsr_graph.protocol.blobs import resolve
 from dsr_graph.protocol.volatility import VOLATILE, only_volatile, without_absent_volatile
 
 SERVER_AGENT = "dsr_server"
@@ -110,11 +111,19 @@ class ServerCore:
         self.accepted_ids: OrderedDict[str, int] = OrderedDict()
 
     # ------------------------------------------------------------------ requests
-    def submit(self, text: str, now: float | None = None, sender: str | None = None) -> Any:
+    def submit(
+        self,
+        text: str,
+        now: float | None = None,
+        sender: str | None = None,
+        blobs: Callable[[str], bytes | None] = lambda digest: None,
+    ) -> Any:
         """A delta (dict) if the request was accepted, else a ``Rejection``. Never raises for
         bad input: anything a client can send ends in one of the two. ``sender``: the node the
         ROS graph shows sent it (the server's), which the delta names; None only where no
-        middleware is involved (pure tests), and then the request's own ``agent`` is taken."""
+        middleware is involved (pure tests), and then the request's own ``agent`` is taken.
+        ``blobs``: the bytes of the binary values the request references (protocol/blobs.py)
+        by digest, None for one that has not come."""
         now = time.time() if now is None else now
         ident, agent = "", sender or ""
         try:
@@ -123,6 +132,7 @@ class ServerCore:
             if isinstance(doc, dict):
                 if sender is None:
                     agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
+                doc = _with_blobs(doc, blobs)
             return self.submit_doc(doc, now, sender)
         except Duplicate as e:
             return Rejection(ident, agent, e.violation, duplicate_of=e.seq)
@@ -370,6 +380,16 @@ class ServerCore:
         for ident, accepted_at in doc.get("accepted_ids", []):
             core._remember(ident, accepted_at)
         return core
+
+
+def _with_blobs(doc: dict[str, Any], blobs: Callable[[str], bytes | None]) -> dict[str, Any]:
+    """The request with its blob references replaced by their values, or its rejection."""
+    try:
+        return resolve(doc, blobs)
+    except MissingBlob as e:
+        raise TransactionRejected(Violation("blob-missing", f"blob {e.digest}", str(e))) from None
+    except ValueTypeError as e:
+        raise TransactionRejected(Violation("malformed", "blob reference", str(e))) from None
 
 
 def _id_of(doc: Any) -> str:

@@ -19,6 +19,9 @@ _UNSAFE_RUN = re.compile(r"[^A-Za-z0-9]+")
 # Relative names (they resolve in the node's namespace and can be remapped).
 TRANSACTIONS = "dsr/transactions"  # + /<node name>: std_msgs/String, JSON requests -> server
 DELTAS = "dsr/deltas"  # std_msgs/String, JSON accepted deltas, in seq order <- server
+# dsr_msgs/Blob: the bytes of large binary values the JSON references (protocol/blobs.py): from
+# the server beside its deltas; + /<node name>: from an agent beside its requests
+BLOBS = "dsr/blobs"
 REJECTIONS = "dsr/rejections"  # std_msgs/String, JSON {id, agent, reason, error} <- server
 ALARMS = "dsr/alarms"  # std_msgs/String, JSON {kind, topic, intruders, message} <- server
 HEARTBEAT = "dsr/heartbeat"  # std_msgs/String, JSON {seq, stamp} every second <- server

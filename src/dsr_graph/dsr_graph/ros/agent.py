@@ -9,9 +9,10 @@ to send transactions and hear whether they were accepted.
 Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a node and fails
 with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
 
-Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat. Publishers: dsr/transactions/<node
-name> (protocol/identity.py), dsr/alarms (a message the server did not sign, at most one per
-topic every 5 s).
+Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, and dsr/blobs with ``blobs=True``.
+Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/blobs/<node name> (the
+bytes of the large binary values its requests reference, protocol/blobs.py), dsr/alarms (a
+message the server did not sign, at most one per topic every 5 s).
 
 With DSR_KEYSTORE (protocol/security.py) the agent signs its requests with its node's key, and
 reads the deltas, rejections, heartbeats and snapshots only when the server's key signed them:
@@ -34,15 +35,20 @@ from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
+from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text, resolve
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.protocol.volatility import is_volatile
+from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.json_topics import READING_ERRORS
-from dsr_graph.ros.qos import qos_latched, qos_requests, qos_stream
+from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_requests, qos_stream
+from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetSnapshot
 
+AGENT_BLOB_BYTES = 64 * 1024 * 1024  # binary values' bytes an agent keeps, newest first
+BLOB_PATIENCE = 0.5  # seconds a delta waits for its binary values' bytes (then: a BlobRef)
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
@@ -57,8 +63,13 @@ Listener = Callable[
 
 
 class DsrAgent:
-    def __init__(self, vocabulary: Vocabulary | None = None):
+    def __init__(self, vocabulary: Vocabulary | None = None, blobs: bool = False):
+        """``blobs``: receive the bytes of large binary values (camera images) as they change;
+        without, the replica holds such a value as a ``BlobRef`` (its digest, type and shape)."""
         self.replica = Replica(vocabulary)
+        self.wants_blobs = blobs
+        self.blobs = BlobCache(AGENT_BLOB_BYTES)
+        self._held: list[tuple[float, dict[str, Any], set[str]]] = []  # deltas awaiting blobs
         self.node = None
         self.name = ""
         self._listeners: list[Listener] = []
@@ -98,6 +109,12 @@ class DsrAgent:
         self._alarm_pub = node.create_publisher(String, topic_names.ALARMS, qos_stream())
         # a request topic of our own: the server knows who we are from the ROS graph
         self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_requests())
+        self._blob_pub = node.create_publisher(
+            Blob, f"{topic_names.BLOBS}/{node.get_name()}", qos_blobs()
+        )
+        if self.wants_blobs:  # subscribed before the deltas: a blob is taken before its delta
+            self._blob_inbox = BlobInbox(node, self.blobs, on_blob=lambda d: self._apply_held())
+            self._blob_inbox.listen(topic_names.BLOBS)
         self._delta_sub = node.create_subscription(
             String, topic_names.DELTAS, self._on_delta, qos_stream()
         )
@@ -149,10 +166,12 @@ class DsrAgent:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         doc.setdefault("id", self.next_id())
+        # large binary values go beside the request, as bytes; the JSON names their digests
+        doc, blobs = extract(doc)
         text = self.security.sign(topic_names.TRANSACTIONS, dumps(doc))
         self._pending[doc["id"]] = on_done
-        self._unanswered[doc["id"]] = (text, time.monotonic())
-        self._outbox.append(text)
+        self._unanswered[doc["id"]] = (text, time.monotonic(), blobs)
+        self._outbox.append((text, blobs))
         self._flush_outbox()
         return doc["id"]
 
@@ -160,15 +179,17 @@ class DsrAgent:
         """Requests whose verdict has not come (lost to a server that died, or not heard): send
         them again with the same id; the server applies each once and answers the rest."""
         now = time.monotonic()
-        for ident, (text, sent) in list(self._unanswered.items()):
+        for ident, (text, sent, blobs) in list(self._unanswered.items()):
             if now - sent >= older_than:
-                self._unanswered[ident] = (text, now)
-                self._outbox.append(text)
+                self._unanswered[ident] = (text, now, blobs)
+                self._outbox.append((text, blobs))
 
     def _flush_outbox(self) -> None:
         # A request published before the server's subscription is matched would be lost.
         if self._outbox and self._tx_pub.get_subscription_count() > 0:
-            for text in self._outbox:
+            for text, blobs in self._outbox:
+                for digest, data in blobs.items():  # the bytes first: the server holds for them
+                    self._blob_pub.publish(blob_message(digest, data))
                 self._tx_pub.publish(String(data=text))
             self._outbox.clear()
 
@@ -197,7 +218,30 @@ class DsrAgent:
             return
         try:
             delta = loads_object(text, None)
-            applied = self.replica.receive(delta)
+        except READING_ERRORS as e:
+            self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
+            return
+        digests = refs_in_text(text) if self.wants_blobs else set()
+        if self._held or any(d not in self.blobs for d in digests):
+            self._held.append((time.monotonic(), delta, digests))  # in order, behind its bytes
+            self._apply_held()
+        else:
+            self._apply(delta)
+
+    def _apply_held(self) -> None:
+        """Deltas held for the bytes of their binary values, in order, as the bytes come (or
+        without them, once BLOB_PATIENCE is over: the value is then a BlobRef)."""
+        now = time.monotonic()
+        while self._held:
+            since, delta, digests = self._held[0]
+            if any(d not in self.blobs for d in digests) and now - since < BLOB_PATIENCE:
+                return
+            self._held.pop(0)
+            self._apply(delta)
+
+    def _apply(self, delta: dict[str, Any]) -> None:
+        try:
+            applied = self.replica.receive(resolve(delta, self.blobs.get, lazy=True))
         except READING_ERRORS as e:
             self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
             return
@@ -291,6 +335,7 @@ class DsrAgent:
 
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
+        self._apply_held()
         self._send_again(older_than=RESEND_AFTER)
         self._flush_outbox()
         now = time.monotonic()

@@ -62,6 +62,21 @@ def qos_every_frame(depth: int) -> QoSProfile:
     )
 
 
+BLOB_DEPTH = 8  # blobs a side holds for a slow reader: a camera's quarter second at 30 Hz
+
+
+def qos_blobs() -> QoSProfile:
+    """Binary values beside the deltas (dsr/blobs): reliable like the stream they go with, but
+    shallow, since each may be megabytes; one a slow reader misses leaves its value unfetched
+    (a volatile one is replaced by the next frame anyway)."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=BLOB_DEPTH,
+        reliability=ReliabilityPolicy.RELIABLE,
+        durability=DurabilityPolicy.VOLATILE,
+    )
+
+
 def qos_latched() -> QoSProfile:
     """State (poses, heartbeat): the last value reaches late joiners."""
     return QoSProfile(

@@ -21,7 +21,8 @@ from dsr_graph.ros.qos import qos_presence, qos_stream
 MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
 # seconds requests wait while the verdict is pending (a publisher's node not known yet, or the
-# ghost of a killed node, listed until its DDS lease, 2 s in dsr_graph/config, runs out)
+# ghost of a killed node, listed until its DDS lease, 2 s in dsr_graph/config, runs out), or
+# while the bytes of binary values they reference are on their way
 HOLD = 3.0
 STRING = "std_msgs/msg/String"
 
@@ -37,8 +38,10 @@ class RequestTopics:
         discovery_period: float = 0.2,
         on_presence: Callable[[], None] = lambda: None,
         trust_graph: bool = True,
+        ready: Callable[[str], bool] = lambda text: True,
     ):
         self.node = node
+        self.ready = ready  # False: the request waits for what it needs (its binary values)
         self.trust_graph = trust_graph  # False: requests are signed, no verdict is waited for
         self.signers: dict[str, str] = {}  # topic -> the agent whose signed requests came on it
         self.on_batch = on_batch
@@ -53,7 +56,7 @@ class RequestTopics:
         self._subscribe(self.shared, None)
         self.discover()
         node.create_timer(discovery_period, self.discover)
-        node.create_timer(0.05, self._release_held)
+        node.create_timer(0.05, self.release_held)
 
     @property
     def topics(self) -> list[str]:
@@ -114,17 +117,19 @@ class RequestTopics:
         self._deliver(topic, texts, time.monotonic())
 
     def _deliver(self, topic: str, texts: list[str], since: float) -> None:
-        if not self.trust_graph:
-            self.on_batch(texts, NO_VERDICT, topic)
+        patient = time.monotonic() - since < HOLD
+        if patient and not all(self.ready(text) for text in texts):
+            self._held[topic] = (since, texts)
             return
-        verdict = self.sender(topic)
-        if verdict.pending and time.monotonic() - since < HOLD:
+        verdict = self.sender(topic) if self.trust_graph else NO_VERDICT
+        if verdict.pending and patient:
             self._held[topic] = (since, texts)
             return
         self._held.pop(topic, None)
         self.on_batch(texts, verdict, topic)
 
-    def _release_held(self) -> None:
+    def release_held(self) -> None:
+        """Held requests whose wait is over go on (called as what they wait for arrives)."""
         for topic, (since, texts) in list(self._held.items()):
             self._deliver(topic, texts, since)
 

@@ -67,6 +67,7 @@ from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
+from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
 from dsr_graph.protocol.security import ENFORCE, OFF, Security
@@ -82,15 +83,18 @@ from dsr_graph.protocol.server_core import (
 from dsr_graph.protocol.signing import Verified
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
 from dsr_graph.protocol.volatility import is_volatile
+from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.marker_messages import marker_array
 from dsr_graph.ros.parameters import declare, float_param, param
-from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_stream
 from dsr_graph.ros.request_topics import RequestTopics
 from dsr_graph.ros.tf_publisher import TfPublisher
+from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
 
 ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same topic
+BLOB_CACHE_BYTES = 256 * 1024 * 1024  # binary values' bytes the server keeps, newest first
 MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable, and costly)
 
 
@@ -300,6 +304,10 @@ class DsrServer(DsrNode):
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
         self._alarms = self.create_publisher(String, topic_names.ALARMS, qos_stream())
+        # large binary values travel beside the JSON (protocol/blobs.py): what the agents send,
+        # kept until their requests take it, and what the deltas carry out
+        self.blobs = BlobCache(BLOB_CACHE_BYTES)
+        self._blob_pub = self.create_publisher(Blob, topic_names.BLOBS, qos_blobs())
         self.requests = RequestTopics(
             self,
             self.on_requests,
@@ -307,7 +315,16 @@ class DsrServer(DsrNode):
             # signed requests prove their sender: the ROS graph's word is not needed (nor held
             # for: a participant found again after a cut may come back without its name)
             trust_graph=self.security.mode != ENFORCE,
+            # a request is held (a few seconds at most) until the bytes it references came
+            ready=lambda text: all(d in self.blobs for d in refs_in_text(text)),
         )
+        self.blob_inbox = BlobInbox(
+            self,
+            self.blobs,
+            on_blob=lambda digest: self.requests.release_held(),
+            max_bytes=self.core.max_value_bytes,
+        )
+        self.blob_inbox.listen_to_agents()
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
@@ -376,7 +393,7 @@ class DsrServer(DsrNode):
                 if agent is None:
                     result = self.core.unattributed(payload, refusal)
                 else:
-                    result = self.core.submit(payload, sender=agent)
+                    result = self.core.submit(payload, sender=agent, blobs=self.blobs.get)
             except Exception as e:  # a bug must not take the server down with it
                 self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
                 continue
@@ -448,7 +465,11 @@ class DsrServer(DsrNode):
             )
             raise SystemExit(3) from e
         for delta in deltas:
-            self._publish(self._deltas, topic_names.DELTAS, delta)
+            doc, blobs = extract(delta, known=self.blobs.digest_of_kept)
+            for digest, data in blobs.items():  # the bytes first: a reader holds the delta
+                self.blobs.put(digest, data, verified=True)
+                self._blob_pub.publish(blob_message(digest, data))
+            self._publish(self._deltas, topic_names.DELTAS, doc)
             self._tf.on_delta(self.core.graph, delta)
             if self._publish_poses:
                 for name in moved_nodes(delta):

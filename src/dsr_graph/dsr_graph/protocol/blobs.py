@@ -1,0 +1,194 @@
+"""Binary values beside the JSON (pure): a request or a delta carries each large binary value
+(a camera image) as a reference, ``{"$blob": "sha256:<hex>", "dtype", "shape", "size"}``, and
+its bytes travel apart, as CDR on a blob topic (``dsr_msgs/msg/Blob``: the digest and the
+bytes), never as JSON text. The digest in the (signed) JSON is what binds the bytes: bytes
+that do not hash to it are nobody's.
+
+    doc, blobs = extract(delta)               # the JSON to send, {digest: bytes} to send beside
+    cache.put(digest, data)                   # as blobs arrive (False: not what they claim)
+    doc = resolve(doc, cache.get)             # the server: MissingBlob if one has not come
+    doc = resolve(doc, cache.get, lazy=True)  # a replica: a BlobRef where one has not come
+
+Values under ``INLINE_MAX`` bytes stay inline (base64, ``binary.py``): a blob's own message
+costs more than they do.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import re
+from collections import OrderedDict
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from dsr_graph.exceptions import MissingBlob, ValueTypeError
+from dsr_graph.model.binary import ARRAYS, BYTES, ELEMENT_OF, ITEMSIZE_OF, BlobRef, _shape
+
+REF = "$blob"
+INLINE_MAX = 16 * 1024  # bytes: a binary value this big or bigger travels as a blob
+DIGEST = re.compile(r"sha256:[0-9a-f]{64}")
+DTYPES = {element: dtype for element, dtype in ARRAYS.values()}
+_REF_IN_TEXT = re.compile(r'"\$blob"\s*:\s*"(sha256:[0-9a-f]{64})"')
+
+
+def digest_of(data: bytes | memoryview) -> str:
+    return "sha256:" + hashlib.sha256(data).hexdigest()
+
+
+def _payload(value: Any) -> tuple[bytes, str, tuple[int, ...] | None] | None:
+    """(bytes, dtype, shape) of a binary value worth a blob; None: it stays inline."""
+    if isinstance(value, (bytes, bytearray, memoryview)):
+        return (bytes(value), BYTES, None) if len(value) >= INLINE_MAX else None
+    if isinstance(value, np.ndarray) and value.nbytes >= INLINE_MAX:
+        element = ELEMENT_OF.get(value.dtype.newbyteorder("<")) or ELEMENT_OF.get(value.dtype)
+        if element is None:
+            return None  # not a DSR array type: left for the coercer to refuse by name
+        if isinstance(value.base, bytes) and value.base is not None and value.flags.c_contiguous:
+            if len(value.base) == value.nbytes and value.dtype == DTYPES[element]:
+                return value.base, element, tuple(value.shape)  # made from a blob: its bytes
+        little = np.ascontiguousarray(value, dtype=DTYPES[element])
+        return little.tobytes(), element, tuple(value.shape)
+    return None
+
+
+def extract(
+    doc: dict[str, Any], known: Callable[[bytes], str | None] = lambda data: None
+) -> tuple[dict[str, Any], dict[str, bytes]]:
+    """``doc`` (a request or a delta) with each large binary value of its ops' ``attrs``
+    replaced by its reference, and the bytes by digest. ``doc`` itself is not changed.
+    ``known``: the digest of bytes already hashed (a value made from a blob), else None."""
+    blobs: dict[str, bytes] = {}
+    ops = doc.get("ops")
+    if not isinstance(ops, list):
+        return doc, blobs
+    out_ops = []
+    for op in ops:
+        attrs = op.get("attrs") if isinstance(op, dict) else None
+        if not isinstance(attrs, dict):
+            out_ops.append(op)
+            continue
+        new_attrs = None
+        for name, value in attrs.items():
+            payload = _payload(value)
+            if payload is None:
+                continue
+            data, dtype, shape = payload
+            digest = known(data) or digest_of(data)
+            blobs[digest] = data
+            new_attrs = dict(attrs) if new_attrs is None else new_attrs
+            new_attrs[name] = BlobRef(digest, dtype, shape, len(data)).to_json()
+        out_ops.append(op if new_attrs is None else {**op, "attrs": new_attrs})
+    return ({**doc, "ops": out_ops}, blobs) if blobs else (doc, blobs)
+
+
+def refs_in_text(text: str) -> set[str]:
+    """The digests a request's or a delta's JSON text references (before it is parsed)."""
+    return set(_REF_IN_TEXT.findall(text)) if REF in text else set()
+
+
+def _ref(value: Any) -> BlobRef:
+    """A reference as JSON gives it, checked: every field named when wrong."""
+    digest, dtype, size = value.get(REF), value.get("dtype"), value.get("size")
+    if not isinstance(digest, str) or not DIGEST.fullmatch(digest):
+        raise ValueTypeError(f'"{REF}" must be "sha256:" and 64 hex digits, got {digest!r}')
+    if dtype != BYTES and dtype not in ITEMSIZE_OF:
+        raise ValueTypeError(f"a blob's dtype is bytes or one of {sorted(ITEMSIZE_OF)}: {dtype!r}")
+    if not isinstance(size, int) or isinstance(size, bool) or size < 0:
+        raise ValueTypeError(f"a blob's size is a number of bytes, got {size!r}")
+    shape = None
+    if dtype != BYTES:
+        shape = _shape(value.get("shape"))
+        if math.prod(shape) * ITEMSIZE_OF[dtype] != size:
+            raise ValueTypeError(f"a blob of shape {list(shape)} of {dtype} is not {size} bytes")
+    extra = set(value) - {REF, "dtype", "size", "shape"}
+    if extra:
+        raise ValueTypeError(f"unknown key(s) in a blob reference: {', '.join(sorted(extra))}")
+    return BlobRef(digest, dtype, shape, size)
+
+
+def _value(ref: BlobRef, data: bytes) -> Any:
+    if len(data) != ref.size:
+        raise ValueTypeError(f"the binary value {ref.digest} is {len(data)} bytes, not {ref.size}")
+    if ref.dtype == BYTES:
+        return data
+    array = np.frombuffer(data, dtype=DTYPES[ref.dtype]).reshape(ref.shape)
+    return array  # read-only: frombuffer over bytes
+
+
+def resolve(
+    doc: dict[str, Any], lookup: Callable[[str], bytes | None], lazy: bool = False
+) -> dict[str, Any]:
+    """``doc`` with each reference in its ops' ``attrs`` replaced by its value (bytes or a
+    read-only array). A reference whose bytes ``lookup`` does not have: ``MissingBlob``, or with
+    ``lazy`` a ``BlobRef`` (a replica fetches it when it is read). A malformed reference:
+    ``ValueTypeError``."""
+    ops = doc.get("ops")
+    if not isinstance(ops, list):
+        return doc
+    out_ops, changed = [], False
+    for op in ops:
+        attrs = op.get("attrs") if isinstance(op, dict) else None
+        if not isinstance(attrs, dict) or not any(
+            isinstance(v, dict) and REF in v for v in attrs.values()
+        ):
+            out_ops.append(op)
+            continue
+        new_attrs = dict(attrs)
+        for name, value in attrs.items():
+            if not (isinstance(value, dict) and REF in value):
+                continue
+            ref = _ref(value)
+            data = lookup(ref.digest)
+            if data is None:
+                if not lazy:
+                    raise MissingBlob(ref.digest)
+                new_attrs[name] = ref
+            else:
+                new_attrs[name] = _value(ref, data)
+        out_ops.append({**op, "attrs": new_attrs})
+        changed = True
+    return {**doc, "ops": out_ops} if changed else doc
+
+
+class BlobCache:
+    """Blobs by digest, the newest kept up to ``max_bytes`` in all (the oldest go first)."""
+
+    def __init__(self, max_bytes: int = 256 * 1024 * 1024):
+        self.max_bytes = max_bytes
+        self.bytes = 0
+        self._blobs: OrderedDict[str, bytes] = OrderedDict()
+        self._digests: dict[int, str] = {}  # id of the bytes kept -> their digest
+
+    def put(self, digest: str, data: bytes, verified: bool = False) -> bool:
+        """Keep ``data`` under ``digest`` if it hashes to it (``verified``: hashed already);
+        False, and nothing kept, if it does not."""
+        if not verified and (not DIGEST.fullmatch(digest) or digest_of(data) != digest):
+            return False
+        if digest in self._blobs:
+            self._blobs.move_to_end(digest)
+            return True
+        self._blobs[digest] = data
+        self._digests[id(data)] = digest
+        self.bytes += len(data)
+        while self.bytes > self.max_bytes and len(self._blobs) > 1:
+            _, old = self._blobs.popitem(last=False)
+            del self._digests[id(old)]
+            self.bytes -= len(old)
+        return True
+
+    def get(self, digest: str) -> bytes | None:
+        return self._blobs.get(digest)
+
+    def digest_of_kept(self, data: bytes) -> str | None:
+        """The digest of ``data`` if it is the very bytes kept under it (no hashing again)."""
+        digest = self._digests.get(id(data))
+        return digest if digest is not None and self._blobs.get(digest) is data else None
+
+    def __contains__(self, digest: str) -> bool:
+        return digest in self._blobs
+
+    def __len__(self) -> int:
+        return len(self._blobs)

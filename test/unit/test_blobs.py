@@ -1,0 +1,183 @@
+"""Large binary values beside the JSON (protocol/blobs.py): a request's or a delta's values of
+16 KiB and more become references by digest, their bytes carried apart; the server takes a
+request only with every byte it references (a missing or malformed reference is refused, by
+name), a replica without the bytes holds a BlobRef; bytes that do not hash to their digest are
+nobody's; CORTEX's byte vectors load into, and are written from, the binary types."""
+
+import json
+
+import numpy as np
+import pytest
+
+from dsr_graph.exceptions import MissingBlob, ValueTypeError
+from dsr_graph.formats.cortex import from_cortex, to_cortex
+from dsr_graph.model.binary import BlobRef, array_coercer, dumps, short_text
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.vocabulary import Vocabulary
+from dsr_graph.protocol.blobs import (
+    INLINE_MAX,
+    BlobCache,
+    digest_of,
+    extract,
+    refs_in_text,
+    resolve,
+)
+from dsr_graph.protocol.replica import Replica
+from dsr_graph.protocol.server_core import Rejection, ServerCore
+
+RGB = np.random.default_rng(3).integers(0, 256, (480, 640, 3), dtype=np.uint8)
+DEPTH = np.full((480, 640), 1.25, dtype=np.float32)
+
+
+def camera_core() -> ServerCore:
+    core = ServerCore(Graph(Vocabulary.default()))
+    insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
+    assert not isinstance(core.submit(dumps({"ops": [insert]})), Rejection)
+    return core
+
+
+def frame(rgb=RGB, depth=DEPTH, **more) -> dict:
+    attrs = {"cam_rgb": rgb, "cam_depth": depth, **more}
+    return {"agent": "/camera", "ops": [{"op": "set_node_attrs", "node": "kinect", "attrs": attrs}]}
+
+
+def test_large_values_become_references_and_small_ones_stay_inline():
+    doc, blobs = extract(frame(cam_rgb_width=640))
+    attrs = doc["ops"][0]["attrs"]
+    assert attrs["cam_rgb"] == {
+        "$blob": digest_of(RGB.tobytes()),
+        "dtype": "uint8",
+        "size": RGB.nbytes,
+        "shape": [480, 640, 3],
+    }
+    assert attrs["cam_rgb_width"] == 640 and set(blobs) == {
+        attrs["cam_rgb"]["$blob"],
+        attrs["cam_depth"]["$blob"],
+    }
+    text = dumps(doc)
+    assert len(text) < 1000  # the JSON names the bytes, it does not carry them
+    assert refs_in_text(text) == set(blobs)
+    small = np.zeros(INLINE_MAX // 2, dtype=np.uint8)
+    doc, blobs = extract(frame(rgb=small))
+    assert isinstance(doc["ops"][0]["attrs"]["cam_rgb"], np.ndarray) and len(blobs) == 1
+    assert extract({"ops": [{"op": "delete_node", "node": "x"}]})[1] == {}
+
+
+def test_the_server_takes_a_request_with_its_bytes_and_the_delta_goes_out_as_references():
+    core = camera_core()
+    doc, blobs = extract(frame())
+    cache = BlobCache()
+    for digest, data in blobs.items():
+        assert cache.put(digest, data)
+    delta = core.submit(dumps(doc), sender="/camera", blobs=cache.get)
+    assert not isinstance(delta, Rejection), delta
+    stored = core.graph.node("kinect").attrs
+    assert np.array_equal(stored["cam_rgb"], RGB) and stored["cam_depth"].dtype == np.float32
+    assert delta.get("volatile")  # camera images are sensor data: never journalled
+    out, sent = extract(delta, known=cache.digest_of_kept)
+    assert set(sent) == set(blobs)  # the same bytes, not hashed again
+    replica = Replica(Vocabulary.default())
+    replica.load_snapshot(json.loads(dumps(camera_core().snapshot())))
+    replica.receive(resolve(json.loads(dumps(out)), cache.get, lazy=True))
+    assert np.array_equal(replica.graph.node("kinect").attrs["cam_rgb"], RGB)
+
+
+def test_a_request_whose_bytes_never_came_is_refused_naming_the_digest_and_changes_nothing():
+    core = camera_core()
+    doc, blobs = extract(frame())
+    before = core.snapshot()
+    rejection = core.submit(dumps(doc), sender="/camera", blobs=lambda d: None)
+    assert isinstance(rejection, Rejection) and rejection.violation.rule == "blob-missing"
+    assert next(iter(blobs))[:20] in str(rejection.violation) or any(
+        d in rejection.violation.element for d in blobs
+    )
+    assert core.snapshot() == before
+
+
+@pytest.mark.parametrize(
+    "ref, error",
+    [
+        ({"$blob": "md5:abc", "dtype": "uint8", "size": 3, "shape": [3]}, "sha256:"),
+        ({"$blob": "sha256:" + "0" * 64, "dtype": "int64", "size": 8, "shape": [1]}, "dtype"),
+        ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": 5, "shape": [3]}, "not 5"),
+        ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": -1, "shape": [3]}, "size"),
+        ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": 3, "shape": [3], "x": 1}, "x"),
+    ],
+)
+def test_a_malformed_reference_is_refused_by_name(ref, error):
+    core = camera_core()
+    doc = {"ops": [{"op": "set_node_attrs", "node": "kinect", "attrs": {"cam_rgb": ref}}]}
+    rejection = core.submit(json.dumps(doc), sender="/camera", blobs=lambda d: b"\0\0\0")
+    assert isinstance(rejection, Rejection) and rejection.violation.rule == "malformed"
+    assert error in rejection.violation.message
+
+
+def test_bytes_of_another_length_than_the_reference_are_refused():
+    core = camera_core()
+    doc, blobs = extract(frame())
+    rejection = core.submit(dumps(doc), sender="/camera", blobs=lambda d: b"short")
+    assert isinstance(rejection, Rejection) and "not" in rejection.violation.message
+
+
+def test_bytes_that_do_not_hash_to_their_digest_are_not_kept():
+    cache = BlobCache()
+    data = RGB.tobytes()
+    assert not cache.put(digest_of(b"something else"), data)
+    assert not cache.put("sha256:nothex", data)
+    assert cache.put(digest_of(data), data) and digest_of(data) in cache
+
+
+def test_the_cache_keeps_the_newest_within_its_bytes():
+    cache = BlobCache(max_bytes=3 * 1000)
+    blobs = [bytes([k]) * 1000 for k in range(5)]
+    for data in blobs:
+        cache.put(digest_of(data), data)
+    assert [digest_of(b) in cache for b in blobs] == [False, False, True, True, True]
+    assert cache.bytes == 3000 and cache.digest_of_kept(blobs[4]) == digest_of(blobs[4])
+    assert cache.digest_of_kept(bytes(blobs[4])) is None or bytes(blobs[4]) is blobs[4]
+
+
+def test_a_replica_without_the_bytes_holds_a_reference_it_can_name():
+    doc, _ = extract(frame())
+    resolved = resolve(doc, lambda d: None, lazy=True)
+    ref = resolved["ops"][0]["attrs"]["cam_rgb"]
+    assert isinstance(ref, BlobRef) and ref.shape == (480, 640, 3) and ref.size == RGB.nbytes
+    assert short_text(ref) == "<uint8 480x640x3, not fetched>"
+    with pytest.raises(MissingBlob, match="did not come"):
+        resolve(doc, lambda d: None)
+    replica = Replica(Vocabulary.default())
+    replica.load_snapshot(json.loads(dumps(camera_core().snapshot())))
+    delta = {"seq": 2, "id": "x", "agent": "/camera", **resolved}
+    replica.receive(delta)
+    assert replica.graph.node("kinect").attrs["cam_rgb"] == ref
+    with pytest.raises(ValueTypeError, match="uint16"):
+        array_coercer("uint16_array")(ref)  # a reference is only good for its own type
+
+
+def test_cortex_byte_vectors_load_as_binary_values_and_are_written_back():
+    cortex = {
+        "DSRModel": {
+            "symbols": {
+                "1": {
+                    "id": 1,
+                    "name": "camera",
+                    "type": "rgbd",
+                    "attribute": {
+                        "cam_rgb": {"type": 5, "value": [1, 2, 3, 4, 5, 6]},
+                        "cam_depth": {"type": 5, "value": []},
+                    },
+                    "links": [],
+                }
+            }
+        }
+    }
+    graph, violations = from_cortex(cortex)
+    assert violations == []
+    attrs = graph.node("camera").attrs
+    assert attrs["cam_rgb"].tolist() == [1, 2, 3, 4, 5, 6] and attrs["cam_depth"].size == 0
+    back = to_cortex(graph)["DSRModel"]["symbols"]["1"]["attribute"]
+    assert back["cam_rgb"] == {"type": 5, "value": [1, 2, 3, 4, 5, 6]}
+    with pytest.raises(ValueTypeError, match="bytes"):
+        array_coercer("uint8_array")([1, 300])
+    with pytest.raises(ValueTypeError, match="whole number"):
+        array_coercer("float32_array")([1, 2, 3])
