@@ -1,0 +1,102 @@
+"""Large binary values through a running server (protocol/blobs.py): a camera frame written by
+one agent reaches a replica that asks for the bytes as equal arrays, while the JSON on
+dsr/deltas names them by digest (a few hundred bytes, not megabytes of base64); a replica that
+does not ask holds a BlobRef; a request whose bytes never come, or come forged, is refused by
+name and changes nothing."""
+
+import json
+
+import numpy as np
+import rclpy
+from std_msgs.msg import String
+
+from dsr_graph.model.binary import BlobRef, dumps
+from dsr_graph.protocol import topic_names
+from dsr_graph.protocol.blobs import digest_of, extract
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.blob_topics import blob_message
+from dsr_graph.ros.qos import qos_blobs, qos_stream
+from dsr_msgs.msg import Blob
+
+from ros_processes import agent_in_session, send_and_wait, wait_for
+
+RGB = np.random.default_rng(5).integers(0, 256, (480, 640, 3), dtype=np.uint8)
+DEPTH = np.linspace(0.5, 4.0, 480 * 640, dtype=np.float32).reshape(480, 640)
+
+
+def second_agent(ros, name, blobs):
+    node = rclpy.create_node(name, context=ros.session.context)
+    ros.session.executor.add_node(node)
+    agent = DsrAgent(blobs=blobs)
+    agent.setup(node, timeout_sec=15)
+    wait_for(lambda: agent.ready, 15, f"{name} to sync", ros.session)
+    return agent
+
+
+def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
+    ros.procs.start_server(ros.tmp / "state")
+    writer = agent_in_session(ros)
+    reader = second_agent(ros, "reader", blobs=True)
+    plain = second_agent(ros, "plain", blobs=False)
+    texts = []
+    ros.session.node.create_subscription(
+        String, topic_names.DELTAS, lambda m: texts.append(m.data), qos_stream()
+    )
+    insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
+    assert send_and_wait(ros, writer, {"ops": [insert]}).accepted
+    for k in range(3):  # a few frames, each told apart by its first pixel
+        rgb = RGB.copy()
+        rgb[0, 0, 0] = k
+        attrs = {"cam_rgb": rgb, "cam_depth": DEPTH}
+        op = {"op": "set_node_attrs", "node": "kinect", "attrs": attrs}
+        assert send_and_wait(ros, writer, {"ops": [op]}).accepted
+        wait_for(
+            lambda k=k: (
+                isinstance(got := reader.graph.node("kinect").attrs.get("cam_rgb"), np.ndarray)
+                and got[0, 0, 0] == k
+            ),
+            10,
+            f"frame {k} at the reader",
+            ros.session,
+        )
+    seen = reader.graph.node("kinect").attrs
+    assert np.array_equal(seen["cam_rgb"][1:], RGB[1:]) and np.array_equal(seen["cam_depth"], DEPTH)
+    wait_for(lambda: "cam_rgb" in plain.graph.node("kinect").attrs, 10, "the plain replica")
+    held = plain.graph.node("kinect").attrs["cam_rgb"]
+    assert isinstance(held, BlobRef) and held.shape == (480, 640, 3)
+    frames = [t for t in texts if "cam_rgb" in t]
+    assert len(frames) == 3 and max(len(t) for t in frames) < 4000  # no base64 megabytes
+
+
+def test_a_request_whose_bytes_never_come_or_come_forged_is_refused_by_name(ros):
+    ros.procs.start_server(ros.tmp / "state")
+    writer = agent_in_session(ros)
+    insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
+    assert send_and_wait(ros, writer, {"ops": [insert]}).accepted
+    op = {"op": "set_node_attrs", "node": "kinect", "attrs": {"cam_rgb": RGB}}
+    doc, blobs = extract({"ops": [op]})
+    [digest] = blobs
+    # the JSON alone, its bytes never published: held a few seconds, then refused
+    sent = json.loads(dumps(doc))
+    result = send_raw(ros, writer, sent)
+    assert not result.accepted and result.reason["rule"] == "blob-missing"
+    assert digest in result.error
+    # forged bytes under the digest on the writer's own blob topic: dropped by the server
+    forged = ros.session.node.create_publisher(
+        Blob, f"{topic_names.BLOBS}/{ros.session.node.get_name()}", qos_blobs()
+    )
+    wait_for(lambda: forged.get_subscription_count() > 0, 10, "the server's blob subscription")
+    other = bytes(len(blobs[digest]))
+    assert digest_of(other) != digest
+    forged.publish(blob_message(digest, other))
+    result = send_raw(ros, writer, sent)
+    assert not result.accepted and result.reason["rule"] == "blob-missing"
+    assert "cam_rgb" not in writer.graph.node("kinect").attrs
+
+
+def send_raw(ros, agent, doc):
+    """A request as its JSON only: the agent finds no binary value in it to send beside."""
+    results = []
+    agent.send(doc, results.append)
+    wait_for(lambda: results, 15, "a verdict", ros.session)
+    return results[0]
