@@ -29,6 +29,8 @@
 #                    node of the suite needs its key); default: a new one in the run's folder
 #   --security MODE  enforce (default), permissive or off (DSR_SECURITY; README "Who may do what")
 #   --viewer-token T the DSR viewer's access token (default: a new one, printed)
+#   --camera HZ      the Kinect's colour and depth cameras on (640x480, HZ images a second of
+#                    wall time), written into the DSR's kinect node by the camera agent
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -56,6 +58,7 @@ record=""
 keystore=""
 security=enforce
 viewer_token=""
+camera_hz=0
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
@@ -74,6 +77,7 @@ while [ $# -gt 0 ]; do
     --keystore) keystore=$(realpath -m "$2"); shift 2 ;;
     --security) security="$2"; shift 2 ;;
     --viewer-token) viewer_token="$2"; shift 2 ;;
+    --camera) camera_hz="$2"; shift 2 ;;
     -h|--help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {sub(/^# ?/, ""); print}' "$0"; exit 0 ;;
     *) echo "launch.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
@@ -234,7 +238,8 @@ scaled=(--ros-args -p time_scale:="$scale")
 start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
 start microphone microphone "${scaled[@]}"
 start touchscreen touchscreen
-start kinect kinect "${scaled[@]}"
+start kinect kinect "${scaled[@]}" -p camera_hz:="$camera_hz"
+[ "$camera_hz" = 0 ] || start camera camera
 start person person "${scaled[@]}"
 start gait_analyser gait_analyser "${scaled[@]}"
 start speech speech "${scaled[@]}"

@@ -24,6 +24,7 @@ setup(
             "panel = clarc_agents.nodes.panel_node:main",
             "person = clarc_agents.nodes.person_node:main",
             "gait_analyser = clarc_agents.nodes.gait_analyser_node:main",
+            "camera = clarc_agents.nodes.camera_node:main",
         ]
     },
     install_requires=["setuptools"],

@@ -1,5 +1,6 @@
 """Topic names between the CLARC agents and their devices (the stand-ins in clarc_sim, or real
-hardware drivers that speak the same JSON). Relative, so they remap. All std_msgs/String JSON."""
+hardware drivers that speak the same JSON). Relative, so they remap. std_msgs/String JSON, but
+for the camera's images."""
 
 SPEAKER_SAY = "clarc/speaker/say"  # Speech -> TTS: {"id", "text"}
 SPEAKER_STOP = "clarc/speaker/stop"  # Speech -> TTS: {"id"}
@@ -15,6 +16,11 @@ KINECT_PERSON = "clarc/kinect/person"
 # that falls behind on a busy machine (at the fast pace, 300 frames a second of wall time) gets
 # every frame late rather than loses one
 KINECT_FRAMES_KEPT = 1800
+# Kinect -> the camera agent: sensor_msgs/Image, colour (rgb8) and depth (16UC1, millimetres),
+# frame_id "kinect", stamped when taken; best effort, the latest only (a camera's readers want
+# the newest image, never a queue of old ones)
+KINECT_RGB = "clarc/kinect/rgb"
+KINECT_DEPTH = "clarc/kinect/depth"
 PELEA_EVENTS = "clarc/pelea/events"  # PELEA -> dashboards: {"event", ...}
 CGAMED_NOTIFY = "clarc/cgamed/notify"  # PELEA -> CGAmed: {"message"} for the clinician
 CGAMED_NOTIFICATIONS = (

@@ -134,6 +134,11 @@ def generate_launch_description() -> LaunchDescription:
         DeclareLaunchArgument(
             "discovery", default_value="localhost", description="localhost, or subnet (2 hosts)"
         ),
+        DeclareLaunchArgument(
+            "camera_hz",
+            default_value="0.0",
+            description="the Kinect's colour and depth images a second, into the DSR (0: off)",
+        ),
     ]
     nodes = [
         supervised(
@@ -146,7 +151,17 @@ def generate_launch_description() -> LaunchDescription:
         supervised("clarc_sim", "tts", time_scale=scale),
         supervised("clarc_sim", "microphone", time_scale=scale),
         supervised("clarc_sim", "touchscreen"),
-        supervised("clarc_sim", "kinect", time_scale=scale),
+        supervised(
+            "clarc_sim", "kinect", time_scale=scale, camera_hz=LaunchConfiguration("camera_hz")
+        ),
+        Node(
+            package="clarc_agents",
+            executable="camera",
+            respawn=True,
+            respawn_delay=RESPAWN_DELAY,
+            output="screen",
+            condition=LaunchConfigurationNotEquals("camera_hz", "0.0"),
+        ),
         supervised("clarc_agents", "person", time_scale=scale),
         supervised("clarc_agents", "gait_analyser", time_scale=scale),
         supervised("clarc_agents", "speech", time_scale=scale),

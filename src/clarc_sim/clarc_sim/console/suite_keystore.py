@@ -19,6 +19,7 @@ SIGNERS = (
     "/kinect",
     "/person",
     "/gait_analyser",
+    "/camera",
     "/speech",
     "/panel",
     "/pelea",

@@ -15,24 +15,34 @@ the patient's time, each stamped when it was captured: a stand-in held up by a b
 delivers the frames it owes late, in a burst, as a real sensor's driver does, never a hole
 (up to BACKLOG_S of the patient's time; beyond that they are gone).
 
+With ``camera_hz`` above 0 its cameras run too (``camera_images.CameraModel``): a colour and a
+depth image of ``camera_size`` every 1/camera_hz s of wall time (a camera's own rate, whatever
+the session's pace), the patient drawn where their face is.
+
 ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
 trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
 front of the Get Up & Go chair, facing the walk; default [4500, 0, -1200, pi], the CLARC room's
-gug_chair). Subscriptions: clarc/sim/patient/presence, clarc/sim/patient/trial (latched).
-Publishers: clarc/kinect/person (reliable: a Get Up & Go needs every frame).
+gug_chair), camera_hz (0: no images), camera_size ([640, 480]). Subscriptions:
+clarc/sim/patient/presence, clarc/sim/patient/trial (latched). Publishers: clarc/kinect/person
+(reliable: a Get Up & Go needs every frame), clarc/kinect/rgb and clarc/kinect/depth
+(sensor_msgs/Image, best effort).
 """
 
 from __future__ import annotations
 
+import array
 import math
 import random
 import time
 from typing import Any
 
+import numpy as np
+from sensor_msgs.msg import Image
 from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_sim import sim_topics
+from clarc_sim.devices.camera_images import CameraModel
 from clarc_sim.devices.skeleton_frames import (
     KinectModel,
     TrialPlace,
@@ -46,7 +56,7 @@ from clarc_sim.patient.skeleton_recording import placed, read
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
-from dsr_graph.ros.qos import qos_every_frame, qos_latched
+from dsr_graph.ros.qos import qos_every_frame, qos_images, qos_latched
 
 BACKLOG_S = 60.0  # seconds of the patient's time of frames a late stand-in still delivers
 
@@ -66,6 +76,21 @@ class KinectStandIn(DsrNode):
             minimum=0.1,
         )
         declare_time_scale(node)
+        declare(
+            node,
+            "camera_hz",
+            0.0,
+            "colour and depth images per second of wall time (0: the cameras are off)",
+            read_only=True,
+            minimum=0.0,
+        )
+        declare(
+            node,
+            "camera_size",
+            [640, 480],
+            "width and height of the camera images, pixels",
+            read_only=True,
+        )
         declare(
             node,
             "trial_place",
@@ -94,6 +119,17 @@ class KinectStandIn(DsrNode):
         self.create_timer(1.0 / float_param(self, "rate_hz"), self.on_frame)
         self._skeleton_timer = None  # made with the first trial: a Barthel test needs none
         self._next_capture: float | None = None  # when the sensor takes its next frame
+        if float_param(self, "camera_hz") > 0:
+            width, height = (int(v) for v in param(self, "camera_size"))
+            if not (16 <= width <= 4096 and 16 <= height <= 4096):
+                raise ValueError(
+                    f"parameter camera_size: 16 to 4096 pixels each, got {width}x{height}"
+                )
+            self._camera = CameraModel(width, height)
+            self._rgb = self.create_publisher(Image, topics.KINECT_RGB, qos_images())
+            self._depth = self.create_publisher(Image, topics.KINECT_DEPTH, qos_images())
+            self.images_taken = 0
+            self.create_timer(1.0 / float_param(self, "camera_hz"), self.on_camera)
 
     def on_presence(self, doc: dict[str, Any]) -> None:
         self.presence = {
@@ -137,6 +173,17 @@ class KinectStandIn(DsrNode):
             frame["eyes"] = self.presence["eyes"]
         publish_json(self._frames, frame)
 
+    def on_camera(self) -> None:
+        """A colour and a depth image, stamped when taken."""
+        present = self.presence["present"]
+        rgb, depth = self._camera.frame(
+            self.images_taken, self.presence["face"] if present else None
+        )
+        self.images_taken += 1
+        stamp = self.get_clock().now().to_msg()
+        self._rgb.publish(image_message(rgb, "rgb8", stamp))
+        self._depth.publish(image_message(depth, "16UC1", stamp))
+
     def on_skeleton_frame(self) -> None:
         """Every frame the sensor took since the last call, each at its capture time."""
         now = time.time()
@@ -177,6 +224,18 @@ class KinectStandIn(DsrNode):
         if far:
             frame["range_warning"] = True
         publish_json(self._frames, frame)
+
+
+def image_message(pixels: np.ndarray, encoding: str, stamp) -> Image:
+    """A sensor_msgs/Image of ``pixels`` (rows x columns [x channels]), little-endian, the
+    bytes copied once."""
+    msg = Image(encoding=encoding, height=pixels.shape[0], width=pixels.shape[1])
+    msg.header.stamp, msg.header.frame_id = stamp, "kinect"
+    msg.step = pixels.shape[1] * pixels.itemsize * (pixels.shape[2] if pixels.ndim == 3 else 1)
+    data = array.array("B")
+    data.frombytes(np.ascontiguousarray(pixels, dtype=pixels.dtype.newbyteorder("<")).data)
+    msg.data = data
+    return msg
 
 
 main = main_for(KinectStandIn)

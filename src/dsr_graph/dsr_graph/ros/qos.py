@@ -77,6 +77,17 @@ def qos_blobs() -> QoSProfile:
     )
 
 
+def qos_images() -> QoSProfile:
+    """A camera's images: best effort and the newest two, as ROS's sensor-data profile has it
+    for a reader that wants the latest image rather than every one late."""
+    return QoSProfile(
+        history=HistoryPolicy.KEEP_LAST,
+        depth=2,
+        reliability=ReliabilityPolicy.BEST_EFFORT,
+        durability=DurabilityPolicy.VOLATILE,
+    )
+
+
 def qos_latched() -> QoSProfile:
     """State (poses, heartbeat): the last value reaches late joiners."""
     return QoSProfile(
