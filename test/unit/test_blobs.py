@@ -181,3 +181,20 @@ def test_cortex_byte_vectors_load_as_binary_values_and_are_written_back():
         array_coercer("uint8_array")([1, 300])
     with pytest.raises(ValueTypeError, match="whole number"):
         array_coercer("float32_array")([1, 2, 3])
+
+
+def test_a_snapshot_carries_large_values_by_reference_and_a_joiner_resolves_them():
+    core = camera_core()
+    doc, blobs = extract(frame())
+    cache = BlobCache()
+    for digest, data in blobs.items():
+        cache.put(digest, data)
+    assert not isinstance(core.submit(dumps(doc), sender="/camera", blobs=cache.get), Rejection)
+    snapshot, sent = extract(core.snapshot(), known=cache.digest_of_kept)
+    assert set(sent) == set(blobs) and len(dumps(snapshot)) < 10_000
+    joiner = Replica(Vocabulary.default())
+    joiner.load_snapshot(resolve(json.loads(dumps(snapshot)), cache.get, lazy=True))
+    assert np.array_equal(joiner.graph.node("kinect").attrs["cam_depth"], DEPTH)
+    late = Replica(Vocabulary.default())  # without the bytes: references it can name
+    late.load_snapshot(resolve(json.loads(dumps(snapshot)), lambda d: None, lazy=True))
+    assert isinstance(late.graph.node("kinect").attrs["cam_rgb"], BlobRef)

@@ -233,7 +233,8 @@ def image_message(pixels: np.ndarray, encoding: str, stamp) -> Image:
     msg.header.stamp, msg.header.frame_id = stamp, "kinect"
     msg.step = pixels.shape[1] * pixels.itemsize * (pixels.shape[2] if pixels.ndim == 3 else 1)
     data = array.array("B")
-    data.frombytes(np.ascontiguousarray(pixels, dtype=pixels.dtype.newbyteorder("<")).data)
+    little = np.ascontiguousarray(pixels, dtype=pixels.dtype.newbyteorder("<"))
+    data.frombytes(memoryview(little).cast("B"))
     msg.data = data
     return msg
 

@@ -28,6 +28,7 @@ from mcap.stream_reader import StreamReader
 from mcap_ros2.decoder import DecoderFactory
 
 from dsr_graph.exceptions import RecordingError
+from dsr_graph.protocol.blobs import resolve
 from dsr_graph.protocol.history import History
 from dsr_graph.protocol.volatility import follows
 
@@ -148,7 +149,9 @@ def replay_history(path: str | Path, vocabulary=None) -> History:
         if kind == "snapshot":
             history.reset(doc)
         elif history.graph is not None and follows(doc, history.seq):
-            history.add(doc)
+            # a large binary value (a camera image) is held by its reference: its bytes are on
+            # dsr/blobs, which the replay does not read
+            history.add(resolve(doc, lambda digest: None, lazy=True))
         # a delta the last snapshot already holds (or one before the first snapshot) is skipped
     if history.graph is None:
         raise RecordingError(f"{path} holds no snapshot of the graph (was the DSR server up?)")

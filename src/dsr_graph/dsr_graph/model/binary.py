@@ -209,6 +209,21 @@ def to_json_value(value: Any) -> Any:
     raise TypeError(f"{type(value).__name__} is not a DSR value")
 
 
+def summary(value: Any) -> dict[str, Any]:
+    """What a binary value is, without its bytes, for pages that show the graph (TypeError for
+    any other value, so it serves as a JSON encoder's ``default``):
+    ``{"$binary": "uint8", "shape": [480, 640, 3], "size": 921600}`` (``shape`` null for bytes)."""
+    if isinstance(value, bytes):
+        return {"$binary": BYTES, "shape": None, "size": len(value)}
+    if isinstance(value, np.ndarray):
+        dtype = ELEMENT_OF.get(value.dtype, str(value.dtype))
+        return {"$binary": dtype, "shape": list(value.shape), "size": int(value.nbytes)}
+    if isinstance(value, BlobRef):
+        shape = list(value.shape) if value.shape is not None else None
+        return {"$binary": value.dtype, "shape": shape, "size": value.size}
+    raise TypeError(f"{type(value).__name__} is not a DSR value")
+
+
 def equal(a: Any, b: Any) -> bool:
     """Value equality that arrays take part in (same type, shape and elements)."""
     if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):

@@ -54,22 +54,19 @@ def _payload(value: Any) -> tuple[bytes, str, tuple[int, ...] | None] | None:
     return None
 
 
+ELEMENTS = ("ops", "nodes", "edges")  # where a request, a delta or a snapshot holds "attrs"
+
+
 def extract(
     doc: dict[str, Any], known: Callable[[bytes], str | None] = lambda data: None
 ) -> tuple[dict[str, Any], dict[str, bytes]]:
-    """``doc`` (a request or a delta) with each large binary value of its ops' ``attrs``
-    replaced by its reference, and the bytes by digest. ``doc`` itself is not changed.
-    ``known``: the digest of bytes already hashed (a value made from a blob), else None."""
+    """``doc`` (a request, a delta or a snapshot) with each large binary value of its ops',
+    nodes' or edges' ``attrs`` replaced by its reference, and the bytes by digest. ``doc``
+    itself is not changed. ``known``: the digest of bytes already hashed (a value made from a
+    blob), else None."""
     blobs: dict[str, bytes] = {}
-    ops = doc.get("ops")
-    if not isinstance(ops, list):
-        return doc, blobs
-    out_ops = []
-    for op in ops:
-        attrs = op.get("attrs") if isinstance(op, dict) else None
-        if not isinstance(attrs, dict):
-            out_ops.append(op)
-            continue
+
+    def referenced(attrs: dict[str, Any]) -> dict[str, Any] | None:
         new_attrs = None
         for name, value in attrs.items():
             payload = _payload(value)
@@ -80,8 +77,30 @@ def extract(
             blobs[digest] = data
             new_attrs = dict(attrs) if new_attrs is None else new_attrs
             new_attrs[name] = BlobRef(digest, dtype, shape, len(data)).to_json()
-        out_ops.append(op if new_attrs is None else {**op, "attrs": new_attrs})
-    return ({**doc, "ops": out_ops}, blobs) if blobs else (doc, blobs)
+        return new_attrs
+
+    return _rewrite(doc, referenced), blobs
+
+
+def _rewrite(doc: dict[str, Any], change: Callable[[dict[str, Any]], dict[str, Any] | None]):
+    """``doc`` with ``change`` applied to each element's ``attrs`` (None: left as it is), the
+    lists and elements copied only where something changed."""
+    out = None
+    for key in ELEMENTS:
+        elements = doc.get(key)
+        if not isinstance(elements, list):
+            continue
+        new_list = None
+        for i, element in enumerate(elements):
+            attrs = element.get("attrs") if isinstance(element, dict) else None
+            new_attrs = change(attrs) if isinstance(attrs, dict) else None
+            if new_attrs is not None:
+                new_list = list(elements) if new_list is None else new_list
+                new_list[i] = {**element, "attrs": new_attrs}
+        if new_list is not None:
+            out = dict(doc) if out is None else out
+            out[key] = new_list
+    return doc if out is None else out
 
 
 def refs_in_text(text: str) -> set[str]:
@@ -121,21 +140,14 @@ def _value(ref: BlobRef, data: bytes) -> Any:
 def resolve(
     doc: dict[str, Any], lookup: Callable[[str], bytes | None], lazy: bool = False
 ) -> dict[str, Any]:
-    """``doc`` with each reference in its ops' ``attrs`` replaced by its value (bytes or a
-    read-only array). A reference whose bytes ``lookup`` does not have: ``MissingBlob``, or with
-    ``lazy`` a ``BlobRef`` (a replica fetches it when it is read). A malformed reference:
-    ``ValueTypeError``."""
-    ops = doc.get("ops")
-    if not isinstance(ops, list):
-        return doc
-    out_ops, changed = [], False
-    for op in ops:
-        attrs = op.get("attrs") if isinstance(op, dict) else None
-        if not isinstance(attrs, dict) or not any(
-            isinstance(v, dict) and REF in v for v in attrs.values()
-        ):
-            out_ops.append(op)
-            continue
+    """``doc`` with each reference in its ops', nodes' or edges' ``attrs`` replaced by its
+    value (bytes or a read-only array). A reference whose bytes ``lookup`` does not have:
+    ``MissingBlob``, or with ``lazy`` a ``BlobRef`` (a replica fetches it when it is read). A
+    malformed reference: ``ValueTypeError``."""
+
+    def resolved(attrs: dict[str, Any]) -> dict[str, Any] | None:
+        if not any(isinstance(v, dict) and REF in v for v in attrs.values()):
+            return None
         new_attrs = dict(attrs)
         for name, value in attrs.items():
             if not (isinstance(value, dict) and REF in value):
@@ -148,9 +160,9 @@ def resolve(
                 new_attrs[name] = ref
             else:
                 new_attrs[name] = _value(ref, data)
-        out_ops.append({**op, "attrs": new_attrs})
-        changed = True
-    return {**doc, "ops": out_ops} if changed else doc
+        return new_attrs
+
+    return _rewrite(doc, resolved)
 
 
 class BlobCache:

@@ -69,7 +69,8 @@ class DsrAgent:
         self.replica = Replica(vocabulary)
         self.wants_blobs = blobs
         self.blobs = BlobCache(AGENT_BLOB_BYTES)
-        self._held: list[tuple[float, dict[str, Any], set[str]]] = []  # deltas awaiting blobs
+        # deltas and snapshots waiting for the bytes of their binary values, in order
+        self._held: list[tuple[float, dict[str, Any], set[str], Callable[[dict], None]]] = []
         self.node = None
         self.name = ""
         self._listeners: list[Listener] = []
@@ -86,6 +87,7 @@ class DsrAgent:
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
         self._snapshot_future = None
+        self._loading = False
         self._snapshot_asked = 0.0
         self._gap_since: float | None = None
         # (deltas applied, when that count was reached): a replica still advancing is behind,
@@ -221,23 +223,28 @@ class DsrAgent:
         except READING_ERRORS as e:
             self.node.get_logger().error(f"ignoring a malformed delta: {e!r}")
             return
+        self._take(text, delta, self._apply)
+
+    def _take(self, text: str, doc: dict[str, Any], apply: Callable[[dict], None]) -> None:
+        """``apply`` ``doc`` (a delta, a snapshot) now, or once the bytes of the binary values it
+        references came, behind what is already held (the order is kept)."""
         digests = refs_in_text(text) if self.wants_blobs else set()
         if self._held or any(d not in self.blobs for d in digests):
-            self._held.append((time.monotonic(), delta, digests))  # in order, behind its bytes
+            self._held.append((time.monotonic(), doc, digests, apply))
             self._apply_held()
         else:
-            self._apply(delta)
+            apply(doc)
 
     def _apply_held(self) -> None:
-        """Deltas held for the bytes of their binary values, in order, as the bytes come (or
+        """What is held for the bytes of its binary values, in order, as the bytes come (or
         without them, once BLOB_PATIENCE is over: the value is then a BlobRef)."""
         now = time.monotonic()
         while self._held:
-            since, delta, digests = self._held[0]
+            since, doc, digests, apply = self._held[0]
             if any(d not in self.blobs for d in digests) and now - since < BLOB_PATIENCE:
                 return
             self._held.pop(0)
-            self._apply(delta)
+            apply(doc)
 
     def _apply(self, delta: dict[str, Any]) -> None:
         try:
@@ -357,8 +364,10 @@ class DsrAgent:
             self._snapshot_client.remove_pending_request(self._snapshot_future)
             self._snapshot_future = None
         if (
-            not self.replica.synced or now - self._gap_since >= GAP_PATIENCE
-        ) and self._snapshot_future is None:
+            (not self.replica.synced or now - self._gap_since >= GAP_PATIENCE)
+            and self._snapshot_future is None
+            and not self._loading
+        ):
             self._request_snapshot()
 
     def _request_snapshot(self) -> None:
@@ -376,8 +385,18 @@ class DsrAgent:
             text = self._from_server(topic_names.GET_SNAPSHOT, response.snapshot_json)
             if text is None:
                 return  # not the server's: the tick asks again
-            applied = self.replica.load_snapshot(loads_object(text, None))
+            snapshot = loads_object(text, None)
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
+            self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
+            return
+        self._loading = True  # not asked again while it waits for its binary values' bytes
+        self._take(text, snapshot, self._load)
+
+    def _load(self, snapshot: dict[str, Any]) -> None:
+        self._loading = False
+        try:
+            applied = self.replica.load_snapshot(resolve(snapshot, self.blobs.get, lazy=True))
+        except Exception as e:  # a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
         self.resyncs += 1

@@ -222,7 +222,7 @@ class DsrServer(DsrNode):
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
         self._pose_pubs: dict[str, Any] = {}
-        self._snapshot_cache = ((-1, -1), -1, "")  # (version, seq, signed text)
+        self._snapshot_cache = ((-1, -1), -1, "", {})  # (version, seq, signed text, blobs)
         self._missing_since: dict[str, float] = {}
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
@@ -595,10 +595,15 @@ class DsrServer(DsrNode):
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
         # Late joiners often come together (a launch): encode each state's snapshot once.
         if self._snapshot_cache[0] != self._version():
-            text = orjson.dumps(self.core.snapshot(), default=to_json_value).decode()
+            # large binary values (a camera's images) by reference, their bytes on dsr/blobs
+            snapshot, blobs = extract(self.core.snapshot(), known=self.blobs.digest_of_kept)
+            text = orjson.dumps(snapshot, default=to_json_value).decode()
             signed = self.security.sign(topic_names.GET_SNAPSHOT, text)
-            self._snapshot_cache = (self._version(), self.core.seq, signed)
-        _, response.seq, response.snapshot_json = self._snapshot_cache
+            self._snapshot_cache = (self._version(), self.core.seq, signed, blobs)
+        _, response.seq, response.snapshot_json, blobs = self._snapshot_cache
+        for digest, data in blobs.items():  # for the joiner, which holds the snapshot for them
+            self.blobs.put(digest, data, verified=True)
+            self._blob_pub.publish(blob_message(digest, data))
         return response
 
     def _version(self) -> tuple[int, int]:

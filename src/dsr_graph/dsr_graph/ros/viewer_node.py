@@ -60,7 +60,7 @@ class Viewer(DsrNode):
 
     def __init__(self) -> None:
         super().__init__()
-        self.agent = DsrAgent()
+        self.agent = DsrAgent(blobs=True)  # the inspector shows a camera's latest image
         self.history = History()
         self.events = Broadcaster()
         self.bridge: Bridge | None = None

@@ -4,12 +4,18 @@ asyncio loop, ``stream`` as the handler of an events URL."""
 from __future__ import annotations
 
 import asyncio
+import json
 from collections.abc import Callable
 from typing import Any
 
 from aiohttp import web
 
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import summary
+
+
+def dumps(data: Any, **kwargs: Any) -> str:
+    """JSON for a page: a binary value (a camera image) by what it is, never its bytes."""
+    return json.dumps(data, default=summary, **kwargs)
 
 
 class Broadcaster:

@@ -79,6 +79,17 @@ function flash(delta) {
   setTimeout(() => els.removeClass("flash"), 1500);
 }
 
+let loading = null;  // a live reload in flight; changes meanwhile need one more, not one each
+let reloadAgain = false;
+
+async function reloadLive() {
+  if (loading) { reloadAgain = true; return loading; }
+  loading = (async () => {
+    do { reloadAgain = false; await load(); } while (reloadAgain);
+  })();
+  try { await loading; } finally { loading = null; }
+}
+
 async function load(seq) {
   const url = seq === undefined ? "/api/graph" : `/api/graph?seq=${seq}`;
   const response = await fetch(url);
@@ -129,10 +140,46 @@ async function scrubTo(seq) {
 }
 
 // -- inspector -----------------------------------------------------------------------------
-function row(table, key, value) {
+function row(table, key, value, node) {
   const tr = table.insertRow();
   tr.insertCell().textContent = key;
-  tr.insertCell().textContent = typeof value === "string" ? value : JSON.stringify(value);
+  const cell = tr.insertCell();
+  if (value && typeof value === "object" && "$binary" in value) {  // bytes, never in the JSON
+    cell.textContent = `<${value.$binary} ${value.shape ? value.shape.join("x") : value.size + " bytes"}>`;
+    if (value.shape && (value.shape.length === 2 || (value.shape.length === 3 && value.shape[2] === 3))) {
+      const canvas = document.createElement("canvas");
+      canvas.className = "image";
+      canvas.dataset.attr = key;
+      cell.append(document.createElement("br"), canvas);
+      showImage(canvas, node, key);
+    }
+    return;
+  }
+  cell.textContent = typeof value === "string" ? value : JSON.stringify(value);
+}
+
+async function showImage(canvas, node, attr) {
+  // the bytes of an image attribute as the DSR holds them: RGB rows, or one value a pixel
+  // (depth: nearest white, farthest black, no reading black)
+  const r = await fetch(`/api/image?node=${encodeURIComponent(node)}&attr=${encodeURIComponent(attr)}&seq=${state.shownSeq}`);
+  if (!r.ok) { canvas.replaceWith(document.createTextNode(await r.text())); return; }
+  const dtype = r.headers.get("X-DSR-Dtype");
+  const [h, w, c] = r.headers.get("X-DSR-Shape").split(",").map(Number);
+  const buffer = await r.arrayBuffer();
+  const values = dtype === "float32" ? new Float32Array(buffer) : dtype === "uint16" ? new Uint16Array(buffer) : new Uint8Array(buffer);
+  const pixels = new ImageData(w, h);
+  const out = pixels.data;
+  if (c === 3) {
+    for (let i = 0, j = 0; i < w * h; i++, j += 3) { out[4 * i] = values[j]; out[4 * i + 1] = values[j + 1]; out[4 * i + 2] = values[j + 2]; out[4 * i + 3] = 255; }
+  } else {
+    let max = 0;
+    for (const v of values) if (v > max) max = v;
+    for (let i = 0; i < w * h; i++) { const g = values[i] > 0 ? 255 - Math.round(200 * values[i] / max) : 0; out[4 * i] = out[4 * i + 1] = out[4 * i + 2] = g; out[4 * i + 3] = 255; }
+  }
+  canvas.width = w;
+  canvas.height = h;
+  canvas.getContext("2d").putImageData(pixels, 0, 0);
+  canvas.dataset.shown = String(state.shownSeq);
 }
 
 function inspect(name) {
@@ -149,7 +196,7 @@ function inspect(name) {
   row(table, "id", String(node.id));
   row(table, "type", node.type);
   row(table, "version", String(node.version));
-  for (const [k, v] of Object.entries(node.attrs)) row(table, k, v);
+  for (const [k, v] of Object.entries(node.attrs)) row(table, k, v, node.name);
   details.append(table);
   const geometric = new Set();
   for (const e of state.snapshot.edges) if (e.type === "RT") { geometric.add(e.from); geometric.add(e.to); }
@@ -202,7 +249,7 @@ async function start() {
     const delta = JSON.parse(e.data);
     state.seq = delta.seq;
     addDeltaRow(delta);
-    if (state.live) { await load(); flash(delta); } else showStatus();
+    if (state.live) { await reloadLive(); flash(delta); } else showStatus();
   });
   events.addEventListener("reset", () => { if (state.live) load(); });
 }

@@ -10,6 +10,11 @@
                                         resynchronisation
     GET /api/info                       {"replay": null} live, or {"replay": "FILE.mcap"} when
                                         the history is a recording (``dsr view --replay``)
+    GET /api/image?node=N&attr=A[&seq=S]  a binary value's bytes (a camera image), with its
+                                        element type and shape in X-DSR-Dtype and X-DSR-Shape
+
+A binary value appears in the JSON by what it is, without its bytes (``binary.summary``):
+``{"$binary": "uint8", "shape": [480, 640, 3], "size": 921600}``.
 
 Protected as web/guard.py says: an allowed Host, the access token (printed at start), a CSP;
 it serves its page, its two files and the one library file it uses, nothing else.
@@ -25,9 +30,10 @@ from aiohttp import web
 from dsr_graph.exceptions import LookupFailed, SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model import rigid
+from dsr_graph.model.binary import ELEMENT_OF, BlobRef
 from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
-from dsr_graph.web.events import Broadcaster
+from dsr_graph.web.events import Broadcaster, dumps
 from dsr_graph.web.guard import LOOPBACK, protect
 
 WEB = Path(str(resources.files("dsr_graph").joinpath("web")))
@@ -85,7 +91,25 @@ def make_app(
 
     async def graph(request: web.Request) -> web.Response:
         g, seq = _graph(request, history)
-        return web.json_response(dsr_json.to_json(g, "snapshot", seq=seq))
+        return web.json_response(dsr_json.to_json(g, "snapshot", seq=seq), dumps=dumps)
+
+    async def image(request: web.Request) -> web.Response:
+        g, seq = _graph(request, history)
+        node, attr = request.query.get("node"), request.query.get("attr")
+        found = g.find(node) if node else None
+        if found is None or attr not in found.attrs:
+            raise web.HTTPNotFound(text=f"no attribute {attr!r} on node {node!r} at seq {seq}")
+        value = found.attrs[attr]
+        if isinstance(value, BlobRef):
+            raise web.HTTPNotFound(text=f"{node}.{attr}: its bytes have not reached the viewer")
+        if isinstance(value, bytes):
+            body, dtype, shape = value, "bytes", [len(value)]
+        elif hasattr(value, "dtype") and value.dtype in ELEMENT_OF:
+            body, dtype, shape = value.tobytes(), ELEMENT_OF[value.dtype], list(value.shape)
+        else:
+            raise web.HTTPBadRequest(text=f"{node}.{attr} is not a binary value")
+        headers = {"X-DSR-Dtype": dtype, "X-DSR-Shape": ",".join(map(str, shape))}
+        return web.Response(body=body, content_type="application/octet-stream", headers=headers)
 
     async def deltas(request: web.Request) -> web.Response:
         try:
@@ -98,7 +122,8 @@ def make_app(
                 "first_seq": history.first_seq,
                 "seq": history.seq,
                 "deltas": [dict(d, text=delta_text(d)) for d in history.since(since, limit)],
-            }
+            },
+            dumps=dumps,
         )
 
     async def transform(request: web.Request) -> web.Response:
@@ -132,4 +157,5 @@ def make_app(
     app.router.add_get("/api/transform", transform)
     app.router.add_get("/api/events", stream)
     app.router.add_get("/api/info", info)
+    app.router.add_get("/api/image", image)
     return app
