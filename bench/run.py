@@ -10,7 +10,10 @@ process), gug (a patient's skeleton streamed through the DSR at 30 Hz, 14 joints
 writes it: the server's CPU, frames written of those offered, a Speech-sized change's latency
 and the journal's growth, each against the same without the stream, quiet and with every core
 kept busy; a whole Get Up & Go run's CPU against the Barthel run's; in a full run, every shipped
-GUG scenario through launch.sh, quiet and loaded), signed (what signing the DSR's traffic
+GUG scenario through launch.sh, quiet and loaded), camera (640x480 colour and depth images at
+30 Hz beside the skeleton: the server's CPU, images offered, written and delivered whole to
+another process's replica, a Speech change's latency against the quiet figure, and what one hop
+costs a frame as base64 JSON or as blobs), signed (what signing the DSR's traffic
 costs: latency, throughput with one agent and the Barthel run's CPU, with DSR_SECURITY=enforce
 next to off).
 """
@@ -742,22 +745,15 @@ def busy_cores(count: int):
             p.wait()
 
 
-def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
-    """A patient's skeleton at 30 Hz written as Person writes it (frames taken while a
-    transaction is in flight go together in the next, ``frames_tx``): the server's CPU, frames
-    written of those offered, a Speech-sized change's latency and the journal's growth, each
-    against the same without the stream."""
-    from clarc_agents.gug.skeleton import frames_tx, parse_skeleton
-    from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, skeleton
-    from clarc_sim.patient.gait_motion import Motion
+class SkeletonStream:
+    """Person at 30 Hz, as it writes (frames taken while a transaction is in flight go together in
+    the next, ``frames_tx``): ``step()`` offers a frame when one is due and sends what waits."""
 
-    procs = Procs(work, domain)
-    state = work / f"gug_state_{domain}"
-    out: dict[str, Any] = {}
-    try:
-        server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
-        ros, person = session_with_agent(domain, "person")
-        _, _, arrived = timed_reader(ros)
+    def __init__(self, person: DsrAgent, ros):
+        from clarc_agents.gug.skeleton import frames_tx, parse_skeleton
+        from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, skeleton
+        from clarc_sim.patient.gait_motion import Motion
+
         done: list = []
         person.send(
             {
@@ -775,57 +771,86 @@ def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any
             done.append,
         )
         ros.spin_until(lambda: done, 10, "the person")
-        motion = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
+        self.motion = Motion(reaction=1.0, rise=2.0, walk_out=4.0, turn=2.0, walk_back=4.0, sit=3.0)
         place, sensor = (
             TrialPlace(4500.0, 0.0, -1200.0, 3.14159),
             KinectModel(random.Random(3), 10.0),
         )
-        stream: dict[str, Any] = {"next": time.perf_counter(), "frames": 0, "written": 0}
-        stream |= {"txs": 0, "volatile": 0, "waiting": [], "in_flight": False}
+        self.frame = lambda t: parse_skeleton(sensor.see(skeleton(self.motion, t, place), t)[0])
+        self.frames_tx, self.person = frames_tx, person
+        self.restart()
 
-        def frame(t: float):
-            return parse_skeleton(sensor.see(skeleton(motion, t, place), t)[0])
+    def restart(self) -> None:
+        self.next, self.frames, self.written, self.txs, self.volatile = (
+            time.perf_counter(),
+            0,
+            0,
+            0,
+            0,
+        )
+        self.waiting: list = []
+        self.in_flight = False
 
-        def step() -> None:  # Person: a frame every 1/30 s, queued while a tx is in flight
-            now = time.perf_counter()
-            if now >= stream["next"]:
-                # a frame every 1/30 s from now on; frames not offered while we did not run
-                # are lost, as a Kinect's are
-                stream["next"] = max(stream["next"], now - 1.0 / 30.0) + 1.0 / 30.0
-                stream["frames"] += 1
-                t = (stream["frames"] / 30.0) % (motion.total + 3.0) - 1.0
-                stream["waiting"].append((frame(t), time.time()))
-            if stream["in_flight"] or not stream["waiting"]:
-                return
-            batch, stream["waiting"] = stream["waiting"], []
-            stream["in_flight"] = True
+    def step(self) -> None:
+        now = time.perf_counter()
+        if now >= self.next:
+            # a frame every 1/30 s from now on; frames not offered while we did not run are
+            # lost, as a Kinect's are
+            self.next = max(self.next, now - 1.0 / 30.0) + 1.0 / 30.0
+            self.frames += 1
+            t = (self.frames / 30.0) % (self.motion.total + 3.0) - 1.0
+            self.waiting.append((self.frame(t), time.time()))
+        if self.in_flight or not self.waiting:
+            return
+        batch, self.waiting = self.waiting, []
+        self.in_flight = True
 
-            def written(r) -> None:
-                stream["in_flight"] = False
-                stream["txs"] += 1
-                stream["written"] += len(batch) if r.accepted else 0
-                stream["volatile"] += bool(r.accepted and "volatile" in r.delta)
+        def written(r) -> None:
+            self.in_flight = False
+            self.txs += 1
+            self.written += len(batch) if r.accepted else 0
+            self.volatile += bool(r.accepted and "volatile" in r.delta)
 
-            person.send(frames_tx(person.graph, batch), written)
+        self.person.send(self.frames_tx(self.person.graph, batch), written)
 
-        def idle() -> None:
-            return None
+    def delta_bytes(self) -> int:
+        return len(json.dumps(self.frames_tx(self.person.graph, [(self.frame(0.0), time.time())])))
 
-        def cpu_over(run) -> float:
-            before, t0 = cpu_seconds(server.pid), time.perf_counter()
-            while time.perf_counter() - t0 < seconds:
-                run()
-                ros.executor.spin_once(timeout_sec=0.001)
-            return (cpu_seconds(server.pid) - before) / (time.perf_counter() - t0)
 
-        out["server_cpu_idle"] = cpu_over(idle)
-        stream["next"] = time.perf_counter()
+def server_cpu(server, ros, seconds: float, run) -> float:
+    """The server's share of a core while ``run()`` is called for ``seconds``."""
+    before, t0 = cpu_seconds(server.pid), time.perf_counter()
+    while time.perf_counter() - t0 < seconds:
+        run()
+        ros.executor.spin_once(timeout_sec=0.001)
+    return (cpu_seconds(server.pid) - before) / (time.perf_counter() - t0)
+
+
+def speech_change(i: int) -> dict[str, Any]:
+    """A Speech-sized change."""
+    return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": f"x{i}"}}]}
+
+
+def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
+    """A patient's skeleton at 30 Hz written as Person writes it: the server's CPU, frames
+    written of those offered, a Speech-sized change's latency and the journal's growth, each
+    against the same without the stream."""
+    procs = Procs(work, domain)
+    state = work / f"gug_state_{domain}"
+    out: dict[str, Any] = {}
+    try:
+        server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
+        ros, person = session_with_agent(domain, "person")
+        _, _, arrived = timed_reader(ros)
+        stream = SkeletonStream(person, ros)
+        out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
+        stream.restart()
         journal = state / "journal.jsonl"
         size0, t0 = journal.stat().st_size if journal.exists() else 0, time.perf_counter()
         largest, sizes = [size0], {"last": size0, "grown": 0}
 
         def streaming() -> None:
-            step()
+            stream.step()
             if journal.exists():
                 size = journal.stat().st_size
                 largest[0] = max(largest[0], size)
@@ -833,23 +858,136 @@ def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any
                 sizes["grown"] += size - sizes["last"] if size >= sizes["last"] else size
                 sizes["last"] = size
 
-        out["server_cpu_streaming"] = cpu_over(streaming)
+        out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
         elapsed = time.perf_counter() - t0
-        out["frames_written_per_s"] = stream["written"] / elapsed
-        out["frames_offered_per_s"] = stream["frames"] / elapsed
-        out["frames_per_tx"] = stream["written"] / max(stream["txs"], 1)
-        out["delta_bytes"] = len(json.dumps(frames_tx(person.graph, [(frame(0.0), time.time())])))
-        out["volatile_share"] = stream["volatile"] / max(stream["txs"], 1)
+        out["frames_written_per_s"] = stream.written / elapsed
+        out["frames_offered_per_s"] = stream.frames / elapsed
+        out["frames_per_tx"] = stream.written / max(stream.txs, 1)
+        out["delta_bytes"] = stream.delta_bytes()
+        out["volatile_share"] = stream.volatile / max(stream.txs, 1)
         out["journal_bytes_per_min"] = sizes["grown"] / elapsed * 60
         out["journal_largest_bytes"] = largest[0]
         out["compact_every"] = 1000
-
-        def speech(i: int) -> dict[str, Any]:  # a Speech-sized change
-            return {"ops": [{"op": "set_node_attrs", "node": "test", "attrs": {"item": f"x{i}"}}]}
-
-        out["latency_quiet"] = percentiles(latency_samples(ros, person, arrived, n, speech))
+        out["latency_quiet"] = percentiles(latency_samples(ros, person, arrived, n, speech_change))
         out["latency_streaming"] = percentiles(
-            latency_samples(ros, person, arrived, n, speech, step)
+            latency_samples(ros, person, arrived, n, speech_change, stream.step)
+        )
+        ros.close()
+    finally:
+        procs.stop_all()
+    return out
+
+
+# ---------------------------------------------------------------------------- 7. camera
+class CameraStream:
+    """The camera agent at 30 Hz: a 640x480 colour image and a depth image (float32 metres) of
+    the room, at most two transactions on their way, each with the newest images."""
+
+    def __init__(self, camera: DsrAgent):
+        from clarc_sim.devices.camera_images import CameraModel
+
+        self.model, self.camera = CameraModel(640, 480), camera
+        self.restart()
+
+    def restart(self) -> None:
+        self.next, self.offered, self.written, self.in_flight = time.perf_counter(), 0, 0, 0
+        self.pending: dict[str, Any] | None = None
+
+    def step(self) -> None:
+        now = time.perf_counter()
+        if now >= self.next:
+            self.next = max(self.next, now - 1.0 / 30.0) + 1.0 / 30.0
+            rgb, depth = self.model.frame(self.offered, (1500.0, 0.0, 300.0))
+            self.offered += 1
+            attrs = {"cam_rgb": rgb, "cam_depth": depth.astype(np.float32) * np.float32(0.001)}
+            self.pending = {"ops": [{"op": "set_node_attrs", "node": "kinect", "attrs": attrs}]}
+        if self.pending is None or self.in_flight >= 2:
+            return
+        tx, self.pending = self.pending, None
+        self.in_flight += 1
+
+        def written(r) -> None:
+            self.in_flight -= 1
+            self.written += bool(r.accepted)
+
+        self.camera.send(tx, written)
+
+
+def hop_costs(repeat: int = 20) -> dict[str, float]:
+    """What one hop costs a camera frame (both images) in this process, ms: as JSON text with
+    base64 (encode and decode back to arrays), and as blobs beside a small JSON (the bytes copied
+    and hashed, the JSON encoded and decoded, the arrays made over the bytes)."""
+    from dsr_graph.model.binary import array_coercer, dumps
+    from dsr_graph.protocol.blobs import extract, resolve
+
+    rgb = np.random.default_rng(1).integers(0, 256, (480, 640, 3), dtype=np.uint8)
+    depth = np.full((480, 640), 1.5, dtype=np.float32)
+    delta = {
+        "ops": [
+            {"op": "set_node_attrs", "node": "k", "attrs": {"cam_rgb": rgb, "cam_depth": depth}}
+        ]
+    }
+    times: dict[str, list[float]] = {"inline_ms": [], "blob_ms": []}
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        doc = json.loads(dumps(delta))
+        attrs = doc["ops"][0]["attrs"]
+        array_coercer("uint8_array")(attrs["cam_rgb"])
+        array_coercer("float32_array")(attrs["cam_depth"])
+        t1 = time.perf_counter()
+        out, blobs = extract(delta)
+        doc = resolve(json.loads(dumps(out)), blobs.get)
+        t2 = time.perf_counter()
+        times["inline_ms"].append((t1 - t0) * 1e3)
+        times["blob_ms"].append((t2 - t1) * 1e3)
+    text = len(dumps(delta))
+    return {k: sorted(v)[len(v) // 2] for k, v in times.items()} | {"inline_json_bytes": text}
+
+
+def bench_camera(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
+    """The camera (640x480 colour and depth, 30 Hz) and the skeleton (30 Hz) streaming into the
+    DSR together: the server's CPU, images offered, written and delivered whole to a replica that
+    asks for the bytes (another process), and a Speech-sized change's latency, each against the
+    same without the streams; and what one hop costs a frame as base64 JSON or as blobs."""
+    procs = Procs(work, domain)
+    out: dict[str, Any] = {"hop": hop_costs()}
+    try:
+        server = procs.server(
+            work / f"camera_state_{domain}", str(ROOT / "worlds" / "clarc_room.json")
+        )
+        ros, camera = session_with_agent(domain, "camera")
+        _, _, arrived = timed_reader(ros)
+        person_node = __import__("rclpy").create_node("person", context=ros.context)
+        ros.executor.add_node(person_node)
+        person = DsrAgent()
+        person.setup(person_node, timeout_sec=30)
+        ros.spin_until(lambda: person.ready, 30, "the person")
+        skeleton, images = SkeletonStream(person, ros), CameraStream(camera)
+        out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
+        out["latency_quiet"] = percentiles(latency_samples(ros, camera, arrived, n, speech_change))
+        counter = procs.start(
+            "image_counter", [sys.executable, str(HERE / "image_counter.py"), str(seconds)]
+        )
+        _wait_ready(counter)
+
+        def streaming() -> None:
+            images.step()
+            skeleton.step()
+
+        skeleton.restart()
+        images.restart()
+        t0 = time.perf_counter()
+        out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
+        elapsed = time.perf_counter() - t0
+        counted = json.loads(counter.stdout.readline() or counter.communicate(timeout=30)[0])
+        out["frames_offered_per_s"] = images.offered / elapsed
+        out["frames_written_per_s"] = images.written / elapsed
+        out["frames_delivered_per_s"] = counted["whole"] / counted["seconds"]
+        out["frames_unfetched"] = counted["unfetched"]
+        out["reader_resyncs"] = counted["resyncs"]
+        out["skeleton_frames_written_per_s"] = skeleton.written / elapsed
+        out["latency_streaming"] = percentiles(
+            latency_samples(ros, camera, arrived, n, speech_change, streaming)
         )
         ros.close()
     finally:
@@ -1030,6 +1168,26 @@ def table(report: dict[str, Any]) -> str:
                 f"{k} {v:.1f}s" for k, v in sorted(r["cpu_s"].items(), key=lambda kv: -kv[1])
             )
         )
+    c = report.get("camera")
+    if c:
+        q, st, hop = c["latency_quiet"], c["latency_streaming"], c["hop"]
+        lines.append(
+            f"camera: 640x480 colour + depth at 30 Hz with the skeleton at 30 Hz: images "
+            f"{c['frames_offered_per_s']:.1f}/s offered, {c['frames_written_per_s']:.1f} written, "
+            f"{c['frames_delivered_per_s']:.1f} delivered whole to a replica that asks for the "
+            f"bytes ({c['frames_unfetched']} not in time, {c['reader_resyncs']} resyncs); "
+            f"skeleton {c['skeleton_frames_written_per_s']:.1f} frames/s written"
+        )
+        lines.append(
+            f"  server CPU {c['server_cpu_streaming']:.1%} streaming vs {c['server_cpu_idle']:.1%}"
+            f" idle; a Speech change p50/p99 {st['p50_ms']:.3f}/{st['p99_ms']:.3f} ms streaming "
+            f"vs {q['p50_ms']:.3f}/{q['p99_ms']:.3f} ms quiet "
+            f"(p99 x{st['p99_ms'] / q['p99_ms']:.2f})"
+        )
+        lines.append(
+            f"  one hop of a frame: {hop['blob_ms']:.2f} ms as blobs vs {hop['inline_ms']:.2f} ms "
+            f"as base64 JSON ({hop['inline_json_bytes'] / 1e6:.1f} MB of text)"
+        )
     signed = report.get("signed")
     if signed:
         lines.append("signed DSR traffic (enforce) next to unsigned (off), same run")
@@ -1063,7 +1221,8 @@ def main() -> int:
     args = parser.parse_args()
     quick = args.quick
     sections = set(
-        args.only or ["latency", "throughput", "scale", "kinematics", "barthel", "gug", "signed"]
+        args.only
+        or ["latency", "throughput", "scale", "kinematics", "barthel", "gug", "camera", "signed"]
     )
     domain = 10 + os.getpid() % 90
     report: dict[str, Any] = {
@@ -1105,6 +1264,10 @@ def main() -> int:
         if "gug" in sections:
             report["gug"] = bench_gug(
                 work, domain, 5.0 if quick else 20.0, 100 if quick else 500, 0.1, not quick
+            )
+        if "camera" in sections:
+            report["camera"] = bench_camera(
+                work, domain, 5.0 if quick else 20.0, 100 if quick else 500
             )
         if "signed" in sections:
             report["signed"] = bench_signed(
