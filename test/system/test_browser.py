@@ -89,6 +89,44 @@ def test_api_graph_is_the_current_snapshot(ros, viewer):
     ]
 
 
+def test_the_inspector_draws_a_camera_image_the_json_never_carries(ros, viewer):
+    import numpy as np
+
+    agent = agent_in_session(ros)
+    rgb = np.zeros((480, 640, 3), dtype=np.uint8)
+    rgb[100:200, 300:400] = (200, 30, 60)  # a red square
+    depth = np.full((480, 640), 2.5, dtype=np.float32)
+    op = {"op": "set_node_attrs", "node": "kinect", "attrs": {"cam_rgb": rgb, "cam_depth": depth}}
+    assert send_and_wait(ros, agent, {"ops": [op]}).accepted
+    summary = {"$binary": "uint8", "shape": [480, 640, 3], "size": rgb.nbytes}
+    wait_for(
+        lambda: (
+            next(n for n in http_json(viewer + "api/graph")["nodes"] if n["name"] == "kinect")[
+                "attrs"
+            ].get("cam_rgb")
+            == summary
+        ),
+        10,
+        "the image in the viewer's graph, by what it is",
+    )
+    status, body = http_get(viewer + "api/image?node=kinect&attr=cam_rgb", VIEWER_TOKEN)
+    assert status == 200 and len(body) == rgb.nbytes
+    assert http_get(viewer + "api/image?node=kinect&attr=color", VIEWER_TOKEN)[0] == 400
+    with chromium_page(csp=True) as page:
+        page.goto(viewer + "?token=" + VIEWER_TOKEN)
+        page.wait_for_selector("body[data-nodes='14']", timeout=15000)
+        page.evaluate("window.dsrViewer.cy.getElementById('n:kinect').emit('tap')")
+        page.wait_for_selector("canvas.image[data-attr='cam_rgb'][data-shown]", timeout=5000)
+        page.wait_for_selector("canvas.image[data-attr='cam_depth'][data-shown]", timeout=5000)
+        pixel = page.evaluate(
+            "Array.from(document.querySelector(\"canvas[data-attr='cam_rgb']\")"
+            ".getContext('2d').getImageData(350, 150, 1, 1).data)"
+        )
+        assert pixel == [200, 30, 60, 255]
+        assert "<uint8 480x640x3>" in page.inner_text("#node-table")
+        assert page.refused == []
+
+
 def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
     agent = agent_in_session(ros)
     with chromium_page() as page:
