@@ -239,7 +239,9 @@ start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
 start microphone microphone "${scaled[@]}"
 start touchscreen touchscreen
 start kinect kinect "${scaled[@]}" -p camera_hz:="$camera_hz"
-[ "$camera_hz" = 0 ] || start camera camera
+if [ "$camera_hz" != 0 ]; then  # the images into the DSR
+  start camera camera
+fi
 start person person "${scaled[@]}"
 start gait_analyser gait_analyser "${scaled[@]}"
 start speech speech "${scaled[@]}"

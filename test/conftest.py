@@ -69,7 +69,7 @@ def default_run(tmp_path_factory):
     """The default Barthel scenario through ``scripts/launch.sh --record``, once for the
     session: its result (test_barthel_scenarios.py) and its recording (test_recording.py) are
     checked from the one run. (the folder: run.mcap, cgamed.sqlite, run/; the finished launch)"""
-    from ros_processes import run_robot
+    from ros_processes import EPHEMERAL_PORTS, run_robot
 
     tmp = tmp_path_factory.mktemp("default_run")
     run = run_robot(
@@ -82,6 +82,7 @@ def default_run(tmp_path_factory):
         tmp / "cgamed.sqlite",
         "--timeout",
         "150",
+        *EPHEMERAL_PORTS,
         run_dir=tmp / "run",
     )
     return tmp, run

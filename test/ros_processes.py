@@ -204,6 +204,11 @@ def run_robot(script, *args, run_dir, timeout=240, env=None):
     return done
 
 
+# the viewer's and the dashboard's ports, chosen by the system: a test's launch never meets a
+# robot (or another test) the machine runs on the default ones
+EPHEMERAL_PORTS = ("--viewer-port", "0", "--dashboard-port", "0")
+
+
 def launch_scenario(scenario, tmp_path, *extra):
     """``scripts/launch.sh --scenario SCENARIO`` in a ROS domain of its own, storing in a fresh
     database under ``tmp_path``: (the finished launch, what it stored)."""
@@ -217,6 +222,7 @@ def launch_scenario(scenario, tmp_path, *extra):
         db,
         "--timeout",
         "150",
+        *EPHEMERAL_PORTS,
         *extra,
         run_dir=tmp_path / "run",
         env=env,

@@ -153,7 +153,7 @@ def test_ctrl_c_stops_every_process(tmp_path):
     import signal
     import time
 
-    from ros_processes import fresh_domain_id
+    from ros_processes import EPHEMERAL_PORTS, fresh_domain_id
 
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
     run_dir = tmp_path / "run"
@@ -164,6 +164,7 @@ def test_ctrl_c_stops_every_process(tmp_path):
             str(tmp_path / "db.sqlite"),
             "--run-dir",
             str(run_dir),
+            *EPHEMERAL_PORTS,
         ],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,

@@ -28,6 +28,7 @@ ROS_PACKAGES = {
     "rcl_interfaces",
     "builtin_interfaces",
     "visualization_msgs",
+    "sensor_msgs",
     "tf2_msgs",
     "dsr_msgs",
     "ament_index_python",

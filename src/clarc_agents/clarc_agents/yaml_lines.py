@@ -9,11 +9,14 @@ import yaml
 
 from clarc_agents.exceptions import ScenarioError
 
+# libyaml's safe loader where PyYAML has it (the same documents, parsed in C), else PyYAML's
+LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
 
 def compose(text: str, source: str, error: type[Exception] = ScenarioError) -> Any:
     """The YAML node tree of ``text``; ``error`` naming the line if it is not YAML."""
     try:
-        return yaml.compose(text)
+        return yaml.compose(text, Loader=LOADER)
     except yaml.YAMLError as e:
         mark = getattr(e, "problem_mark", None)
         line = mark.line + 1 if mark else "?"
@@ -30,7 +33,9 @@ def err(source: str, node: Any, message: str, error: type[Exception] = ScenarioE
 
 def scalar(node: Any) -> Any:
     """A scalar node's value with YAML's own typing (int, float, bool, str)."""
-    return yaml.safe_load(yaml.serialize(node)) if node is not None else None
+    if node is None:
+        return None
+    return yaml.constructor.SafeConstructor().construct_object(node, deep=True)
 
 
 def mapping(node: Any) -> dict[str, tuple[Any, Any]]:

@@ -5,6 +5,7 @@ whether they have options come from the test's definition, in the problem). Pure
 
 from __future__ import annotations
 
+import functools
 import os
 import tempfile
 from collections.abc import Iterable
@@ -20,6 +21,9 @@ from clarc_agents.exceptions import NoPlan
 
 Fact = str  # "(current feeding)"
 GOAL = ("(result-stored)",)
+
+
+PLANS_KEPT = 512  # plans remembered by their problem's text (each a few kB)
 
 
 @dataclass(frozen=True)
@@ -68,23 +72,33 @@ def plan(state: Iterable[Fact], definition: Definition, goal: Iterable[Fact] = G
 
 def solve(domain: str, problem: str, state: Iterable[Fact], goal: Iterable[Fact]) -> list[Step]:
     """The plan pyperplan finds for ``problem`` (PDDL text) in the ``domain`` file."""
+    steps = _plan(domain, problem)
+    if steps is None:
+        raise NoPlan(f"no plan reaches {list(goal)} from {sorted(state)}")
+    return list(steps)
+
+
+@functools.lru_cache(maxsize=PLANS_KEPT)
+def _plan(domain: str, problem: str) -> tuple[Step, ...] | None:
+    """The search itself, deterministic: the same problem (a replan from a state met before,
+    a PELEA restarted where it was) is not searched again."""
     fd, problem_file = tempfile.mkstemp(suffix=".pddl", prefix="pelea-problem-")
     try:
         with os.fdopen(fd, "w") as f:
             f.write(problem)
         parser = Parser(domain, problem_file)
-        problem = parser.parse_problem(parser.parse_domain())
+        parsed = parser.parse_problem(parser.parse_domain())
     finally:
         os.unlink(problem_file)
-    task = grounding.ground(problem)
+    task = grounding.ground(parsed)
     solution: list | None = search.greedy_best_first_search(task, hFFHeuristic(task))
     if solution is None:
-        raise NoPlan(f"no plan reaches {list(goal)} from {sorted(state)}")
+        return None
     steps = []
     for op in solution:
         name, *args = op.name.strip("()").split()
         steps.append(Step(name, tuple(args), frozenset(op.add_effects), frozenset(op.del_effects)))
-    return steps
+    return tuple(steps)
 
 
 def initial_state(person_present: bool, definition: Definition) -> frozenset[Fact]:

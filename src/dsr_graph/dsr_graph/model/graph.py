@@ -99,6 +99,9 @@ class Graph:
         self._tree = RtTree()
         self._undo = UndoLog()
         self._next_id = 1
+        # a replica's graph: a transform given as a matrix comes from a DSR server, which
+        # checked it is rigid, so only its shape is checked again (sensor-rate poses)
+        self.trusted_rt = False
 
     # ------------------------------------------------------------------ naming and lookup
     def node(self, ref: NodeRef) -> Node:
@@ -416,7 +419,7 @@ class Graph:
     def set_rt(self, src: NodeRef, dst: NodeRef, rt: Any) -> Edge:
         """Change the transform of an existing RT edge (a node moved)."""
         edge = self._existing_edge(src, dst, RT)
-        matrix = self._checked_rt(self.describe_edge(*edge.key), rt)
+        matrix = self._checked_rt(edge.key, rt)
         old_matrix, old_version = edge.rt, edge.version
         edge.rt = matrix
         edge.version += 1
@@ -428,19 +431,24 @@ class Graph:
         self._undo.record(undo)
         return edge
 
-    @staticmethod
-    def _checked_rt(element: str, rt: Any) -> np.ndarray:
-        if rt is None:
-            _fail("rt-rigid", element, 'an RT edge needs a transform ("rt")')
-        if isinstance(rt, np.ndarray):
+    def _checked_rt(self, element: str | EdgeKey, rt: Any) -> np.ndarray:
+        """``rt`` as a rigid 4x4 matrix, else a rule violation naming ``element`` (an edge's
+        description, or its key, described only if it is needed)."""
+        if self.trusted_rt and isinstance(rt, Mapping) and rt.keys() == {"matrix"}:
+            matrix = np.array(rt["matrix"], dtype=float)  # a server's, checked there
+            if matrix.shape == (4, 4):
+                return matrix
+        problem = 'an RT edge needs a transform ("rt")'
+        if rt is not None:
             try:
-                return rigid.check_rigid(rt)
+                return rigid.check_rigid(rt) if isinstance(rt, np.ndarray) else rigid.from_json(rt)
             except rigid.NotRigidError as e:
-                _fail("rt-rigid", element, str(e))
-        try:
-            return rigid.from_json(rt)
-        except rigid.NotRigidError as e:
-            _fail("rt-rigid", element, str(e))
+                problem = str(e)
+        _fail(
+            "rt-rigid",
+            element if isinstance(element, str) else self.describe_edge(*element),
+            problem,
+        )
 
     # ------------------------------------------------------------------ primitives (with undo)
     def _set_attrs(self, element: Node | Edge, attrs: dict[str, Any]) -> None:

@@ -68,7 +68,10 @@ def _list(value: Any) -> list:
 
 
 def _float_vector(value: Any) -> list:
-    return [_finite_float(v, f"element {i}") for i, v in enumerate(_list(value))]
+    items = _list(value)
+    if all(type(v) is float for v in items) and all(map(math.isfinite, items)):
+        return items  # the common case (sensor rows), checked without a call per element
+    return [_finite_float(v, f"element {i}") for i, v in enumerate(items)]
 
 
 def _byte_vector(value: Any) -> list:

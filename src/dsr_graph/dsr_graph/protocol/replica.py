@@ -27,6 +27,7 @@ class Replica:
     def __init__(self, vocabulary: Vocabulary | None = None):
         self.vocabulary = vocabulary
         self.graph = Graph(vocabulary)
+        self.graph.trusted_rt = True  # the server's deltas: checked there
         self.claims = ClaimTable()
         self.seq = 0
         self.synced = False  # a snapshot has been loaded
@@ -79,6 +80,7 @@ class Replica:
     def load_snapshot(self, doc: dict[str, Any]) -> list[dict[str, Any]]:
         """Replace the state with a snapshot, then apply the kept deltas newer than it."""
         graph, seq = dsr_json.snapshot_from_json(doc, self.vocabulary, trusted=True)
+        graph.trusted_rt = True
         self.graph = graph
         self.claims = ClaimTable.from_json(doc.get("claims", []))
         self.seq = seq

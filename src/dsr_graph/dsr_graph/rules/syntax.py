@@ -274,5 +274,5 @@ def load_grammar_file(path: str) -> list[Rule]:
     """The rules of a YAML (or JSON, which YAML reads too) grammar file."""
     import yaml
 
-    with open(path, encoding="utf-8") as f:
-        return load_rules(yaml.safe_load(f))
+    with open(path, encoding="utf-8") as f:  # libyaml's safe loader where PyYAML has it
+        return load_rules(yaml.load(f, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader)))
