@@ -3,6 +3,7 @@ user would with ``kill -9 <pid>`` during ``scripts/launch.sh``, and check that t
 completes with exactly one stored result equal to an undisturbed run of the same scenario.
 
     scripts/chaos.sh [--seed N] [--runs K] [--kills M] [--scenario FILE] [--processes p,q,...]
+                     [--against DB]
 
 Each run kills ``--kills`` processes (default 1), each at a moment drawn by the seed between
 ``--earliest`` and ``--latest`` seconds after the test's first step; over the runs every process
@@ -10,7 +11,8 @@ is killed in turn (in an order shuffled by the seed). The seed is printed so tha
 be replayed. It prints one line per run and a table, one row per kill: process killed, moment,
 time until the test went on (from the kill to the first step of the test printed after the
 launch restarted the process), result equal yes/no. Exit 0 when every run's result equals the
-undisturbed one.
+undisturbed one, made first (or given: ``--against`` a results store holding one undisturbed
+run of the same scenario).
 """
 
 from __future__ import annotations
@@ -158,6 +160,19 @@ def undisturbed(root: Path, scenario: Path, work: Path, timeout: float) -> dict[
     return stored[0]
 
 
+def stored_once(db: Path) -> dict[str, Any]:
+    """The one result a results store holds (an undisturbed run made before)."""
+    done = subprocess.run(
+        ["clarc", "results", "--db", str(db), "--json"], capture_output=True, text=True, timeout=60
+    )
+    stored = json.loads(done.stdout) if done.returncode == 0 and done.stdout.strip() else []
+    if len(stored) != 1:
+        raise SystemExit(
+            f"chaos: --against {db} must hold one stored result, it holds {len(stored)}"
+        )
+    return stored[0]
+
+
 def chaos_run(
     root: Path, scenario: Path, work: Path, run: Run, expected: dict[str, Any], timeout: float
 ) -> Run:
@@ -236,6 +251,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--latest", type=float, default=30.0, help="seconds after Start")
     parser.add_argument("--timeout", type=float, default=240.0, help="seconds for one test")
     parser.add_argument("--work", default=None, help="where runs keep their logs")
+    parser.add_argument(
+        "--against",
+        default=None,
+        help="a results store holding one undisturbed run of the same scenario (its result is "
+        "the one to equal; default: a run made first)",
+    )
     args = parser.parse_args(argv)
     root = Path(os.environ.get("DSR_WORKSPACE", Path(__file__).resolve().parents[4]))
     scenario = Path(args.scenario or root / "scenarios" / "default.yaml").resolve()
@@ -253,7 +274,10 @@ def main(argv: list[str] | None = None) -> int:
         f"scenario {scenario.name}; logs in {work}",
         flush=True,
     )
-    expected = undisturbed(root, scenario, work, args.timeout)
+    if args.against:
+        expected = stored_once(Path(args.against))
+    else:
+        expected = undisturbed(root, scenario, work, args.timeout)
     print(
         f"[chaos] undisturbed: {expected['total']}/100, unanswered {expected['unanswered']}",
         flush=True,
