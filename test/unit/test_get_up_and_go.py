@@ -14,6 +14,7 @@ from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.gait_analyser import GaitAnalyser
 from clarc_agents.gug.phases import (
     PHASES,
+    RISE_WITHIN,
     WITHIN,
     NotATrial,
     band,
@@ -343,23 +344,37 @@ def test_an_analyser_that_joins_a_trial_late_voids_it():
     assert tx["ops"][0]["attrs"]["status"] == "void"
 
 
-@pytest.mark.parametrize("scale", [1.0, 0.1])
-def test_a_patient_not_seated_again_within_90_s_of_go_is_void_by_the_frames_time(scale):
-    # a patient who never rises, seen 4 times a second: the frames' stamps say when 90 s of the
-    # patient's time have passed, at any pace and however late they reach the analyser
+def verdicts_of(pose_at, seconds, scale):
+    """What the analyser writes, (t, attrs), fed the pose ``pose_at(t)`` 4 times a second of the
+    patient's time for ``seconds``, stamped at the pace ``scale``."""
     bus, person = dsr_with_a_seated_person()
     analyser_link, analyser = bus.agent("/gait_analyser"), GaitAnalyser(scale=scale)
     verdicts = []
-    seated = skeleton(NORMAL, -0.5, PLACE)
-    for k in range(int((WITHIN + 2.0) * 4)):
+    for k in range(int(seconds * 4)):
         t = k / 4.0
-        person.send(skeleton_tx(person.graph, parse_skeleton(seated), 1000.0 + t * scale))
+        person.send(skeleton_tx(person.graph, parse_skeleton(pose_at(t)), 1000.0 + t * scale))
         bus.deliver()
         tx = analyser.on_graph(analyser_link.graph)
         if tx is not None:
             verdicts.append((t, tx["ops"][0]["attrs"]))
             analyser_link.send(tx)
             bus.deliver()
-    [(t, attrs)] = [(t, a) for t, a in verdicts if a.get("status")]
+    return [(t, a) for t, a in verdicts if a.get("status")]
+
+
+@pytest.mark.parametrize("scale", [1.0, 0.1])
+def test_a_patient_who_does_not_rise_within_30_s_of_go_is_void_by_the_frames_time(scale):
+    # judged on the frames' stamps: the same at any pace, however late they reach the analyser
+    seated = skeleton(NORMAL, -0.5, PLACE)
+    [(t, attrs)] = verdicts_of(lambda t: seated, RISE_WITHIN + 2.0, scale)
+    assert attrs["status"] == "void" and t == pytest.approx(RISE_WITHIN + 0.25)
+    assert attrs["reason"] == "did not rise within 30 s of go"
+
+
+def test_a_patient_up_but_not_seated_again_within_90_s_of_go_is_void():
+    standing = skeleton(NORMAL, NORMAL.reaction + NORMAL.rise + 0.2, PLACE)  # up, by the chair
+    [(t, attrs)] = verdicts_of(
+        lambda t: skeleton(NORMAL, t, PLACE) if t < 2.5 else standing, WITHIN + 2.0, 1.0
+    )
     assert attrs["status"] == "void" and t == pytest.approx(WITHIN + 0.25)
     assert attrs["reason"] == "not seated again within 90 s of go"

@@ -9,7 +9,7 @@ from local_gug import GugRobot
 from pyperplan.pddl.parser import Parser
 
 from clarc_agents.gug import sentences
-from clarc_agents.gug.phases import WITHIN
+from clarc_agents.gug.phases import RISE_WITHIN, WITHIN
 from clarc_agents.pelea import decision_support
 from clarc_agents.pelea.gug_executive import MAX_TRIALS, VERDICT_WAIT, GugExecutive
 from clarc_sim.patient.gait_motion import Motion
@@ -52,13 +52,13 @@ def test_a_patient_who_walks_away_mid_trial_is_asked_to_sit_and_the_trial_repeat
 
 
 def test_a_patient_who_never_rises_is_stored_unable_to_perform_and_the_clinician_called():
-    robot = GugRobot(MOTION, rises=False, seen_for=WITHIN + 5.0, hz=5.0)
+    robot = GugRobot(MOTION, rises=False, seen_for=RISE_WITHIN + 5.0, hz=5.0)
     result = robot.run_gug()
     assert result["outcome"] == "unable" and result["band"] == "unable to perform"
     assert result["tug_seconds"] is None and result["phases"] is None
     assert result["trials"] == MAX_TRIALS and result["fall_risk"] is True
     assert result["void_reasons"] == [
-        f"trial {n}: not seated again within 90 s of go" for n in range(1, MAX_TRIALS + 1)
+        f"trial {n}: did not rise within 30 s of go" for n in range(1, MAX_TRIALS + 1)
     ]
     assert result["clinician_called"] is True
     assert robot.said.count(sentences.GO) == MAX_TRIALS

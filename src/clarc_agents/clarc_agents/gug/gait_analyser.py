@@ -9,9 +9,10 @@ and is seated again the whole trial is timed (``phases.time_trial``, with the li
 chair's ``line_m``, 3 m by default) and written back: ``tug_seconds``, ``reaction_seconds``,
 ``phase_seconds`` (in ``PHASES`` order), ``still_seconds``, ``band``, ``fall_risk``,
 ``status: timed``; or ``status: void`` with the ``reason`` (a hole in the frames, not seated at
-go, the line not reached, no turn, not seated again within ``WITHIN``, 90 s, of go). Times are
-the frames' capture stamps (epoch seconds) turned into the patient's time with ``scale`` (the
-session's pace), so a result is the same at any pace and however late the frames came.
+go, the line not reached, no turn, not risen within ``RISE_WITHIN`` (30 s) or not seated again
+within ``WITHIN`` (90 s) of go). Times are the frames' capture stamps (epoch seconds) turned
+into the patient's time with ``scale`` (the session's pace), so a result is the same at any
+pace and however late the frames came.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from clarc_agents.gug.phases import (
     MAX_GAP,
     MIN_RISE,
     PHASES,
+    RISE_WITHIN,
     WITHIN,
     NotATrial,
     Sample,
@@ -109,7 +111,10 @@ class GaitAnalyser:
             return self._void(timed)
         if timed is not None:
             return self._result_tx(timed)
-        if new.t > WITHIN:  # judged on the frames' stamps, so a busy machine never voids it
+        # judged on the frames' stamps, so a busy machine never voids a trial
+        if new.t > RISE_WITHIN and self.phase == "waiting":
+            return self._void(f"did not rise within {RISE_WITHIN:g} s of go")
+        if new.t > WITHIN:
             return self._void(f"not seated again within {WITHIN:g} s of go")
         phase = self._phase_now()
         # the phase in progress only moves on (noise must not make it flicker back)

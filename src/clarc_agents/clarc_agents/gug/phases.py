@@ -48,6 +48,8 @@ LINE = 3.0  # m from the chair to the line, by default
 # s from "go" the whole trial may take: a patient not seated again by then cannot do the test
 # this time (the trial is void; three such and the test is "unable to perform", FORMAT.md)
 WITHIN = 90.0
+# s from "go" a patient may take to begin to rise: one still seated then cannot get up unaided
+RISE_WITHIN = 30.0
 LINE_SLACK = 0.3  # m: the feet reach the line while the hips are still this far behind it
 MIN_RISE = 0.15  # m the hips rise from seated to standing, at least
 TURNED = 0.5 * math.pi  # rad: less than this at the far end is no turn round
