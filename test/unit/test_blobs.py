@@ -198,3 +198,19 @@ def test_a_snapshot_carries_large_values_by_reference_and_a_joiner_resolves_them
     late = Replica(Vocabulary.default())  # without the bytes: references it can name
     late.load_snapshot(resolve(json.loads(dumps(snapshot)), lambda d: None, lazy=True))
     assert isinstance(late.graph.node("kinect").attrs["cam_rgb"], BlobRef)
+
+
+def test_a_value_made_from_a_blob_goes_out_as_the_same_bytes_not_hashed_again():
+    import array
+
+    data = array.array("B", RGB.tobytes())  # as a received message holds them
+    cache = BlobCache()
+    assert cache.put(digest_of(data), data)
+    doc, _ = extract(frame())
+    value = resolve(doc, cache.get, lazy=True)["ops"][0]["attrs"]["cam_rgb"]
+    assert not value.flags.writeable and np.array_equal(value, RGB)
+    hashed = []
+    _, blobs = extract(
+        frame(rgb=value), known=lambda b: hashed.append(b) or cache.digest_of_kept(b)
+    )
+    assert blobs[digest_of(data)] is data  # the very bytes it came in, not a copy

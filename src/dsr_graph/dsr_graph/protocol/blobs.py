@@ -15,6 +15,7 @@ costs more than they do.
 
 from __future__ import annotations
 
+import array
 import hashlib
 import math
 import re
@@ -31,14 +32,15 @@ REF = "$blob"
 INLINE_MAX = 16 * 1024  # bytes: a binary value this big or bigger travels as a blob
 DIGEST = re.compile(r"sha256:[0-9a-f]{64}")
 DTYPES = {element: dtype for element, dtype in ARRAYS.values()}
+Blob = bytes | array.array  # a blob's bytes: a received message's array is kept as it came
 _REF_IN_TEXT = re.compile(r'"\$blob"\s*:\s*"(sha256:[0-9a-f]{64})"')
 
 
-def digest_of(data: bytes | memoryview) -> str:
+def digest_of(data: Blob | memoryview) -> str:
     return "sha256:" + hashlib.sha256(data).hexdigest()
 
 
-def _payload(value: Any) -> tuple[bytes, str, tuple[int, ...] | None] | None:
+def _payload(value: Any) -> tuple[Blob, str, tuple[int, ...] | None] | None:
     """(bytes, dtype, shape) of a binary value worth a blob; None: it stays inline."""
     if isinstance(value, (bytes, bytearray, memoryview)):
         return (bytes(value), BYTES, None) if len(value) >= INLINE_MAX else None
@@ -46,9 +48,12 @@ def _payload(value: Any) -> tuple[bytes, str, tuple[int, ...] | None] | None:
         element = ELEMENT_OF.get(value.dtype.newbyteorder("<")) or ELEMENT_OF.get(value.dtype)
         if element is None:
             return None  # not a DSR array type: left for the coercer to refuse by name
-        if isinstance(value.base, bytes) and value.base is not None and value.flags.c_contiguous:
-            if len(value.base) == value.nbytes and value.dtype == DTYPES[element]:
-                return value.base, element, tuple(value.shape)  # made from a blob: its bytes
+        base = value.base
+        while isinstance(base, (np.ndarray, memoryview)):  # through the views to the memory
+            base = base.base if isinstance(base, np.ndarray) else base.obj
+        if isinstance(base, (bytes, array.array)) and value.flags.c_contiguous:
+            if memoryview(base).nbytes == value.nbytes and value.dtype == DTYPES[element]:
+                return base, element, tuple(value.shape)  # made from a blob: its bytes
         little = np.ascontiguousarray(value, dtype=DTYPES[element])
         return little.tobytes(), element, tuple(value.shape)
     return None
@@ -58,13 +63,13 @@ ELEMENTS = ("ops", "nodes", "edges")  # where a request, a delta or a snapshot h
 
 
 def extract(
-    doc: dict[str, Any], known: Callable[[bytes], str | None] = lambda data: None
-) -> tuple[dict[str, Any], dict[str, bytes]]:
+    doc: dict[str, Any], known: Callable[[Blob], str | None] = lambda data: None
+) -> tuple[dict[str, Any], dict[str, Blob]]:
     """``doc`` (a request, a delta or a snapshot) with each large binary value of its ops',
     nodes' or edges' ``attrs`` replaced by its reference, and the bytes by digest. ``doc``
     itself is not changed. ``known``: the digest of bytes already hashed (a value made from a
     blob), else None."""
-    blobs: dict[str, bytes] = {}
+    blobs: dict[str, Blob] = {}
 
     def referenced(attrs: dict[str, Any]) -> dict[str, Any] | None:
         new_attrs = None
@@ -128,17 +133,19 @@ def _ref(value: Any) -> BlobRef:
     return BlobRef(digest, dtype, shape, size)
 
 
-def _value(ref: BlobRef, data: bytes) -> Any:
-    if len(data) != ref.size:
-        raise ValueTypeError(f"the binary value {ref.digest} is {len(data)} bytes, not {ref.size}")
+def _value(ref: BlobRef, data: Blob) -> Any:
+    size = memoryview(data).nbytes
+    if size != ref.size:
+        raise ValueTypeError(f"the binary value {ref.digest} is {size} bytes, not {ref.size}")
     if ref.dtype == BYTES:
-        return data
-    array = np.frombuffer(data, dtype=DTYPES[ref.dtype]).reshape(ref.shape)
-    return array  # read-only: frombuffer over bytes
+        return bytes(data)
+    value = np.frombuffer(data, dtype=DTYPES[ref.dtype]).reshape(ref.shape)
+    value.flags.writeable = False  # over the blob's own bytes, never copied, never changed
+    return value
 
 
 def resolve(
-    doc: dict[str, Any], lookup: Callable[[str], bytes | None], lazy: bool = False
+    doc: dict[str, Any], lookup: Callable[[str], Blob | None], lazy: bool = False
 ) -> dict[str, Any]:
     """``doc`` with each reference in its ops', nodes' or edges' ``attrs`` replaced by its
     value (bytes or a read-only array). A reference whose bytes ``lookup`` does not have:
@@ -171,10 +178,10 @@ class BlobCache:
     def __init__(self, max_bytes: int = 256 * 1024 * 1024):
         self.max_bytes = max_bytes
         self.bytes = 0
-        self._blobs: OrderedDict[str, bytes] = OrderedDict()
+        self._blobs: OrderedDict[str, Blob] = OrderedDict()
         self._digests: dict[int, str] = {}  # id of the bytes kept -> their digest
 
-    def put(self, digest: str, data: bytes, verified: bool = False) -> bool:
+    def put(self, digest: str, data: Blob, verified: bool = False) -> bool:
         """Keep ``data`` under ``digest`` if it hashes to it (``verified``: hashed already);
         False, and nothing kept, if it does not."""
         if not verified and (not DIGEST.fullmatch(digest) or digest_of(data) != digest):
@@ -184,17 +191,17 @@ class BlobCache:
             return True
         self._blobs[digest] = data
         self._digests[id(data)] = digest
-        self.bytes += len(data)
+        self.bytes += memoryview(data).nbytes
         while self.bytes > self.max_bytes and len(self._blobs) > 1:
             _, old = self._blobs.popitem(last=False)
             del self._digests[id(old)]
-            self.bytes -= len(old)
+            self.bytes -= memoryview(old).nbytes
         return True
 
-    def get(self, digest: str) -> bytes | None:
+    def get(self, digest: str) -> Blob | None:
         return self._blobs.get(digest)
 
-    def digest_of_kept(self, data: bytes) -> str | None:
+    def digest_of_kept(self, data: Blob) -> str | None:
         """The digest of ``data`` if it is the very bytes kept under it (no hashing again)."""
         digest = self._digests.get(id(data))
         return digest if digest is not None and self._blobs.get(digest) is data else None

@@ -20,9 +20,14 @@ from dsr_msgs.msg import Blob
 BLOB_TYPE = "dsr_msgs/msg/Blob"
 
 
-def blob_message(digest: str, data: bytes) -> Blob:
-    """A blob as its message (the bytes copied once, not element by element)."""
-    return Blob(digest=digest, data=array.array("B", data))
+def blob_message(digest: str, data: bytes | array.array) -> Blob:
+    """A blob as its message: bytes copied once (not element by element), a received blob's
+    array (``BlobInbox`` keeps the message's own) not copied at all."""
+    msg = Blob(digest=digest)  # (its constructor would copy data once more)
+    msg.data = (
+        data if isinstance(data, array.array) and data.typecode == "B" else array.array("B", data)
+    )
+    return msg
 
 
 class BlobInbox:
@@ -61,7 +66,9 @@ class BlobInbox:
         if self.max_bytes is not None and size > self.max_bytes:
             self._drop(f"a blob of {size} bytes is over the {self.max_bytes} a value may hold")
             return
-        data = msg.data.tobytes() if hasattr(msg.data, "tobytes") else bytes(msg.data)
+        data = msg.data  # the message's own bytes (array.array): kept as they are, not copied
+        if not isinstance(data, array.array):
+            data = array.array("B", data)
         if not self.cache.put(msg.digest, data):
             self._drop(f"a blob's bytes do not hash to its digest {msg.digest[:80]!r}")
             return
