@@ -214,3 +214,23 @@ def test_a_value_made_from_a_blob_goes_out_as_the_same_bytes_not_hashed_again():
         frame(rgb=value), known=lambda b: hashed.append(b) or cache.digest_of_kept(b)
     )
     assert blobs[digest_of(data)] is data  # the very bytes it came in, not a copy
+
+
+def test_the_viewer_s_past_holds_an_image_by_reference_its_present_whole():
+    from dsr_graph.protocol.history import History
+
+    core = camera_core()
+    history = History(Vocabulary.default())
+    history.reset(json.loads(dumps(core.snapshot())))
+    delta = core.submit(dumps(frame()), sender="/camera")  # volatile: no seq of its own
+    history.add(json.loads(dumps(delta)))
+    mark = {"op": "set_node_attrs", "node": "kinect", "attrs": {"color": "red"}}
+    history.add(json.loads(dumps(core.submit(dumps({"ops": [mark]}), sender="/x"))))
+    history.reset(json.loads(dumps(core.snapshot())))  # a checkpoint holding the image
+    assert np.array_equal(history.graph.node("kinect").attrs["cam_rgb"], RGB)
+    assert max(len(t) for t in history._snapshots.values()) < 10_000
+    past = history.graph_at(history.seq)
+    assert np.array_equal(past.node("kinect").attrs["cam_rgb"], RGB)  # now: the live graph
+    history.add(json.loads(dumps(core.submit(dumps({"ops": [mark]}), sender="/x"))))
+    before = history.graph_at(history.seq - 1).node("kinect").attrs["cam_rgb"]
+    assert isinstance(before, BlobRef) and before.shape == (480, 640, 3)

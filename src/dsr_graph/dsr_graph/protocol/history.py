@@ -12,6 +12,7 @@ from dsr_graph.formats import dsr_json
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
+from dsr_graph.protocol.blobs import extract, resolve
 from dsr_graph.protocol.volatility import follows, is_volatile
 
 CHECKPOINT_EVERY = 500  # deltas between stored snapshots: bounds the replay when scrubbing
@@ -36,7 +37,7 @@ class History:
         self.graph, self.seq = dsr_json.snapshot_from_json(
             json.loads(text), self.vocabulary, trusted=True
         )
-        self._checkpoint(text)
+        self._checkpoint(dsr_json.to_json(self.graph, "snapshot", seq=self.seq))
 
     def add(self, delta: dict[str, Any]) -> None:
         """The next delta. A volatile one (sensor data) changes the graph now but takes no place
@@ -52,8 +53,7 @@ class History:
         if len(self.deltas) > MAX_DELTAS:
             self._forget()
         if self.seq - self._checkpoints[-1] >= CHECKPOINT_EVERY:
-            snapshot = dsr_json.to_json(self.graph, "snapshot", seq=self.seq)
-            self._checkpoint(dumps(snapshot))
+            self._checkpoint(dsr_json.to_json(self.graph, "snapshot", seq=self.seq))
 
     @property
     def first_seq(self) -> int:
@@ -65,9 +65,8 @@ class History:
         if seq == self.seq:
             return self.graph
         base = self._checkpoints[bisect.bisect_right(self._checkpoints, seq) - 1]
-        graph, _ = dsr_json.snapshot_from_json(
-            json.loads(self._snapshots[base]), self.vocabulary, trusted=True
-        )
+        past = resolve(json.loads(self._snapshots[base]), lambda digest: None, lazy=True)
+        graph, _ = dsr_json.snapshot_from_json(past, self.vocabulary, trusted=True)
         start = bisect.bisect_right(self._seqs, base)
         for delta in self.deltas[start:]:
             if delta["seq"] > seq:
@@ -84,10 +83,12 @@ class History:
         start = bisect.bisect_right(self._seqs, seq)
         return self.deltas[start : start + limit]
 
-    def _checkpoint(self, text: str) -> None:
+    def _checkpoint(self, snapshot: dict[str, Any]) -> None:
+        """Kept as text, a large binary value (a camera image) by its reference only: the past
+        shows what the image was, not its pixels, and a long run's history stays small."""
         if not self._checkpoints or self.seq > self._checkpoints[-1]:
             self._checkpoints.append(self.seq)
-        self._snapshots[self.seq] = text
+        self._snapshots[self.seq] = dumps(extract(snapshot)[0])
 
     def _forget(self) -> None:
         cut = self.deltas[len(self.deltas) // 2]["seq"]
