@@ -39,9 +39,10 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     reader = second_agent(ros, "reader", blobs=True)
     plain = second_agent(ros, "plain", blobs=False)
     texts = []
-    ros.session.node.create_subscription(
+    raw = ros.session.node.create_subscription(
         String, topic_names.DELTAS, lambda m: texts.append(m.data), qos_stream()
     )
+    wait_for(lambda: raw.get_publisher_count() > 0, 10, "dsr/deltas matched", ros.session)
     insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
     assert send_and_wait(ros, writer, {"ops": [insert]}).accepted
     for k in range(3):  # a few frames, each told apart by its first pixel
@@ -64,6 +65,9 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     wait_for(lambda: "cam_rgb" in plain.graph.node("kinect").attrs, 10, "the plain replica")
     held = plain.graph.node("kinect").attrs["cam_rgb"]
     assert isinstance(held, BlobRef) and held.shape == (480, 640, 3)
+    mine = writer.graph.node("kinect").attrs["cam_rgb"]  # its own write, whole
+    assert isinstance(mine, np.ndarray) and mine[0, 0, 0] == 2
+    wait_for(lambda: sum("cam_rgb" in t for t in texts) == 3, 10, "3 deltas", ros.session)
     frames = [t for t in texts if "cam_rgb" in t]
     assert len(frames) == 3 and max(len(t) for t in frames) < 4000  # no base64 megabytes
 

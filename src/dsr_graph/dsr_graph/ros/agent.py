@@ -170,6 +170,8 @@ class DsrAgent:
         doc.setdefault("id", self.next_id())
         # large binary values go beside the request, as bytes; the JSON names their digests
         doc, blobs = extract(doc)
+        for digest, data in blobs.items():  # our own values come back whole to our replica
+            self.blobs.put(digest, data, verified=True)
         text = self.security.sign(topic_names.TRANSACTIONS, dumps(doc))
         self._pending[doc["id"]] = on_done
         self._unanswered[doc["id"]] = (text, time.monotonic(), blobs)
