@@ -186,8 +186,24 @@ def test_ctrl_c_stops_every_process(tmp_path):
     launch.send_signal(signal.SIGINT)
     assert launch.wait(timeout=30) == 130
     launch.stdout.close()
-    alive = [pid for pid in children if os.path.exists(f"/proc/{pid}")]
-    assert alive == [], f"orphans: {alive}"
+
+    def alive() -> list[str]:
+        """The launch's children still running (a zombie is dead, only not reaped yet)."""
+        running = []
+        for pid in children:
+            try:
+                state = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0]
+            except OSError:
+                continue
+            if state != "Z":
+                running.append(f"{pid} ({state})")
+        return running
+
+    # each child stops on its own signal as the launch exits: gone within seconds, or an orphan
+    deadline = time.monotonic() + 10
+    while alive() and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert alive() == [], f"orphans: {alive()}"
 
 
 def test_a_bad_scenario_is_refused_before_anything_starts(tmp_path):
