@@ -59,6 +59,7 @@ from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, p
 from dsr_graph.ros.qos import qos_every_frame, qos_images, qos_latched
 
 BACKLOG_S = 60.0  # seconds of the patient's time of frames a late stand-in still delivers
+PIPELINE_S = 0.5  # seconds of wall time between taking a skeleton frame and delivering it
 
 
 class KinectStandIn(DsrNode):
@@ -185,8 +186,11 @@ class KinectStandIn(DsrNode):
         self._depth.publish(image_message(depth, "16UC1", stamp))
 
     def on_skeleton_frame(self) -> None:
-        """Every frame the sensor took since the last call, each at its capture time."""
-        now = time.time()
+        """Every frame the sensor took since the last call, each at its capture time, delivered
+        ``PIPELINE_S`` after it (a sensor's pipeline): a frame is drawn once the stand-in has
+        heard of a "go" said before it was taken, so a patient's trial never starts late in the
+        frames because the news of "go" reached the stand-in late."""
+        now = time.time() - PIPELINE_S
         oldest = now - BACKLOG_S * self.scale
         if self._next_capture is None or self._next_capture < oldest:
             if self._next_capture is not None:
