@@ -6,7 +6,9 @@
 #      built them (see ../shared/docs/ROS2_FROM_PYPI.md, step 3);
 #   3. the viewer's browser library (cytoscape) from the npm registry, pinned by its lock file;
 #   4. with --with-browser (the tests): Debian's chromium for the browser tests;
-#   5. colcon build of dsr_msgs and the Python packages into install/.
+#   5. where no system ROS has them, the `ros2` command line and `launch`/`launch_ros`, from the
+#      upstream Jazzy sources in ../shared/vendor/ros2-jazzy (or $DSR_ROS2_VENDOR);
+#   6. colcon build of dsr_msgs and the Python packages into install/.
 # Each step keeps a stamp (a hash of its inputs) and is skipped when nothing changed, so a second
 # run on a set-up tree takes a few seconds.
 set -euo pipefail
@@ -115,17 +117,51 @@ if [ "${1:-}" = "--with-browser" ] && ! command -v chromium >/dev/null 2>&1; the
   fi
 fi
 
-# --- 5. colcon build -----------------------------------------------------------------------
+# --- 5. the ros2 command line and launch, where ROS lacks them ----------------------------------
+# The wheels carry neither `ros2` nor `launch`/`launch_ros`. A system ROS's (apt, sourced) are
+# used as they are. Otherwise they are installed into the venv from the upstream Jazzy sources
+# (pure Python, `pip install --no-deps`), and composition_interfaces, which launch_ros imports,
+# is built below with the workspace (as tf2_msgs, only where missing).
+bases=(src)
+vendor=${DSR_ROS2_VENDOR:-$(dirname "$root")/shared/vendor/ros2-jazzy}
+system_ros2=""
+for found in $(type -ap ros2); do
+  case "$found" in "$venv"/*) ;; *) system_ros2=$found; break ;; esac
+done
+if [ -n "$system_ros2" ]; then
+  say "ros2 command line and launch: the system's ($system_ros2)"
+elif [ -d "$vendor" ] && compgen -G "$vendor/*.tar.gz" >/dev/null; then
+  vendor_hash=$(hash_of "$vendor"/*.tar.gz requirements-ros2cli.txt constraints.txt)
+  sources="$stamps/ros2-jazzy"
+  if [ "$(cat "$stamps/ros2cli" 2>/dev/null)" != "$vendor_hash" ] || [ ! -x "$venv/bin/ros2" ]; then
+    say "ros2 command line and launch: installing them into the venv from $vendor"
+    rm -rf "$sources" && mkdir -p "$sources"
+    for archive in "$vendor"/*.tar.gz; do tar -xzf "$archive" -C "$sources"; done
+    python -m pip install --quiet --disable-pip-version-check \
+      -r requirements-ros2cli.txt -c constraints.txt
+    packages=()
+    for setup_py in "$sources"/*/setup.py; do packages+=("$(dirname "$setup_py")"); done
+    python -m pip install --quiet --disable-pip-version-check --no-deps "${packages[@]}"
+    echo "$vendor_hash" > "$stamps/ros2cli"
+  else
+    say "ros2 command line and launch: installed in the venv from $vendor"
+  fi
+  [ -d "$venv/share/composition_interfaces" ] || bases+=("$sources/composition_interfaces")
+else
+  say "ros2 command line and launch: none (no system ROS, no $vendor): the tests that need them are skipped"
+fi
+
+# --- 6. colcon build -----------------------------------------------------------------------
 # --symlink-install: edits to Python sources take effect without a rebuild; the stamp covers
 # every file under src/ and interfaces/ so that new entry points, messages or data files do
 # trigger one.
 # Standard interfaces the wheels lack (interfaces/README.md) are built only when the ROS prefix
 # has none, so that an installed one is never shadowed.
-bases=(src)
 [ -d "$venv/share/tf2_msgs" ] || bases+=(interfaces/tf2_msgs)
 src_hash=$( { find src interfaces -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; echo "${bases[*]}"; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
-  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim, clarc_bringup${bases[1]:+, tf2_msgs})"
+  extra=$(for b in "${bases[@]:1}"; do printf ', %s' "$(basename "$b")"; done)
+  say "colcon build (dsr_msgs, dsr_graph, clarc_agents, clarc_sim, clarc_bringup$extra)"
   if ! colcon --log-base log build --base-paths "${bases[@]}" --symlink-install \
       --event-handlers console_cohesion- summary+ \
       --cmake-args -DPython3_EXECUTABLE="$venv/bin/python" -DBUILD_TESTING=OFF \

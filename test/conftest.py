@@ -18,23 +18,45 @@ CORTEX_WORLDS = SHARED / "data" / "cortex_worlds"
 MOTION = SHARED / "data" / "motion"
 
 
+def unavailable(why: str) -> None:
+    """What a test needs is not on this machine: skipped, saying why (a user's clone has no
+    ../shared beside it), failed under CI (which always has it)."""
+    if os.environ.get("CI"):
+        pytest.fail(why)
+    pytest.skip(why)
+
+
+def shared_folder(path: Path, what: str) -> Path:
+    """A folder of ../shared."""
+    if not path.is_dir():
+        unavailable(f"{what} not found at {path} (../shared is absent; set DSR_SHARED)")
+    return path
+
+
 @pytest.fixture
 def cortex_dir():
-    if not CORTEX_WORLDS.is_dir():
-        pytest.fail(f"shared CORTEX worlds not found at {CORTEX_WORLDS} (set DSR_SHARED)")
-    return CORTEX_WORLDS
+    """../shared's CORTEX worlds."""
+    return shared_folder(CORTEX_WORLDS, "shared CORTEX worlds")
 
 
 @pytest.fixture
 def motion_dir():
-    """../shared's real recorded motion: skipped, saying why, where it is absent (a user's
-    clone), failed under CI."""
-    if not MOTION.is_dir():
-        why = f"shared recorded motion not found at {MOTION} (set DSR_SHARED)"
-        if os.environ.get("CI"):
-            pytest.fail(why)
-        pytest.skip(why)
-    return MOTION
+    """../shared's real recorded motion."""
+    return shared_folder(MOTION, "shared recorded motion")
+
+
+@pytest.fixture(scope="session")
+def ros2_cli():
+    """The ros2 command line and launch: a system ROS's, or those scripts/setup.sh installed from
+    ../shared/vendor/ros2-jazzy."""
+    import importlib.util
+    import shutil
+
+    if shutil.which("ros2") is None or importlib.util.find_spec("launch_ros") is None:
+        unavailable(
+            "no ros2 command line or launch_ros: no system ROS, and scripts/setup.sh found no "
+            f"{SHARED / 'vendor' / 'ros2-jazzy'} to install them from (set DSR_ROS2_VENDOR)"
+        )
 
 
 class RosWorld:

@@ -13,6 +13,9 @@ from typing import Any
 from aiohttp import web
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 
+STOP_CHECK = 0.1  # seconds: how soon the ROS thread sees that the web side is done
+THREAD_END = 10.0  # seconds the web side waits for the ROS thread to end its callback
+
 
 class Bridge:
     def __init__(self, node, executor: SingleThreadedExecutor | None = None):
@@ -22,11 +25,13 @@ class Bridge:
         self.loop: asyncio.AbstractEventLoop | None = None
         self._stop: asyncio.Event | None = None
         self.failed = False
+        self._stopping = False  # set by the web side when it is done: the ROS thread ends
         self._thread = threading.Thread(target=self._spin, name="rclpy", daemon=True)
 
     def _spin(self) -> None:
         try:
-            self.executor.spin()
+            while not self._stopping:
+                self.executor.spin_once(timeout_sec=STOP_CHECK)
         except ExternalShutdownException:  # Ctrl-C / SIGTERM: rclpy's handler shut ROS down
             pass
         except Exception as e:  # a failing callback: say so and stop the whole process
@@ -59,8 +64,9 @@ class Bridge:
             await runner.setup()
             site = web.TCPSite(runner, host, port)
             await site.start()
-            if on_ready:
-                on_ready(f"http://{host}:{port}/")
+            if on_ready:  # the port bound, which the system chose when asked for 0
+                bound = runner.addresses[0][1] if runner.addresses else port
+                on_ready(f"http://{host}:{bound}/")
             try:
                 await self._stop.wait()
             finally:
@@ -71,5 +77,13 @@ class Bridge:
         except KeyboardInterrupt:
             pass
         finally:
-            self.executor.shutdown(timeout_sec=1.0)
+            # The ROS thread leaves its callback before the executor and the node go: rclpy's
+            # Executor.shutdown does not wait for it (its wait is skipped once shut down), and a
+            # thread still in a callback on a node being destroyed, or in a wait set on the
+            # executor's destroyed guard condition, aborts the process (SIGABRT, "terminate called
+            # without an active exception": dsr_viewer under ros2 launch's SIGINT).
+            self._stopping = True
+            if self._thread.is_alive():
+                self._thread.join(THREAD_END)
+            self.executor.shutdown(timeout_sec=0)
         return not self.failed
