@@ -147,6 +147,9 @@ elif [ -d "$vendor" ] && compgen -G "$vendor/*.tar.gz" >/dev/null; then
     say "ros2 command line and launch: installed in the venv from $vendor"
   fi
   [ -d "$venv/share/composition_interfaces" ] || bases+=("$sources/composition_interfaces")
+elif [ -x "$venv/bin/ros2" ] && [ -d "$stamps/ros2-jazzy" ]; then
+  say "ros2 command line and launch: in the venv, installed earlier ($vendor is gone)"
+  [ -d "$venv/share/composition_interfaces" ] || bases+=("$stamps/ros2-jazzy/composition_interfaces")
 else
   say "ros2 command line and launch: none (no system ROS, no $vendor): the tests that need them are skipped"
 fi

@@ -200,8 +200,9 @@ def generate_launch_description() -> LaunchDescription:
         ),
         OpaqueFunction(function=press_start, condition=IfCondition(LaunchConfiguration("start"))),
     ]
-    # the suite's Fast DDS profile: a node killed outright is noticed as gone in 2 s, so its
-    # restarted self is not taken for a second node of that name (dsr_graph/config)
+    # the suite's Fast DDS profile (dsr_graph/config): a node killed outright is noticed as gone
+    # in 2 s, so its restarted self is not taken for a second node of that name; camera images
+    # fit the shared-memory segment without pushing out the deltas sent beside them
     profile = SetEnvironmentVariable(
         "FASTRTPS_DEFAULT_PROFILES_FILE",
         PathJoinSubstitution([FindPackageShare("dsr_graph"), "config", "fastdds_profile.xml"]),
