@@ -109,11 +109,11 @@ class Launch:
 
 
 def finished_cleanly(out: str) -> None:
-    """launch says of each process how it ended: none died (a crash, or the SIGABRT dsr_viewer
-    once gave at shutdown), none had to be killed."""
+    """launch says of each process how it ended: none died (a crash, the SIGABRT dsr_viewer once
+    gave at shutdown, or a SIGKILL because it did not stop). One slower than launch's 5 s on a
+    busy machine is sent SIGTERM, which stops it cleanly too."""
     died = [line for line in out.splitlines() if "process has died" in line]
     assert not died, "\n".join(died) + "\n" + out[-4000:]
-    assert "sending signal 'SIGTERM'" not in out, out[-4000:]
     assert "sending signal 'SIGKILL'" not in out, out[-4000:]
     assert out.count("process has finished cleanly") >= len(SUITE) - 1, out[-4000:]
 
