@@ -19,26 +19,16 @@ from test_barthel_scenarios import EXPECTED
 from test_gug_scenarios import check as check_gug
 from test_questionnaire_scenarios import expected as expected_items
 
+from clarc_sim.console.suite_keystore import SIGNERS
 from clarc_sim.patient.scenario import load
 
 from ros_processes import fresh_domain_id, stored_tests, wait_for
 
 REPO = Path(__file__).resolve().parents[2]
-SUITE = [  # every node scripts/launch.sh starts (without the camera and the recorder)
-    "/dsr_server",
-    "/tts",
-    "/microphone",
-    "/touchscreen",
-    "/kinect",
-    "/person",
-    "/gait_analyser",
-    "/speech",
-    "/panel",
-    "/pelea",
-    "/patient",
-    "/dsr_viewer",
-    "/cgamed",
-    "/clarc_monitor",
+# every node scripts/launch.sh starts, as the keystore knows them (without the camera, the
+# recorder and the one-shot Start)
+SUITE = ["/dsr_server"] + [
+    n for n in SIGNERS if n not in ("/camera", "/dsr_recorder", "/clarc_start")
 ]
 PASSWORD = "a long clinician passphrase"
 
