@@ -26,7 +26,14 @@ WAIT = 60  # seconds any one command may take on a busy machine
 
 
 def ros2(ros, *args, timeout=WAIT, check=True):
-    done = ros.procs.run("ros2", *args, timeout=timeout)
+    """``ros2 ARGS``, bounded. A command that looks a node up (param) without the daemon sees
+    only what its own fresh node discovered in its spin time (0.5 s): on a busy machine it may
+    say "Node not found" of a node that is there; it is run again then, within ``timeout``."""
+    deadline = time.monotonic() + timeout
+    while True:
+        done = ros.procs.run("ros2", *args, timeout=timeout)
+        if "Node not found" not in done.stderr or time.monotonic() >= deadline:
+            break
     if check:
         assert done.returncode == 0, f"ros2 {' '.join(map(str, args))}: {done.stdout}{done.stderr}"
     return done
