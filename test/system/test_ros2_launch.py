@@ -42,6 +42,7 @@ class Launch:
         self.env = dict(
             os.environ,
             ROS_DOMAIN_ID=str(fresh_domain_id()),
+            ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",  # ros2 node list too: nothing leaves lo
             XDG_STATE_HOME=str(tmp_path / "state_home"),  # PELEA's outbox, the logs
             ROS_LOG_DIR=str(tmp_path / "ros_log"),
             PYTHONUNBUFFERED="1",
