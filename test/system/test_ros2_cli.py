@@ -66,7 +66,10 @@ class Echo:
         before = ros.session.node.count_subscribers(topic)
         self.proc = ros.procs.start(
             f"echo{topic.replace('/', '_')}",
-            ["ros2", "topic", "echo", topic, "std_msgs/msg/String", "--once", "--full-length"],
+            [
+                *("ros2", "topic", "echo", topic, "std_msgs/msg/String"),
+                *("--once", "--full-length", "--no-daemon"),
+            ],
         )
         self.name = f"echo{topic.replace('/', '_')}"
         wait_for(
@@ -204,9 +207,13 @@ def test_ros2_run_finds_every_console_script(ros, ros2_cli):
 
 
 @pytest.fixture(autouse=True)
-def no_ros2_daemon_left():
-    """Fails the test if a ros2 daemon was left running (they outlive the commands that start
-    them: every listing command here says --no-daemon)."""
+def no_ros2_daemon_left(ros):
+    """Fails the test if a ros2 daemon of its domain was left running (one outlives the command
+    that starts it: every listing command here says --no-daemon)."""
     yield
-    found = subprocess.run(["pgrep", "-f", "_ros2_daemon"], capture_output=True, text=True)
+    found = subprocess.run(
+        ["pgrep", "-af", "--", f"--name ros2-daemon --ros-domain-id {ros.domain_id}( |$)"],
+        capture_output=True,
+        text=True,
+    )
     assert not found.stdout.strip(), f"a ros2 daemon was left running: {found.stdout}"
