@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from package_scripts import console_scripts
 
 from dsr_graph.formats.keystore import Keystore
 from dsr_graph.protocol.signing import Signer
@@ -21,7 +22,6 @@ from ros_processes import wait_for
 
 REPO = Path(__file__).resolve().parents[2]
 WORLD_CLARC = REPO / "worlds" / "clarc_room.json"
-PACKAGES = ("dsr_graph", "clarc_agents", "clarc_sim")
 WAIT = 60  # seconds any one command may take on a busy machine
 
 
@@ -34,6 +34,7 @@ def ros2(ros, *args, timeout=WAIT, check=True):
         done = ros.procs.run("ros2", *args, timeout=timeout)
         if "Node not found" not in done.stderr or time.monotonic() >= deadline:
             break
+        time.sleep(0.5)
     if check:
         assert done.returncode == 0, f"ros2 {' '.join(map(str, args))}: {done.stdout}{done.stderr}"
     return done
@@ -53,25 +54,19 @@ def until_listed(ros, args, wanted, what):
         time.sleep(0.5)
 
 
-def console_scripts(package):
-    """The executables a package's setup.py declares (what ``ros2 pkg executables`` lists)."""
-    text = (REPO / "src" / package / "setup.py").read_text()
-    return sorted(re.findall(r'"(\w+) = [\w.]+:main"', text))
-
-
 class Echo:
     """``ros2 topic echo TOPIC --once`` in the background, started before what it should see."""
 
     def __init__(self, ros, topic):
         before = ros.session.node.count_subscribers(topic)
+        self.name = f"echo{topic.replace('/', '_')}"
         self.proc = ros.procs.start(
-            f"echo{topic.replace('/', '_')}",
+            self.name,
             [
                 *("ros2", "topic", "echo", topic, "std_msgs/msg/String"),
                 *("--once", "--full-length", "--no-daemon"),
             ],
         )
-        self.name = f"echo{topic.replace('/', '_')}"
         wait_for(
             lambda: ros.session.node.count_subscribers(topic) > before,
             WAIT,
@@ -197,9 +192,10 @@ def test_ros2_command_line_on_a_running_dsr(ros, ros2_cli, monkeypatch):
 
 
 def test_ros2_run_finds_every_console_script(ros, ros2_cli):
-    for package in PACKAGES:
+    declared = console_scripts()
+    for package in sorted({p for p, _ in declared}):
         listed = ros2(ros, "pkg", "executables", package).stdout.split("\n")
-        scripts = console_scripts(package)
+        scripts = sorted(name for p, name in declared if p == package)
         assert sorted(line.split()[1] for line in listed if line) == scripts, listed
         for script in scripts:
             done = ros2(ros, "run", package, script, "--help")

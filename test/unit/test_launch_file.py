@@ -8,6 +8,8 @@ import importlib
 import re
 from pathlib import Path
 
+from package_scripts import console_scripts
+
 from dsr_graph.ros.dsr_node import DsrNode
 from dsr_graph.ros.parameters import ParameterList
 
@@ -21,15 +23,6 @@ PUBLIC = {
     "launch_ros.actions",
     "launch_ros.substitutions",
 }
-
-
-def console_scripts() -> dict[tuple[str, str], str]:
-    """(package, executable) -> module, from every setup.py."""
-    found = {}
-    for setup in (REPO / "src").glob("*/setup.py"):
-        for name, module in re.findall(r'"(\w+) = ([\w.]+):main"', setup.read_text()):
-            found[(setup.parent.name, name)] = module
-    return found
 
 
 def launched() -> list[tuple[str, str, set[str], bool]]:
