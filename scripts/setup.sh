@@ -161,6 +161,7 @@ fi
 # Standard interfaces the wheels lack (interfaces/README.md) are built only when the ROS prefix
 # has none, so that an installed one is never shadowed.
 [ -d "$venv/share/tf2_msgs" ] || bases+=(interfaces/tf2_msgs)
+[ -d "$venv/share/hri_msgs" ] || bases+=(interfaces/hri_msgs)
 src_hash=$( { find src interfaces -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; echo "${bases[*]}"; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
   extra=$(for b in "${bases[@]:1}"; do printf ', %s' "$(basename "$b")"; done)

@@ -54,9 +54,58 @@ def test_the_shipped_suite_covers_the_issue_s_cases():
 
 @pytest.mark.parametrize("scenario", SCENARIOS)
 def test_a_get_up_and_go_scenario_through_the_launch(scenario, tmp_path):
-    run, stored = run_gug(scenario, tmp_path)
+    # the patient who leaves is recorded: REP-155's topics, a body lost and a new one found
+    record = ("--record", tmp_path / "run.mcap") if scenario == "gug_leaves.yaml" else ()
+    run, stored = run_gug(scenario, tmp_path, *record)
     assert "RESULT" in run.stdout and "Get Up & Go" in run.stdout
     check(stored, scenario, run.stdout)
+    if record:
+        check_humans(tmp_path / "run.mcap")
+
+
+def check_humans(recording: Path) -> None:
+    """What HRI tools saw of the patient (REP-155): the tracked bodies and persons, each body's
+    skeleton in the image and its ``body_<id>`` frame under the Kinect's, each (anonymous)
+    person's body id and ``person_<id>`` frame on its body; the patient who left is a new body
+    and a new person when back."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    tracked = {"/humans/bodies/tracked": [], "/humans/persons/tracked": []}
+    skeletons, frames, latched = {}, {}, {}
+    with open(recording, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for _, channel, _, m in reader.iter_decoded_messages():
+            topic = channel.topic
+            if topic in tracked:
+                if not tracked[topic] or tracked[topic][-1] != list(m.ids):
+                    tracked[topic].append(list(m.ids))
+            elif topic.startswith("/humans/bodies/") and topic.endswith("/skeleton2d"):
+                assert len(m.skeleton) == 18 and m.header.frame_id == "kinect"
+                seen = [p for p in m.skeleton if p.c > 0.0]
+                assert all(0.0 <= p.x <= 1.0 and 0.0 <= p.y <= 1.0 for p in seen)
+                skeletons[topic.split("/")[3]] = skeletons.get(topic.split("/")[3], 0) + 1
+            elif topic == "/tf":
+                for t in m.transforms:
+                    if t.child_frame_id.startswith("body_") or t.header.frame_id.startswith(
+                        "body_"
+                    ):
+                        frames[t.child_frame_id] = t.header.frame_id
+            elif topic.startswith("/humans/persons/") and topic != "/humans/persons/tracked":
+                latched[topic] = m.data
+    bodies = tracked["/humans/bodies/tracked"]
+    # tracked, left (lost: no body), back as another body
+    assert len(bodies) >= 3 and bodies[0] and [] in bodies and bodies[-1], bodies
+    assert bodies[0] != bodies[-1], bodies
+    ids = {i for listed in bodies for i in listed}
+    assert set(skeletons) == ids and min(skeletons.values()) > 30, skeletons
+    persons = {i for listed in tracked["/humans/persons/tracked"] for i in listed}
+    assert len(persons) == len(ids) == 2
+    for person in persons:
+        body = latched[f"/humans/persons/{person}/body_id"]
+        assert body in ids and latched[f"/humans/persons/{person}/anonymous"] is True
+        assert frames[f"body_{body}"] == "kinect"
+        assert frames[f"person_{person}"] == f"body_{body}"
 
 
 def test_a_recorded_patient_is_timed_through_the_launch(tmp_path, motion_dir):

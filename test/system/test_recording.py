@@ -27,6 +27,9 @@ TOPICS = {
     "/clarc/speaker/events",
     "/clarc/panel/display",
     "/clarc/panel/tap",
+    "/humans/persons/tracked",
+    "/humans/voices/tracked",
+    "/humans/voices/anonymous_speaker/speech",
 }
 
 
@@ -79,6 +82,23 @@ def test_the_recording_opens_with_the_mcap_library_and_holds_the_topics(recorded
                 assert decoded.transforms and decoded.transforms[0].header.frame_id
             else:
                 assert decoded.markers
+
+
+def test_what_the_patient_said_is_on_rep_155_s_voice_topic_as_the_asr_heard_it(recorded_run):
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    heard, said = [], []
+    with open(recorded_run / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        topics = ["/clarc/asr", "/humans/voices/anonymous_speaker/speech"]
+        for _, channel, _, m in reader.iter_decoded_messages(topics=topics):
+            if channel.topic == "/clarc/asr":
+                heard.append(json.loads(m.data)["text"])
+            else:
+                assert m.locale == "en_US" and m.confidence == 1.0 and not m.incremental
+                said.append(m.final)
+    assert heard and said == heard
 
 
 def test_the_recording_rebuilds_the_server_graph_at_the_end(recorded_run):

@@ -2,7 +2,8 @@
 ROS's, or scripts/setup.sh's from ../shared/vendor/ros2-jazzy): the default Barthel scenario
 stores what scripts/launch.sh stores, recorded with ``record:=``, while ``ros2 node list`` shows
 every node of the suite; an MMSE scenario; a Get Up & Go scenario with ``start:=false`` and
-Start pressed on the clinician's dashboard. Every process of the launch finishes cleanly at
+Start pressed on the clinician's dashboard, the patient's body on REP-155's topics meanwhile
+(``ros2 topic echo``). Every process of the launch finishes cleanly at
 shutdown (none dies, none is killed)."""
 
 import json
@@ -192,6 +193,17 @@ def test_a_get_up_and_go_through_ros2_launch_started_on_the_dashboard(tmp_path, 
         patient = dashboard.call("api/patients", {"name": truth.patient})
         assert not launch.stored()  # nothing ran before Start: the launch waits for it
         dashboard.call("api/start", {"patient_id": patient["id"], "test": "get_up_and_go"})
+        # the patient as HRI tools see it (REP-155), with the README's commands
+        echo = ("topic", "echo", "--once", "--no-daemon")
+        tracked = launch.ros2(*echo, "/humans/bodies/tracked", "hri_msgs/msg/IdsList")
+        [body] = re.findall(r"^- (\w+)$", tracked, re.MULTILINE)
+        skeleton = launch.ros2(
+            *echo, f"/humans/bodies/{body}/skeleton2d", "hri_msgs/msg/Skeleton2D"
+        )
+        assert (
+            len(re.findall(r"^  c: ", skeleton, re.MULTILINE)) == 18
+            and "frame_id: kinect" in skeleton
+        ), skeleton
         out = launch.finish()
     finally:
         launch.close()

@@ -30,6 +30,7 @@ ROS_PACKAGES = {
     "visualization_msgs",
     "sensor_msgs",
     "tf2_msgs",
+    "hri_msgs",
     "dsr_msgs",
     "ament_index_python",
     "rosidl_adapter",

@@ -5,7 +5,7 @@ for the camera's images."""
 SPEAKER_SAY = "clarc/speaker/say"  # Speech -> TTS: {"id", "text"}
 SPEAKER_STOP = "clarc/speaker/stop"  # Speech -> TTS: {"id"}
 SPEAKER = "clarc/speaker/events"  # TTS -> all: {"id", "text", "event": "start" | "end" | "stopped"}
-ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text"}
+ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text", "confidence" (0 to 1, optional)}
 # Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
 PANEL_DISPLAY = "clarc/panel/display"
 PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}

@@ -36,7 +36,7 @@ from clarc_agents.gug.phases import (
     sample,
     time_trial,
 )
-from clarc_agents.gug.skeleton import frames_in, frames_on
+from clarc_agents.gug.skeleton import SENSOR, frames_in, frames_on
 from dsr_graph.exceptions import DsrError
 from dsr_graph.model.graph import Graph
 
@@ -134,7 +134,7 @@ class GaitAnalyser:
         if not frames or graph.find(CHAIR) is None:
             return
         try:
-            chair_kinect = graph.transform(CHAIR, "kinect")
+            chair_kinect = graph.transform(CHAIR, SENSOR)
         except DsrError:
             return
         rotation, offset = chair_kinect[:3, :3], chair_kinect[:3, 3]

@@ -9,6 +9,7 @@ from collections import deque
 
 import numpy as np
 
+from clarc_agents.gug.skeleton import SENSOR
 from dsr_graph.model.graph import Graph
 
 SITTING_BELOW = 0.70  # m: a seated pelvis is about 0.47 m up, a standing one about 0.95 m
@@ -21,7 +22,7 @@ STEADY = 0.3  # s of the patient's time a new posture must hold before it is tol
 def pelvis_in_room(graph: Graph, joints) -> np.ndarray:
     """The pelvis of a parsed skeleton frame (in the Kinect's frame) in the room's, z up from the
     floor: the kinematic chain room -> kinect of the DSR."""
-    room_from_kinect = graph.transform("room", "kinect")
+    room_from_kinect = graph.transform("room", SENSOR)
     return room_from_kinect[:3, :3] @ joints["pelvis"][0] + room_from_kinect[:3, 3]
 
 

@@ -35,6 +35,7 @@ JOINTS = (
 )
 SIDES = (("hip_left", "hip_right"), ("shoulder_left", "shoulder_right"))
 MM = 1000.0
+SENSOR = "kinect"  # the DSR node (and tf frame) whose frame the Kinect's joints are given in
 
 
 def joint_node(joint: str) -> str:
@@ -145,7 +146,7 @@ def _geometry_ops(
     ops: list[dict[str, Any]] = [
         {
             "op": "set_rt",
-            "from": "kinect",
+            "from": SENSOR,
             "to": "person",
             "rt": {"translation": pelvis.round(4).tolist(), "rotation_euler_xyz": [0.0, 0.0, yaw]},
         },

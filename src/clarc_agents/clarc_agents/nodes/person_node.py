@@ -18,8 +18,11 @@ reason.
 ROS Parameters: seen_frames (2), lost_frames (3) and lost_seconds (0.5 of the patient's time:
 both, before the person counts as lost; a tracker loses a body for a moment now and then),
 move_mm (50.0), max_batch (600: frames in one
-transaction; older ones are dropped past it and the gap shows). Subscriptions:
-clarc/kinect/person. Plus the DSR topics.
+transaction; older ones are dropped past it and the gap shows), camera_width (640),
+camera_height (480) and camera_focal (525.0 pixels: the Kinect's colour camera, for the
+skeleton in its image). Subscriptions: clarc/kinect/person. Publishers: REP-155's
+/humans/bodies and /humans/persons topics and their /tf frames (nodes/humans_topics.py), from
+every frame whether or not the DSR holds the person. Plus the DSR topics.
 """
 
 from __future__ import annotations
@@ -31,8 +34,10 @@ from typing import Any
 from clarc_agents import topics
 from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
-from clarc_agents.gug.skeleton import frames_tx, parse_skeleton
+from clarc_agents.gug.skeleton import SENSOR, frames_tx, heading, parse_skeleton
+from clarc_agents.humans import Absence, Pinhole
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+from clarc_agents.nodes.humans_topics import PersonHumans
 from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -71,12 +76,17 @@ class PersonAgent(GrammarAgentNode):
         )
         declare(node, "move_mm", 50.0, "a move smaller than this is not written", minimum=0.0)
         declare(node, "max_batch", 600, "skeleton frames in one transaction, at most", minimum=1)
+        # the Kinect's colour camera, where /humans/bodies/<id>/skeleton2d places the joints
+        declare(node, "camera_width", 640, "colour image width (pixels)", minimum=1)
+        declare(node, "camera_height", 480, "colour image height (pixels)", minimum=1)
+        declare(node, "camera_focal", 525.0, "colour camera focal length (pixels)", minimum=1.0)
 
     def __init__(self):
         super().__init__()
         self._present_frames = 0
-        self._absent_frames = 0
-        self._absent_since = 0.0  # the stamp of the first frame without a body
+        self._absence = Absence()  # of the person the DSR holds
+        self._humans_absence = Absence()  # of the body and person on the /humans topics
+        self.humans: PersonHumans | None = None
         self._last_face: list[float] | None = None
         self._skeleton_in_flight = False
         self._waiting: list = []  # skeleton frames for the next transaction, oldest first
@@ -90,6 +100,10 @@ class PersonAgent(GrammarAgentNode):
     def setup(self) -> None:
         # every frame (a Get Up & Go's trial needs them all), kept while Person is busy
         kept = qos_every_frame(topics.KINECT_FRAMES_KEPT)
+        camera = Pinhole(
+            param(self, "camera_width"), param(self, "camera_height"), param(self, "camera_focal")
+        )
+        self.humans = PersonHumans(self, SENSOR, camera)
         subscribe_json(self, topics.KINECT_PERSON, self.on_frame, kept)
         super().setup()
 
@@ -97,8 +111,6 @@ class PersonAgent(GrammarAgentNode):
         return self.dsr.graph.edge("person", "robot", "is_with") is not None
 
     def on_frame(self, frame: dict[str, Any]) -> None:
-        if not self.dsr.replica.synced:
-            return
         present = frame["present"]
         if not isinstance(present, bool):
             raise ValueError(f"present must be true or false, got {present!r}")
@@ -109,16 +121,20 @@ class PersonAgent(GrammarAgentNode):
         eyes = frame.get("eyes", "open")
         if eyes not in ("open", "closed"):
             raise ValueError(f"eyes must be open or closed, got {eyes!r}")
+        stamp = self._stamp_of(frame)
+        # the Kinect speaks millimetres (its SDK's unit), the DSR metres: converted here, once
+        face_m = [v / PER_METRE[DEVICE_UNIT] for v in face] if face is not None else None
+        self._to_humans(stamp, joints, face_m)  # what the sensor sees, whatever the DSR holds
+        if not self.dsr.replica.synced:
+            return
         if present:
-            self._present_frames, self._absent_frames = self._present_frames + 1, 0
+            self._present_frames = self._present_frames + 1
+            self._absence.present()
             if eyes == "closed" and self._with_robot():
                 self._eyes_closed()
-            # the Kinect speaks millimetres (its SDK's unit), the DSR metres: converted here, once
-            metres = [v / PER_METRE[DEVICE_UNIT] for v in face]
-            if joints is not None:  # the person is where the pelvis is
-                metres = joints["pelvis"][0].tolist()
+            metres = joints["pelvis"][0].tolist() if joints is not None else face_m
             pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
-            if self._with_robot() and joints is not None:
+            if self._with_robot() and joints is not None:  # the person is where the pelvis is
                 self._write_skeleton(joints, float(frame.get("stamp", 0.0)))
                 self._follow_posture(joints, float(frame.get("stamp", 0.0)))
             elif not self._with_robot():
@@ -133,17 +149,9 @@ class PersonAgent(GrammarAgentNode):
                 self._last_face = face
         else:
             self._last_written = None  # a frame without a body is not a hole in the stream
-            if self._absent_frames == 0:
-                self._absent_since = self._stamp_of(frame)
-            self._absent_frames, self._present_frames = self._absent_frames + 1, 0
-            # a tracker loses a body for a moment now and then: gone is this long without one,
-            # by the frames' own stamps (a busy Person may take a second's frames at once)
-            away = (self._stamp_of(frame) - self._absent_since) / self.scale
-            if (
-                self._with_robot()
-                and self._absent_frames >= param(self, "lost_frames")
-                and away >= float_param(self, "lost_seconds")
-            ):
+            self._absence.absent(stamp)
+            self._present_frames = 0
+            if self._with_robot() and self._gone(self._absence, stamp):
                 self.runner.signal(
                     "lost"
                 )  # a repeat before the replica catches up is refused (CAS)
@@ -152,6 +160,24 @@ class PersonAgent(GrammarAgentNode):
                 "the person is beyond the Kinect's range (4.5 m): its joints are less sure",
                 throttle_duration_sec=10.0,
             )
+
+    def _gone(self, absence: Absence, stamp: float) -> bool:
+        """Lost: ``lost_frames`` frames and ``lost_seconds`` of the patient's time without."""
+        seconds = float_param(self, "lost_seconds") * self.scale
+        return absence.lost(stamp, param(self, "lost_frames"), seconds)
+
+    def _to_humans(self, stamp: float, joints, face_m) -> None:
+        """REP-155's topics and frames (nodes/humans_topics.py) for this frame."""
+        if face_m is not None:
+            self._humans_absence.present()
+            yaw = heading(joints) if joints is not None else 0.0
+            self.humans.seen(stamp, joints, yaw, face_m)
+            return
+        self._humans_absence.absent(stamp)
+        if self._gone(self._humans_absence, stamp):
+            self.humans.lost(stamp)
+        else:
+            self.humans.publish_tracked(stamp)
 
     @staticmethod
     def _stamp_of(frame: dict[str, Any]) -> float:

@@ -2,8 +2,9 @@
 test_part through the TTS, stops at once when the person it talks to leaves, and listens for
 answers, mapping recognised words to the item's options. Its rules: grammars/speech.yaml.
 
-Publishers: clarc/speaker/say, clarc/speaker/stop. Subscriptions: clarc/speaker/events,
-clarc/asr. Plus the DSR topics (dsr_graph.ros.agent).
+Publishers: clarc/speaker/say, clarc/speaker/stop, and REP-155's /humans/voices/tracked and
+/humans/voices/anonymous_speaker/speech (what was heard: nodes/humans_topics.py).
+Subscriptions: clarc/speaker/events, clarc/asr. Plus the DSR topics (dsr_graph.ros.agent).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from std_msgs.msg import String
 from clarc_agents import topics
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
+from clarc_agents.nodes.humans_topics import SpeechHumans
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.qos import qos_stream
@@ -45,6 +47,7 @@ class SpeechAgent(GrammarAgentNode):
         self._say = self.create_publisher(String, topics.SPEAKER_SAY, qos_stream())
         self._stop = self.create_publisher(String, topics.SPEAKER_STOP, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
+        self._humans = SpeechHumans(self)
         subscribe_json(self, topics.ASR, self.on_asr, qos_stream())
         super().setup()
         self.dsr.add_listener(lambda deltas, resynced: self.behaviour.on_graph(self.dsr.graph))
@@ -69,6 +72,14 @@ class SpeechAgent(GrammarAgentNode):
         text = message["text"]
         if not isinstance(text, str):
             raise ValueError(f"recognised text must be a string, got {type(text).__name__}")
+        confidence = message.get("confidence", 1.0)  # the stand-in's text is what was said
+        if (
+            isinstance(confidence, bool)
+            or not isinstance(confidence, (int, float))
+            or not 0.0 <= confidence <= 1.0
+        ):
+            raise ValueError(f"confidence must be a number from 0 to 1, got {confidence!r}")
+        self._humans.heard(text, confidence)
         shown = self.dsr.graph.edge("test", "test_part", "is_in")
         self.behaviour.on_heard(text, shown.attrs.get("item", "") if shown is not None else "")
 

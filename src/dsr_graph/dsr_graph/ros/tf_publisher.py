@@ -18,7 +18,7 @@ TF = "/tf"  # absolute, as tf2 has them: never namespaced
 TF_STATIC = "/tf_static"
 
 
-def _message(transforms: list[Transform], stamp) -> TFMessage:
+def tf_message(transforms: list[Transform], stamp) -> TFMessage:
     out = []
     for t in transforms:
         m = TransformStamped()
@@ -32,14 +32,22 @@ def _message(transforms: list[Transform], stamp) -> TFMessage:
     return TFMessage(transforms=out)
 
 
+def qos_tf() -> QoSProfile:
+    """/tf's, as tf2_ros's TransformBroadcaster offers it: reliable, volatile, 100 deep."""
+    return QoSProfile(
+        depth=100,
+        durability=DurabilityPolicy.VOLATILE,
+        reliability=ReliabilityPolicy.RELIABLE,
+        history=HistoryPolicy.KEEP_LAST,
+    )
+
+
 class TfPublisher:
     def __init__(self, node: Node, graph: Graph):
         self.node = node
         self.book = TfBook(graph)
         reliable = dict(reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-        self._tf = node.create_publisher(
-            TFMessage, TF, QoSProfile(depth=100, durability=DurabilityPolicy.VOLATILE, **reliable)
-        )
+        self._tf = node.create_publisher(TFMessage, TF, qos_tf())
         self._static = node.create_publisher(
             TFMessage,
             TF_STATIC,
@@ -51,17 +59,17 @@ class TfPublisher:
         return self.node.get_clock().now().to_msg()
 
     def send_static(self, graph: Graph) -> None:
-        self._static.publish(_message(self.book.static_transforms(graph), self._now()))
+        self._static.publish(tf_message(self.book.static_transforms(graph), self._now()))
 
     def on_delta(self, graph: Graph, delta: dict) -> None:
         now, static_changed = self.book.update(graph, delta)
         if static_changed:
             self.send_static(graph)
         if now:
-            self._tf.publish(_message(now, self._now()))
+            self._tf.publish(tf_message(now, self._now()))
 
     def refresh(self, graph: Graph) -> None:
         """The dynamic transforms again, newly stamped (the heartbeat calls it)."""
         dynamic = self.book.dynamic_transforms(graph)
         if dynamic:
-            self._tf.publish(_message(dynamic, self._now()))
+            self._tf.publish(tf_message(dynamic, self._now()))
