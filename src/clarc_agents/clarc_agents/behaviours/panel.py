@@ -4,7 +4,7 @@ an answer while one is awaited. Rules: ``grammars/panel.yaml``.
 
 Beyond options, the screen shows what an item needs (``shows``: pictures, shapes, a written
 instruction) and takes what it asks for (``input``): touches on shapes, scored when there are as
-many as the item's parts (percept ``touched``: a point per part touched in its place), or a
+many as the item's parts (percept ``touched``: a point per stage touched in order), or a
 drawing, kept for the clinician (percept ``drawn``: SVG path data)."""
 
 from __future__ import annotations

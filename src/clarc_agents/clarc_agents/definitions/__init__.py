@@ -15,11 +15,12 @@ Kinds of item (how the patient answers and how it is scored; ``via`` is how the 
     serial   ``parts``: the numbers of a serial subtraction in order (93, 86, ...); a point
              per number said that is the one before it (or the start) minus the step, so one
              slip costs one point, not the rest (voice)
-    touches  ``parts`` and ``shows`` (targets on the screen): a point per part touched in its
-             place in the order (touch)
+    touches  ``parts`` and ``shows`` (targets on the screen): a point per stage touched in
+             the parts' order, other touches between them ignored (touch)
     drawing  what the patient draws on the screen is recorded; ``shows`` a model to copy, if
              any; ``points`` the maximum; the clinician scores it (``needs_clinician``)
-    eyes     ``shows`` a written instruction; ``points`` if the camera sees the eyes close
+    eyes     ``shows`` a written instruction; ``points`` if the camera sees the eyes stay closed
+             a second
              while the answer is awaited, 0 if asked twice without (camera)
 Every kind but ``choose`` has ``ask``: the sentence asking for the answer. A part's words may
 hold placeholders filled in when a test starts (``Definition.filled``): see ``PLACEHOLDERS``.

@@ -1,8 +1,9 @@
 """The Person agent: turns Kinect frames into the person's presence and face pose in the DSR
 (person node, kinect -RT-> person, person -is_with-> robot). Rules: grammars/person.yaml.
 The face data also says whether the eyes are closed: while the DSR awaits the answer to an
-``eyes`` item (the MMSE's "close your eyes", read on the screen), eyes seen closed are its
-answer (percept ``eyes_closed``, worth the item's points).
+``eyes`` item (the MMSE's "close your eyes", read on the screen), eyes seen closed for a second
+of the patient's time (``behaviours/closed_eyes.py``: a blink is no answer) are its answer
+(percept ``eyes_closed``, worth the item's points).
 
 A person counts as seen after ``seen_frames`` frames with a face and as lost after
 ``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
@@ -32,6 +33,7 @@ import time
 from typing import Any
 
 from clarc_agents import topics
+from clarc_agents.behaviours.closed_eyes import ClosedEyes
 from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import SENSOR, frames_tx, heading, parse_skeleton
@@ -93,6 +95,7 @@ class PersonAgent(GrammarAgentNode):
         self._last_written: float | None = None  # the capture stamp of the last frame taken
         self.skeletons_dropped = 0
         self._posture = PostureTracker(self.scale)
+        self._closed_eyes = ClosedEyes(self.scale)
 
     def processes(self) -> dict[str, Process]:
         return {}
@@ -130,7 +133,7 @@ class PersonAgent(GrammarAgentNode):
         if present:
             self._present_frames = self._present_frames + 1
             self._absence.present()
-            if eyes == "closed" and self._with_robot():
+            if self._closed_eyes.see(eyes == "closed", stamp) and self._with_robot():
                 self._eyes_closed()
             metres = joints["pelvis"][0].tolist() if joints is not None else face_m
             pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
@@ -149,6 +152,7 @@ class PersonAgent(GrammarAgentNode):
                 self._last_face = face
         else:
             self._last_written = None  # a frame without a body is not a hole in the stream
+            self._closed_eyes.see(False, stamp)
             self._absence.absent(stamp)
             self._present_frames = 0
             if self._with_robot() and self._gone(self._absence, stamp):

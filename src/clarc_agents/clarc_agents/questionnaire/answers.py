@@ -1,117 +1,205 @@
-"""Understanding an answer to an item (pure).
+"""Understanding an answer to an item (pure). The rules, with their sources, are in
+docs/FORMAT.md ("How answers are understood"); what was said is first made words and digits
+(``spoken.words``: case, punctuation and how a number was said never matter).
 
-Said, to a ``choose`` item: an utterance chooses an option by number ("option two", "number 2",
-"the second one"), or by the option's keywords (phrases; the option with the most hits wins, a
-tie is not understood). Said, to a ``words`` item: a point for each part recognised; any words
-but hesitations are an answer ("I don't know" is one, worth 0). Said, to a ``serial`` item (the
-serial sevens): a point for each number that is the one said before it, or the start, minus the
-step (93, 85, 78: 2 points). Touched, on a ``touches`` item:
-a point for each part touched in its place in the order. "skip" / "next question" asks to skip
-the item. Anything else is not understood.
+Said, to a ``choose`` item: an utterance chooses an option by number or position ("two",
+"option two", "number 2", "the second one"), or by the option's keywords (phrases; the option
+with the most hits wins, a tie is not understood). "I don't know" and its like are never an
+option. Said, to a ``words`` item: a point for each part said, unless it was hedged ("Monday or
+Tuesday": no point for the weekday) or said among rival values of its kind (every weekday
+recited); any words but hesitations are an answer ("I don't know" is one, worth 0). Said, to a
+``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of "minus
+seven"), a point for each that is the one said before it, or the start, minus the step (93, 85,
+78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
+"next question" asks to skip the item. Anything else is not understood.
 """
 
 from __future__ import annotations
 
-import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from clarc_agents.definitions import Item, serial_numbers
+from clarc_agents.questionnaire.orientation import MONTHS, SEASON_WORDS, SEASONS, WEEKDAYS
+from clarc_agents.questionnaire.spoken import suffixed, words
 
-SKIP = ("skip", "next question", "pass", "go to the next")
-NUMBERS = {
-    "one": 1,
-    "first": 1,
-    "1": 1,
-    "two": 2,
-    "second": 2,
-    "2": 2,
-    "three": 3,
-    "third": 3,
-    "3": 3,
-    "four": 4,
-    "fourth": 4,
-    "4": 4,
-}
+SKIP = (("skip",), ("next", "question"), ("pass",), ("go", "to", "the", "next"))
 # sounds that are no answer at all (what a recogniser makes of mumbling)
-HESITATIONS = frozenset("mmh mm hmm hm eh er uh um ah oh brr the a an and".split())
-_BY_NUMBER = re.compile(r"\b(?:option|number)\s+(\w+)\b|\bthe\s+(first|second|third|fourth)\b")
+HESITATIONS = frozenset("mmh mm hmm hm eh er uh um ah oh brr the a an and well so".split())
+# saying one does not know: an answer worth 0 to a words item, never an option
+UNKNOWING = tuple(
+    tuple(words(p))
+    for p in (
+        "I don't know",
+        "I do not know",
+        "don't know",
+        "dunno",
+        "not sure",
+        "no idea",
+        "I can't remember",
+        "I cannot remember",
+        "I don't remember",
+        "I do not remember",
+    )
+)
+POSITION_WORDS = ("option", "number")
+ARTICLES = ("a", "an", "the")
+# the operand of a subtraction said aloud ("minus seven"), not an answer
+OPERATORS = ("minus", "less", "subtract", "subtracting", "away", "take")
+# values of one kind: another said beside the right one is a rival (docs/FORMAT.md)
+KINDS_OF_VALUE = (
+    frozenset(w.lower() for w in WEEKDAYS),
+    frozenset(w.lower() for w in MONTHS),
+    frozenset(set(SEASONS.values()) | {w for ws in SEASON_WORDS.values() for w in ws}),
+)
+_DAYS = frozenset(suffixed(d) for d in range(1, 32))
 
 
 @dataclass(frozen=True)
 class Understanding:
     kind: str  # "answer", "skip" or "not_understood"
     points: int | None = None
+    matched: tuple[str, ...] = ()  # the parts (or the option) the answer was credited for
+    why: tuple[str, ...] = field(default=())  # what was not credited, and why
 
 
-def normalise(text: str) -> str:
-    return " " + re.sub(r"[^a-z0-9' ]+", " ", text.lower()).strip() + " "
+def _find(phrase: tuple[str, ...], said: list[str]) -> list[int]:
+    """Where ``phrase`` starts in ``said`` (token positions)."""
+    n = len(phrase)
+    return [i for i in range(len(said) - n + 1) if n and tuple(said[i : i + n]) == phrase]
+
+
+def _strip(said: list[str], phrases) -> list[str]:
+    """``said`` without any of ``phrases``."""
+    out = list(said)
+    for phrase in phrases:
+        for i in reversed(_find(phrase, out)):
+            del out[i : i + len(phrase)]
+    return out
 
 
 def understand(item: Item, text: str) -> Understanding:
-    said = normalise(text)
-    if not said.strip():
-        return Understanding("not_understood")
-    if any(f" {s} " in said for s in SKIP):
+    said = words(text)
+    if not said:
+        return Understanding("not_understood", why=("nothing was said",))
+    if any(_find(s, said) for s in SKIP):
         return Understanding("skip")
     if item.kind in ("words", "serial"):
-        if set(said.split()) <= HESITATIONS:
-            return Understanding("not_understood")
+        if set(said) <= HESITATIONS:
+            return Understanding("not_understood", why=("only hesitations",))
         if item.kind == "serial":
-            return Understanding("answer", serial_points(item, numbers_in(said)))
-        return Understanding("answer", sum(_heard(part.keywords, said) for part in item.parts))
-    m = _BY_NUMBER.search(said)
-    if m:
-        n = NUMBERS.get(m.group(1) or m.group(2))
-        if n is not None and 1 <= n <= len(item.options):
-            return Understanding("answer", item.options[n - 1].points)
-    hits = [(sum(f" {k} " in said for k in o.keywords), o.points) for o in item.options]
+            return _serial(item, said)
+        return _words(item, said)
+    return _choose(item, said)
+
+
+def _choose(item: Item, said: list[str]) -> Understanding:
+    said = _strip(said, UNKNOWING)  # "I don't know" is never an option ("don't" might be)
+    if not said or set(said) <= HESITATIONS:
+        return Understanding("not_understood", why=("no option was said",))
+    n = _position(said)
+    if n is not None:
+        if 1 <= n <= len(item.options):
+            option = item.options[n - 1]
+            return Understanding("answer", option.points, (f"option {n}: {option.text}",))
+        return Understanding("not_understood", why=(f"there is no option {n}",))
+    hits = [(sum(bool(_find(tuple(words(k)), said)) for k in o.keywords), o) for o in item.options]
     best = max(h for h, _ in hits)
-    winners = [p for h, p in hits if h == best]
-    if best == 0 or len(winners) > 1:
-        return Understanding("not_understood")
-    return Understanding("answer", winners[0])
+    winners = [o for h, o in hits if h == best]
+    if best == 0:
+        return Understanding("not_understood", why=("no option's words were said",))
+    if len(winners) > 1:
+        tied = ", ".join(repr(o.text) for o in winners)
+        return Understanding("not_understood", why=(f"as many words of {tied}",))
+    return Understanding("answer", winners[0].points, (winners[0].text,))
 
 
-def _heard(keywords: tuple[str, ...], said: str) -> bool:
-    return any(f" {normalise(k).strip()} " in said for k in keywords)
+def _position(said: list[str]) -> int | None:
+    """The option chosen by number or position: "2", "option 2", "number 2", "the 2nd (one)"
+    (the words already made digits)."""
+    if len(said) == 1 and said[0].isdigit():
+        return int(said[0])
+    for i, token in enumerate(said):
+        if token in POSITION_WORDS and i + 1 < len(said) and said[i + 1].isdigit():
+            return int(said[i + 1])
+        if token[:1].isdigit() and not token.isdigit():  # an ordinal: "the 2nd", "2nd 1"
+            rest = said[i + 1 :]
+            if (i > 0 and said[i - 1] == "the") or rest[:1] in (["1"], ["option"]):
+                return int(token.rstrip("stndrh"))
+    return None
+
+
+def _words(item: Item, said: list[str]) -> Understanding:
+    points, matched, why = 0, [], []
+    for part in item.parts:
+        phrases = [tuple(words(k)) for k in part.keywords]
+        spans = [(i, len(p)) for p in phrases for i in _find(p, said)]
+        if not spans:
+            continue
+        name = " ".join(phrases[0])
+        if all(_hedged(said, i, n) for i, n in spans):
+            why.append(f"{name}: hedged (said with 'or')")
+            continue
+        rivals = _rivals({t for p in phrases for t in p}, said)
+        if rivals:
+            why.append(f"{name}: said among others of its kind ({', '.join(rivals)})")
+            continue
+        points += 1
+        matched.append(name)
+    return Understanding("answer", points, tuple(matched), tuple(why))
+
+
+def _hedged(said: list[str], i: int, n: int) -> bool:
+    """The phrase at ``said[i:i+n]`` is one side of an "or": "Monday or Tuesday", "a pen or a
+    pencil"."""
+    before = said[max(0, i - 2) : i]
+    if before[-1:] == ["or"] or (before[-1:] and before[-1] in ARTICLES and before[:1] == ["or"]):
+        return True
+    return said[i + n : i + n + 1] == ["or"]
+
+
+def _rivals(right: set[str], said: list[str]) -> list[str]:
+    """Other values of the kind of ``right`` (a weekday, a month, a season, a year, a day of
+    the month) that were said too."""
+    out = []
+    for kind in KINDS_OF_VALUE:
+        if right & kind:
+            out += [t for t in said if t in kind and t not in right]
+    if any(_is_year(t) for t in right):
+        out += [t for t in said if _is_year(t) and t not in right]
+    if right & _DAYS:
+        out += [t for t in said if t in _DAYS and t not in right]
+    return list(dict.fromkeys(out))
+
+
+def _is_year(token: str) -> bool:
+    return token.isdigit() and 1900 <= int(token) <= 2099
+
+
+def _serial(item: Item, said: list[str]) -> Understanding:
+    given = [
+        int(t)
+        for k, t in enumerate(said)
+        if t.isdigit() and not (k > 0 and said[k - 1] in OPERATORS)
+    ]
+    return Understanding("answer", serial_points(item, given), tuple(map(str, given)))
 
 
 def touched_in_order(item: Item, targets: list[str]) -> int:
-    """The points of the targets touched on a ``touches`` item: one per part touched in its
-    place (the first touch the first part, ...)."""
+    """The points of the shapes touched on a ``touches`` item: one per stage done in order (the
+    most stages touched in the item's order, other touches between them ignored: circle,
+    square, then stopping: 2; square, triangle, star: 2)."""
     touched = [t.strip().lower() for t in targets]
-    return sum(
-        1 for part, target in zip(item.parts, touched, strict=False) if target in part.keywords
-    )
-
-
-_UNITS = "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
-_UNITS += " fifteen sixteen seventeen eighteen nineteen"
-UNITS = {w: n for n, w in enumerate(_UNITS.split())}
-_TENS = "twenty thirty forty fifty sixty seventy eighty ninety"
-TENS = {w: 10 * n for n, w in enumerate(_TENS.split(), 2)}
-
-
-def numbers_in(said: str) -> list[int]:
-    """The numbers in a normalised utterance, in order: digits ("93") or words up to a hundred
-    ("ninety three", "a hundred")."""
-    numbers: list[int] = []
-    words = said.split()
-    k = 0
-    while k < len(words):
-        word = words[k]
-        if word.isdigit():
-            numbers.append(int(word))
-        elif word == "hundred":
-            numbers.append(100)
-        elif word in TENS:
-            unit = UNITS.get(words[k + 1], 0) if k + 1 < len(words) else 0
-            numbers.append(TENS[word] + (unit if 0 < unit < 10 else 0))
-            k += 1 if 0 < unit < 10 else 0
-        elif word in UNITS:
-            numbers.append(UNITS[word])
-        k += 1
-    return numbers
+    stages = [part.keywords for part in item.parts]
+    # the longest common subsequence of the touches and the stages
+    best = [[0] * (len(stages) + 1) for _ in range(len(touched) + 1)]
+    for i, target in enumerate(touched, 1):
+        for j, keywords in enumerate(stages, 1):
+            best[i][j] = (
+                best[i - 1][j - 1] + 1
+                if target in keywords
+                else max(best[i - 1][j], best[i][j - 1])
+            )
+    return best[-1][-1]
 
 
 def serial_points(item: Item, said: list[int]) -> int:

@@ -7,6 +7,7 @@ clarc start PATIENT [--test TEST] [--patient-id N]
                                      get_up_and_go), for a patient's record if given
 clarc user add|list|disable|enable   the dashboard's users (console/user_cli.py)
 clarc keystore DIR                   the DSR keystore of a run: every node of CLARC a key
+clarc understand TEST ITEM "text"    how a text is understood and scored for an item
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.console import skeleton_cli, suite_keystore, user_cli
+from clarc_sim.console import skeleton_cli, suite_keystore, understand_cli, user_cli
 from clarc_sim.hospital.results_store import (
     ResultsStore,
     default_db,
@@ -178,6 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     user_cli.add_parser(sub)
     suite_keystore.add_parser(sub)
     skeleton_cli.add_parser(sub)
+    understand_cli.add_parser(sub)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args

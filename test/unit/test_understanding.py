@@ -1,0 +1,230 @@
+"""Answers understood as people say them (questionnaire/spoken.py, questionnaire/answers.py;
+docs/FORMAT.md "How answers are understood"): case and punctuation never matter; numbers in
+words or digits, ordinals and years; an option chosen by number or position; a hedged answer
+gets no credit for that part, nor does a value said among rivals of its kind; the narrated
+serial sevens are scored on the numbers given as answers; the three-stage command scores each
+stage done in order; "I don't know" and fillers are never an option."""
+
+from datetime import date
+
+import pytest
+
+from clarc_agents import definitions
+from clarc_agents.questionnaire.answers import touched_in_order, understand
+from clarc_agents.questionnaire.orientation import values
+from clarc_agents.questionnaire.spoken import words
+
+TODAY = date(2025, 12, 1)  # a Monday, in winter
+MMSE = definitions.load("mmse").filled(values(TODAY))
+LAWTON = definitions.load("lawton")
+BARTHEL = definitions.load("barthel")
+
+
+def points(item_key: str, text: str, test=MMSE):
+    return understand(test.item(item_key), text).points
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("No ifs, ands, or buts.", ["no", "ifs", "ands", "or", "buts"]),
+        ("NO IFS ANDS OR BUTS", ["no", "ifs", "ands", "or", "buts"]),
+        ("ninety-three", ["93"]),
+        ("one hundred minus seven", ["100", "minus", "7"]),
+        ("a hundred and five", ["105"]),
+        ("twenty twenty five", ["2025"]),
+        ("two thousand and twenty-five", ["2025"]),
+        ("two thousand twenty five", ["2025"]),
+        ("nineteen ninety-nine", ["1999"]),
+        ("twenty oh five", ["2005"]),
+        ("twenty, twenty five", ["20", "25"]),  # a pause: two numbers
+        ("ninety three eighty six", ["93", "86"]),  # not a year
+        ("the first of December", ["the", "1st", "of", "december"]),
+        ("the twenty-first", ["the", "21st"]),
+        ("the thirtieth", ["the", "30th"]),
+        ("1st December", ["1st", "december"]),
+        ("I don\u2019t know", ["i", "don't", "know"]),
+    ],
+)
+def test_words_and_numbers_however_said(text, expected):
+    assert words(text) == expected
+
+
+@pytest.mark.parametrize(
+    "said",
+    [
+        "No ifs, ands, or buts.",
+        "no ifs ands or buts",
+        "No ifs, ands or buts!",
+        "no-ifs, ands, or buts",
+        "NO IFS, ANDS, OR BUTS",
+    ],
+)
+def test_repetition_ignores_case_and_punctuation(said):
+    assert points("repetition", said) == 1
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("Monday, the first of December, twenty twenty five, winter", 5),
+        ("It's Monday the 1st of December 2025, in winter", 5),
+        ("December the first, two thousand and twenty five, a Monday in winter", 5),
+        ("twenty twenty-five, winter, 1 December, Monday", 5),
+        ("Monday or Tuesday, December, 2025, winter, the first", 4),  # a hedged weekday
+        ("Tuesday or Monday, December 2025, winter, the first", 4),
+        ("2024 or 2025, winter, the first, Monday, December", 4),  # a hedged year
+        ("Monday Tuesday Wednesday Thursday Friday Saturday Sunday", 0),  # every weekday
+        (
+            "2024 2025 spring summer autumn winter the first the second Monday Tuesday "
+            "January February December",
+            0,
+        ),
+        ("the second of December, 2025, winter, Monday", 4),  # the date wrong
+        ("I don't know", 0),  # an answer, worth nothing
+    ],
+)
+def test_orientation_in_time_as_people_say_the_date(said, expected):
+    assert points("orientation_time", said) == expected
+
+
+def test_what_a_hedge_costs_is_named():
+    meaning = understand(MMSE.item("orientation_time"), "Monday or Tuesday, winter")
+    assert meaning.points == 1 and meaning.matched == ("winter",)
+    assert any("monday" in w and "hedged" in w for w in meaning.why), meaning.why
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("a pencil and a watch", 2),
+        ("a pen or a pencil, and a watch", 1),  # hedged: no point for the pencil
+        ("pencil... or a pen? and a clock", 1),
+        ("a watch or a clock", 0),  # either side of an "or"
+    ],
+)
+def test_naming_gives_no_credit_for_a_hedged_name(said, expected):
+    assert points("naming", said) == expected
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        (
+            "one hundred minus seven is ninety three, minus seven eighty six, minus seven "
+            "seventy nine, minus seven seventy two, minus seven sixty five",
+            5,
+        ),
+        ("100 take away 7 is 93, take away 7 is 86, 79, 72, 65", 5),
+        ("a hundred less seven, ninety-three; less seven, eighty-five", 1),
+        ("ninety three eighty six seventy nine seventy two sixty five", 5),
+        ("93. 86. 79. 72. 65.", 5),
+        ("ninety-three, eighty-five, seventy-eight", 2),
+    ],
+)
+def test_narrated_serial_sevens_are_scored_on_the_answers_given(said, expected):
+    assert points("attention", said) == expected
+
+
+@pytest.mark.parametrize(
+    "said",
+    ["I don't know", "I do not know", "Dunno", "not sure", "I can't remember", "Hmm, no idea"],
+)
+def test_not_knowing_is_never_an_option(said):
+    for item in LAWTON.items:
+        assert understand(item, said).kind == "not_understood", (item.key, said)
+
+
+@pytest.mark.parametrize(
+    "said, position",
+    [
+        ("two", 2),
+        ("2", 2),
+        ("option two", 2),
+        ("Option 2.", 2),
+        ("number two", 2),
+        ("the second one", 2),
+        ("the second", 2),
+        ("The first one, please", 1),
+        ("one", 1),
+    ],
+)
+def test_an_option_chosen_by_number_or_position(said, position):
+    item = BARTHEL.item("feeding")
+    assert understand(item, said).points == item.options[position - 1].points
+
+
+def test_an_option_number_that_does_not_exist_is_not_understood():
+    meaning = understand(LAWTON.item("telephone"), "option four")
+    assert meaning.kind == "not_understood" and "no option 4" in meaning.why[0]
+
+
+@pytest.mark.parametrize(
+    "touched, expected",
+    [
+        (["circle", "square", "triangle"], 3),
+        (["circle", "square"], 2),  # then stopped
+        (["square", "triangle", "star"], 2),  # two stages in order
+        (["triangle", "circle", "square"], 2),
+        (["triangle", "square", "circle"], 1),
+        (["star", "star", "star"], 0),
+        ([], 0),
+    ],
+)
+def test_the_three_stage_command_scores_each_stage_done_in_order(touched, expected):
+    assert touched_in_order(MMSE.item("command"), touched) == expected
+
+
+def test_eyes_closed_are_an_answer_after_a_second_and_a_blink_never():
+    from clarc_agents.behaviours.closed_eyes import ClosedEyes
+
+    eyes = ClosedEyes(scale=0.1)  # a tenth of the patient's time: 0.1 s is a second
+    blink = [eyes.see(closed, 10.0 + 0.01 * k) for k, closed in enumerate([1, 1, 1, 1, 0])]
+    assert blink == [False] * 5  # 0.3 s closed, then open
+    held = [eyes.see(True, 11.0 + 0.02 * k) for k in range(7)]
+    assert held == [False] * 5 + [True, True]  # closed from 11.00: a second at 11.10
+    assert not eyes.see(False, 11.2) and not eyes.see(True, 11.21)  # opened: counted again
+
+
+def run_understand(capsys, *argv):
+    from clarc_sim.console.clarc_cli import main
+
+    code = main(["understand", *argv])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_clarc_understand_prints_the_points_and_why(capsys):
+    import json
+
+    code, out, _ = run_understand(
+        capsys,
+        "mmse",
+        "orientation_time",
+        "Monday or Tuesday, the 1st, 2025",
+        "--json",
+        "--date",
+        "2025-12-01",
+    )
+    doc = json.loads(out)
+    assert code == 0 and doc["points"] == 2 and doc["max"] == 5 and doc["understood"] == "answer"
+    assert doc["text"] == "Monday or Tuesday, the 1st, 2025" and "hedged" in doc["why"][0]
+    code, out, _ = run_understand(capsys, "lawton", "telephone", "I don't know", "--json")
+    assert code == 0 and json.loads(out)["points"] is None
+    code, out, _ = run_understand(capsys, "mmse", "command", "circle, square", "--json")
+    assert json.loads(out)["points"] == 2
+    code, out, _ = run_understand(capsys, "mmse", "repetition", "No ifs, ands, or buts.")
+    assert code == 0 and out.startswith("mmse repetition (words): answer, 1 of 1 points")
+
+
+def test_clarc_understand_reads_a_definition_file_and_names_what_is_wrong(capsys, tmp_path):
+    mine = tmp_path / "mine.yaml"
+    mine.write_text(definitions.path_of("lawton").read_text().replace("test: lawton", "test: mine"))
+    code, out, _ = run_understand(capsys, str(mine), "telephone", "option two", "--json")
+    assert code == 0 and '"test": "mine"' in out and '"points": 1' in out
+    code, _, err = run_understand(capsys, "mmse", "nope", "x")
+    assert code == 1 and "no item 'nope'" in err and "orientation_time" in err
+    code, _, err = run_understand(capsys, "mmse", "reading", "x")
+    assert code == 1 and "answered by the camera" in err
+    code, _, err = run_understand(capsys, "nosuch", "x", "y")
+    assert code == 1 and "neither a shipped test" in err
