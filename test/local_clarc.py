@@ -42,7 +42,8 @@ class Patient:
     listed earns its maximum, the way it is answered (voice for an option or words, touch for
     shapes or a drawing, the eyes closing for "close your eyes"). ``("voice", points)`` to an
     item of parts says that many right; ``("touch", points)`` touches that many shapes in their
-    place, or draws (1) or scribbles (0); ``("eyes", points)`` closes the eyes (1) or not (0).
+    place, or draws (1) or scribbles (0); ``("shapes", [...])`` touches those shapes, in order;
+    ``("eyes", points)`` closes the eyes (1) or not (0).
     ``leaves``: item -> seconds the patient is away, leaving while that item is introduced."""
 
     answers: dict[str, list[Any]] = field(default_factory=dict)
@@ -292,9 +293,12 @@ class Robot:
         else:
             self._answer(self.definition.item(item), *response)
 
-    def _answer(self, spec, way: str, points: int) -> None:
+    def _answer(self, spec, way: str, points) -> None:
         graph = self.panel_link.graph
-        if way == "eyes":
+        if way == "shapes":
+            for target in points:
+                self.panel.on_target(self.panel_runner, self.panel_link.graph, target)
+        elif way == "eyes":
             awaited = awaited_item(self.person_link.graph)
             if points and awaited is not None and awaited.kind == "eyes":
                 self.person.signal("eyes_closed", points=spec.max)  # as the Person node does

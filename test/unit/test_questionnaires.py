@@ -109,6 +109,23 @@ def test_a_whole_mmse_runs_and_waits_for_the_clinician_for_the_drawings():
     assert all(i["drawing"].startswith("M ") for i in drawings)
 
 
+@pytest.mark.parametrize(
+    "shapes, points",
+    [
+        (["circle", "square"], 2),
+        (["square", "triangle", "star"], 2),
+        (["triangle"], 1),
+        (["star"], 0),
+    ],
+)
+def test_a_three_stage_command_left_unfinished_is_scored_when_its_window_ends(shapes, points):
+    """Fewer shapes than stages: nothing more comes, and the window's end scores what was done
+    (each stage in order); all three, even with a wrong one, are scored at once."""
+    patient = Patient(answers={"command": [("shapes", shapes)]})
+    by = items(Robot(patient, test="mmse").run_test())
+    assert by["command"] == (points, "touch", 1)
+
+
 def test_each_mmse_item_earns_what_the_patient_gave_and_deviations_work_as_in_barthel():
     patient = Patient(
         answers={

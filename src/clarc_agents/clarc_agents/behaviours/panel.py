@@ -4,8 +4,9 @@ an answer while one is awaited. Rules: ``grammars/panel.yaml``.
 
 Beyond options, the screen shows what an item needs (``shows``: pictures, shapes, a written
 instruction) and takes what it asks for (``input``): touches on shapes, scored when there are as
-many as the item's parts (percept ``touched``: a point per stage touched in order), or a
-drawing, kept for the clinician (percept ``drawn``: SVG path data)."""
+many as the item's parts (percept ``touched``: a point per stage touched in order), those so far
+kept on the window until then (percept ``touching``: PELEA scores them if the window ends
+first), or a drawing, kept for the clinician (percept ``drawn``: SVG path data)."""
 
 from __future__ import annotations
 
@@ -113,15 +114,16 @@ class PanelBehaviour:
         if item is None:
             return False
         window, touched = self._touched
-        if window is not waiting:  # a new window: its touches start again
-            window, touched = waiting, []
+        if window is not waiting:  # a new window (or a restarted Panel): what it holds so far
+            so_far = str(waiting.attrs.get("touched", ""))
+            window, touched = waiting, [t for t in so_far.split(", ") if t]
             self._touched = (window, touched)
         touched.append(target.lower())
-        if len(touched) < len(item.parts):
-            return True
+        points, heard = touched_in_order(item, touched), ", ".join(touched)
+        if len(touched) < len(item.parts):  # kept on the window: scored if it ends so
+            return bool(runner.signal("touching", points=points, heard=heard))
         self._touched = (None, [])
-        points = touched_in_order(item, touched)
-        return bool(runner.signal("touched", points=points, heard=", ".join(touched)))
+        return bool(runner.signal("touched", points=points, heard=heard))
 
     def on_drawing(self, runner: RuleRunner, graph: Graph, drawing: Any) -> bool:
         if (

@@ -90,17 +90,18 @@ def open_answer(graph: Graph, item: str) -> dict[str, Any]:
     }
 
 
-def close_answer(graph: Graph) -> dict[str, Any] | None:
+def close_answer(graph: Graph, as_read: bool = False) -> dict[str, Any] | None:
     """Stop waiting (time is up, or the person left): remove can/waiting, as a compare-and-set so
-    that an answer arriving at the same moment wins."""
+    that an answer arriving at the same moment wins; ``as_read``: also refused if the window
+    changed since ``graph`` (a shape touched meanwhile: what it holds is read again)."""
     for kind in ("waiting", "can"):
-        if graph.edge("person", "answer", kind) is not None:
-            return {
-                "preconditions": [
-                    {"check": "edge_exists", "from": "person", "to": "answer", "type": kind}
-                ],
-                "ops": [{"op": "delete_edge", "from": "person", "to": "answer", "type": kind}],
-            }
+        edge = graph.edge("person", "answer", kind)
+        if edge is not None:
+            at = {"from": "person", "to": "answer", "type": kind}
+            checks = [{"check": "edge_exists", **at}]
+            if as_read:
+                checks.append({"check": "version_equals", **at, "version": edge.version})
+            return {"preconditions": checks, "ops": [{"op": "delete_edge", **at}]}
     return None
 
 

@@ -94,6 +94,15 @@ def sentence_taken(graph: Graph, sid: int) -> bool:
     return not channels_idle(graph) or any(f and f["$sid"] == sid for f in finished)
 
 
+def touched_so_far(graph: Graph) -> tuple[int, str] | None:
+    """The points and shapes of a three-stage command under way in the open window (Panel keeps
+    them there), or None."""
+    edge = graph.edge("person", "answer", "waiting")
+    if edge is None or "touched_points" not in edge.attrs:
+        return None
+    return int(edge.attrs["touched_points"]), str(edge.attrs.get("touched", ""))
+
+
 def window_untaken(graph: Graph) -> bool:
     """The answer window is open but no agent started listening (``can`` still there): no one
     could have heard the patient."""

@@ -269,9 +269,10 @@ class QuestionnaireExecutive(HighLevelExecutive):
         over = over or Overtime()
         if token != self._token or self.graph is None:
             return
-        close = high_to_low.close_answer(self.graph)
+        close = high_to_low.close_answer(self.graph, as_read=True)
         if close is None:
             return  # the answer is already there; _check_wait takes it
+        partial = low_to_high.touched_so_far(self.graph)
 
         def later(seconds: float) -> None:
             self._timer = self.port.after(seconds, lambda: self._answer_timed_out(wait, over))
@@ -319,6 +320,14 @@ class QuestionnaireExecutive(HighLevelExecutive):
                 self._window_ended(item, "interrupted")
                 self.port.event(event="window_interrupted", item=item, window=window)
                 self._complete(token, monitoring.window_interrupted(self.state, item, window))
+                return
+            if partial is not None and self.definition.item(item).kind == "touches":
+                # fewer stages touched than asked when the window ended: scored as they are
+                points, heard = partial
+                self.record.answer(item, points, "touch", heard)
+                self._window_ended(item, "answered")
+                self.port.event(event="answer", item=item, points=points, via="touch")
+                self._complete(token)
                 return
             if self.definition.item(item).kind == "eyes" and window >= 2:
                 # asked twice, the camera never saw the eyes close: not done, 0 points (a
