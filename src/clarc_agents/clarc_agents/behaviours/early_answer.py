@@ -1,6 +1,6 @@
 """An answer given just before its window opened (the patient did not wait for the robot to
 finish asking): kept a moment, and used if a window for the same item opens in time. Speech
-keeps words, Panel keeps a tap (pure).
+keeps words, Panel a tap, a drawing or the shapes touched (pure).
 
 On a network cut the patient may answer a question the agent showed while the window's opening
 is held on the far side of the link: if the server went out of the agent's reach while the
@@ -28,6 +28,10 @@ class EarlyAnswer:
 
     def keep(self, answer: Any, item: str) -> None:
         self._kept = (answer, item, self.now())
+
+    def peek(self, item: str) -> Any | None:
+        """What is kept for ``item`` (recent or not), left kept."""
+        return self._kept[0] if self._kept is not None and self._kept[1] == item else None
 
     def take(self, item: str) -> Any | None:
         """The answer kept for ``item``, if it is recent; what was kept is dropped either way."""

@@ -79,7 +79,7 @@ class PanelBehaviour:
             )
             return False
         if graph.edge("person", "answer", "waiting") is None:
-            self._early.keep(int(points), item)
+            self._early.keep(("tap", int(points)), item)
             self.log.warning(
                 f"tap on {points} points while no answer is awaited: ignored "
                 f"unless a window for {item} opens now"
@@ -96,10 +96,24 @@ class PanelBehaviour:
             return self.on_drawing(runner, graph, entry["drawing"])
         return self.on_tap(runner, graph, entry.get("points"))
 
-    def _awaited(self, graph: Graph, kind: str, what: str):
-        """The window and the item it awaits, if it is a ``kind`` item; else a warning."""
+    def _awaited(self, graph: Graph, kind: str, what: str, early: tuple | None = None):
+        """The window and the item it awaits, if it is a ``kind`` item; else a warning. With no
+        window open, ``early`` (what the screen took) is kept a moment for the window of the
+        item on the screen (the patient did not wait for the robot to finish asking)."""
         waiting, item = graph.edge("person", "answer", "waiting"), awaited_item(graph)
         if item is None or item.kind != kind:
+            shown = graph.edge("test", "test_part", "is_in")
+            on_screen = "" if shown is None else str(shown.attrs.get("item", ""))
+            if early is not None and waiting is None and on_screen:
+                kept = self._early.peek(on_screen)
+                if early[0] == "targets" and kept is not None and kept[0] == "targets":
+                    early = ("targets", [*kept[1], *early[1]])  # touched one after another
+                self._early.keep(early, on_screen)
+                self.log.warning(
+                    f"{what} while no answer is awaited: kept unless a window for {on_screen} "
+                    "opens now"
+                )
+                return None, None
             self.log.warning(f"{what} refused: no answer of that kind is awaited")
             return None, None
         return waiting, item
@@ -110,7 +124,8 @@ class PanelBehaviour:
         if not isinstance(target, str) or target.lower() not in shapes:
             self.log.warning(f"touch on {target!r} refused: the screen shows {shapes}")
             return False
-        waiting, item = self._awaited(graph, "touches", f"touch on {target!r}")
+        early = ("targets", [target])
+        waiting, item = self._awaited(graph, "touches", f"touch on {target!r}", early)
         if item is None:
             return False
         window, touched = self._touched
@@ -137,16 +152,25 @@ class PanelBehaviour:
                 f"(M x y L x y ...) is expected, got {str(drawing)[:40]!r}"
             )
             return False
-        _, item = self._awaited(graph, "drawing", "drawing")
+        _, item = self._awaited(graph, "drawing", "drawing", ("drawing", drawing.strip()))
         if item is None:
             return False
         return bool(runner.signal("drawn", drawing=drawing.strip()))
 
     def on_graph(self, runner: RuleRunner, graph: Graph) -> None:
-        """A window opened: a tap made just before it, for the same item, is its answer."""
+        """A window opened: a tap, a drawing or touches made just before it, for the same item,
+        are its answer."""
         waiting = graph.edge("person", "answer", "waiting")
         if waiting is None:
             return
-        points = self._early.take(str(waiting.attrs.get("item", "")))
-        if points is not None:
-            runner.signal("tap", points=points)
+        early = self._early.take(str(waiting.attrs.get("item", "")))
+        if early is None:
+            return
+        kind, value = early
+        if kind == "tap":
+            runner.signal("tap", points=value)
+        elif kind == "drawing":
+            runner.signal("drawn", drawing=value)
+        else:
+            for target in value:
+                self.on_target(runner, graph, target)

@@ -8,6 +8,7 @@ clarc start PATIENT [--test TEST] [--patient-id N]
 clarc user add|list|disable|enable   the dashboard's users (console/user_cli.py)
 clarc keystore DIR                   the DSR keystore of a run: every node of CLARC a key
 clarc understand TEST ITEM "text"    how a text is understood and scored for an item
+clarc hear FILE [--test T --item I]  what the recogniser hears in a recording (and its score)
 """
 
 from __future__ import annotations
@@ -20,7 +21,13 @@ from datetime import UTC, datetime
 
 from clarc_agents import definitions
 from clarc_agents.exceptions import ScenarioError
-from clarc_sim.console import skeleton_cli, suite_keystore, understand_cli, user_cli
+from clarc_sim.console import (
+    hear_cli,
+    skeleton_cli,
+    suite_keystore,
+    understand_cli,
+    user_cli,
+)
 from clarc_sim.hospital.results_store import (
     ResultsStore,
     default_db,
@@ -180,6 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     suite_keystore.add_parser(sub)
     skeleton_cli.add_parser(sub)
     understand_cli.add_parser(sub)
+    hear_cli.add_parser(sub)
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args

@@ -43,7 +43,7 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def _definition(test: str) -> definitions.Definition:
+def definition_of(test: str) -> definitions.Definition:
     if test in definitions.tests():
         return definitions.load(test)
     path = Path(test)
@@ -55,7 +55,7 @@ def _definition(test: str) -> definitions.Definition:
 
 def explain(test: str, key: str, text: str, today: date, place) -> dict:
     """What ``clarc understand`` prints, as a dict."""
-    definition = _definition(test).filled(values(today, place))
+    definition = definition_of(test).filled(values(today, place))
     keys = [i.key for i in definition.items]
     if key not in keys:
         raise DefinitionError(

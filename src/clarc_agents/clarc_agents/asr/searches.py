@@ -1,0 +1,102 @@
+"""What the recogniser listens for while an item's answer is awaited (pure): restricted to what
+the DSR says is expected, since a restricted search is both more accurate and twenty times
+faster than free decoding here (../shared/docs/SPEECH.md).
+
+- a ``choose`` item: a JSGF grammar of its options' phrases, an option by number or position
+  ("option two", "the second one"), plus what is said to any item ("skip", "I don't know");
+- a ``serial`` item: a grammar of numbers, with the subtraction said aloud ("minus seven is");
+- a ``words`` item: the free English language model (any words: the date, a place, objects);
+- other items (touched, drawn, seen) are not answered by voice: no search.
+
+Nothing here names a test or an item: only the item's kind, options and parts.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+from clarc_agents.definitions import Item
+
+FREE = "free"  # the search with the language model
+ONES = "zero one two three four five six seven eight nine".split()
+TEENS = "ten eleven twelve thirteen fourteen fifteen sixteen seventeen eighteen nineteen".split()
+TENS = "twenty thirty forty fifty sixty seventy eighty ninety".split()
+ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth")
+# said to any item (questionnaire/answers.py understands them)
+ANY_ITEM = ("skip", "next question", "i don't know", "i do not know", "not sure")
+# said before an answer; none after it: a filler at the end soaks up the noise after the
+# answer and the search ends inside it ("one it")
+FILLERS = ("well", "i think", "it's", "it is")
+OPERATIONS = ("minus", "take away", "less", "is", "equals", "and")
+
+
+@dataclass(frozen=True)
+class Search:
+    """A search: ``name`` (stable for the same content, so a recogniser adds it once) and its
+    JSGF grammar, or ``grammar`` None for the free language model."""
+
+    name: str
+    grammar: str | None
+
+
+def _phrase_words(phrase: str) -> list[str]:
+    return re.sub(r"[^a-z' ]+", " ", phrase.lower().replace("-", " ")).split()
+
+
+def _alternatives(phrases: Iterable[str], known: Callable[[str], bool]) -> list[str]:
+    """The phrases whose every word the recogniser's dictionary knows, as JSGF sequences."""
+    out = []
+    for phrase in phrases:
+        tokens = _phrase_words(phrase)
+        if tokens and all(known(t) for t in tokens):
+            out.append(" ".join(tokens))
+    return list(dict.fromkeys(out))
+
+
+def _grammar(rules: dict[str, list[str]]) -> Search:
+    lines = ["#JSGF V1.0;", "grammar answer;"]
+    for name, alternatives in rules.items():
+        public = "public " if name == "answer" else ""
+        lines.append(f"{public}<{name}> = {' | '.join(alternatives)};")
+    text = "\n".join(lines) + "\n"
+    return Search("g" + hashlib.sha256(text.encode()).hexdigest()[:12], text)
+
+
+def _number_rules() -> dict[str, list[str]]:
+    return {
+        "one_to_nine": ONES[1:],
+        "under_hundred": [
+            *ONES,
+            *TEENS,
+            *(f"{t} [<one_to_nine>]" for t in TENS),
+        ],
+        "number": ["[a | one] hundred [and <under_hundred>]", "<under_hundred>"],
+    }
+
+
+def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
+    """The search for ``item``'s answer; ``known(word)``: whether the dictionary has the word
+    (a phrase with an unknown word cannot be recognised, so it is left out)."""
+    anything = _alternatives(ANY_ITEM, known)
+    fillers = _alternatives(FILLERS, known)
+    if item.kind == "words":
+        return Search(FREE, None)
+    if item.kind == "serial":
+        rules = _number_rules()
+        rules["step"] = ["[<operation>] <number>"]
+        rules["operation"] = _alternatives(OPERATIONS, known)
+        rules["answer"] = ["<step>+", *anything]
+        return _grammar(rules)
+    if item.kind != "choose":
+        return None
+    options = _alternatives((k for o in item.options for k in (o.text, o.says, *o.keywords)), known)
+    count = ONES[1 : len(item.options) + 1]
+    vocabulary = sorted(
+        {w for p in (*options, *anything, *fillers) for w in p.split()}
+        | {"option", "number", "the", "one", *count, *ORDINALS[: len(item.options)]}
+    )
+    rules = {"word": vocabulary, "answer": ["<word>+"]}
+    return _grammar(rules)
