@@ -31,6 +31,11 @@
 #   --viewer-token T the DSR viewer's access token (default: a new one, printed)
 #   --camera HZ      the Kinect's colour and depth cameras on (640x480, HZ images a second of
 #                    wall time), written into the DSR's kinect node by the camera agent
+#   --audio          the whole loop with sound: the robot speaks (espeak-ng), the patient
+#                    answers aloud in the scenario's voice and room noise, the asr node
+#                    recognises the microphone's stream (pocketsphinx); at real time (audio
+#                    cannot be sped up) unless --scale says otherwise. The microphone's stream
+#                    goes to <run-dir>/audio/microphone.wav, what the robot said beside it.
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -59,14 +64,17 @@ keystore=""
 security=enforce
 viewer_token=""
 camera_hz=0
+audio=false
+scale_given=0
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario=$(realpath "$2"); shift 2 ;;
     --db) db=$(realpath -m "$2"); shift 2 ;;
-    --realtime) scale=1.0; shift ;;
-    --scale) scale="$2"; shift 2 ;;
+    --realtime) scale=1.0; scale_given=1; shift ;;
+    --scale) scale="$2"; scale_given=1; shift 2 ;;
+    --audio) audio=true; shift ;;
     --timeout) timeout="$2"; shift 2 ;;
     --run-dir) run=$(realpath -m "$2"); shift 2 ;;
     --wait-start) wait_start=1; shift ;;
@@ -84,6 +92,11 @@ while [ $# -gt 0 ]; do
 done
 
 "$root/scripts/setup.sh" | grep -v '^\[setup\] ready' || true
+if [ "$audio" = true ]; then
+  command -v espeak-ng >/dev/null 2>&1 ||
+    { echo "launch.sh: --audio needs espeak-ng (apt-get install espeak-ng)" >&2; exit 2; }
+  [ "$scale_given" = 1 ] || scale=1.0  # sound plays at its own pace
+fi
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
 
@@ -235,8 +248,11 @@ if [ -n "$record" ]; then  # recording from the DSR's first state, before any ot
 fi
 
 scaled=(--ros-args -p time_scale:="$scale")
-start tts tts "${scaled[@]}" -p wav_dir:="$run/audio"
-start microphone microphone "${scaled[@]}"
+start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio"
+start microphone microphone "${scaled[@]}" -p audio:="$audio" -p wav_file:="$run/audio/microphone.wav"
+if [ "$audio" = true ]; then  # the recogniser, on the microphone's stream
+  start asr asr
+fi
 start touchscreen touchscreen
 start kinect kinect "${scaled[@]}" -p camera_hz:="$camera_hz"
 if [ "$camera_hz" != 0 ]; then  # the images into the DSR

@@ -16,6 +16,7 @@ REPO = Path(__file__).resolve().parent.parent
 SHARED = Path(os.environ.get("DSR_SHARED", REPO.parent / "shared"))
 CORTEX_WORLDS = SHARED / "data" / "cortex_worlds"
 MOTION = SHARED / "data" / "motion"
+SPEECH = SHARED / "data" / "speech"
 
 
 def unavailable(why: str) -> None:
@@ -37,6 +38,20 @@ def shared_folder(path: Path, what: str) -> Path:
 def cortex_dir():
     """../shared's CORTEX worlds."""
     return shared_folder(CORTEX_WORLDS, "shared CORTEX worlds")
+
+
+@pytest.fixture
+def speech_dir():
+    """../shared's real speech recordings."""
+    return shared_folder(SPEECH, "shared speech recordings")
+
+
+def needs_espeak() -> None:
+    """The voices of --audio: espeak-ng (Debian; scripts/setup.sh installs it as root)."""
+    import shutil
+
+    if shutil.which("espeak-ng") is None:
+        unavailable("espeak-ng is not installed (apt-get install espeak-ng)")
 
 
 @pytest.fixture

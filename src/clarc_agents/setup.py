@@ -25,6 +25,7 @@ setup(
             "person = clarc_agents.nodes.person_node:main",
             "gait_analyser = clarc_agents.nodes.gait_analyser_node:main",
             "camera = clarc_agents.nodes.camera_node:main",
+            "asr = clarc_agents.nodes.asr_node:main",
         ]
     },
     install_requires=["setuptools"],

@@ -29,7 +29,7 @@ REPO = Path(__file__).resolve().parents[2]
 # every node scripts/launch.sh starts, as the keystore knows them (without the camera, the
 # recorder and the one-shot Start)
 SUITE = ["/dsr_server"] + [
-    n for n in SIGNERS if n not in ("/camera", "/dsr_recorder", "/clarc_start")
+    n for n in SIGNERS if n not in ("/camera", "/asr", "/dsr_recorder", "/clarc_start")
 ]
 PASSWORD = "a long clinician passphrase"
 

@@ -31,6 +31,7 @@ ROS_PACKAGES = {
     "sensor_msgs",
     "tf2_msgs",
     "hri_msgs",
+    "audio_common_msgs",
     "dsr_msgs",
     "ament_index_python",
     "rosidl_adapter",
@@ -44,6 +45,8 @@ PIP = {  # import name -> PyPI name
     "aiohttp_session": "aiohttp-session",
     "argon2": "argon2-cffi",
     "bvhio": "bvhio",
+    "pocketsphinx": "pocketsphinx",
+    "soxr": "soxr",
 }
 
 

@@ -5,7 +5,13 @@ for the camera's images."""
 SPEAKER_SAY = "clarc/speaker/say"  # Speech -> TTS: {"id", "text"}
 SPEAKER_STOP = "clarc/speaker/stop"  # Speech -> TTS: {"id"}
 SPEAKER = "clarc/speaker/events"  # TTS -> all: {"id", "text", "event": "start" | "end" | "stopped"}
-ASR = "clarc/asr"  # microphone + ASR -> Speech: {"text", "confidence" (0 to 1, optional)}
+# microphone + ASR -> Speech: {"text", "confidence" (0 to 1, optional), "start", "end" (epoch s,
+# optional: when it was said)}
+ASR = "clarc/asr"
+# --audio: audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE in 50 ms chunks (the stream's
+# AudioInfo latched on <topic>/info): what the robot says (TTS), what the microphone hears
+SPEAKER_AUDIO = "clarc/speaker/audio"
+MICROPHONE_AUDIO = "clarc/microphone/audio"
 # Panel -> touch screen (latched): {"sid", "text", "options", "option_points"} | {"clear": true}
 PANEL_DISPLAY = "clarc/panel/display"
 PANEL_TAP = "clarc/panel/tap"  # touch screen -> Panel: {"points", "text"}

@@ -139,6 +139,12 @@ def generate_launch_description() -> LaunchDescription:
             default_value="0.0",
             description="the Kinect's colour and depth images a second, into the DSR (0: off)",
         ),
+        DeclareLaunchArgument(
+            "audio",
+            default_value="false",
+            choices=["true", "false"],
+            description="the loop with sound: espeak-ng voices, the asr node (time_scale:=1.0)",
+        ),
     ]
     nodes = [
         supervised(
@@ -148,8 +154,16 @@ def generate_launch_description() -> LaunchDescription:
             state_dir=LaunchConfiguration("state_dir"),
             policy_file=LaunchConfiguration("policy_file"),
         ),
-        supervised("clarc_sim", "tts", time_scale=scale),
-        supervised("clarc_sim", "microphone", time_scale=scale),
+        supervised("clarc_sim", "tts", time_scale=scale, audio=LaunchConfiguration("audio")),
+        supervised("clarc_sim", "microphone", time_scale=scale, audio=LaunchConfiguration("audio")),
+        Node(
+            package="clarc_agents",
+            executable="asr",
+            respawn=True,
+            respawn_delay=RESPAWN_DELAY,
+            output="screen",
+            condition=IfCondition(LaunchConfiguration("audio")),
+        ),
         supervised("clarc_sim", "touchscreen"),
         supervised(
             "clarc_sim", "kinect", time_scale=scale, camera_hz=LaunchConfiguration("camera_hz")

@@ -92,11 +92,16 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
         return _grammar(rules)
     if item.kind != "choose":
         return None
-    options = _alternatives((k for o in item.options for k in (o.text, o.says, *o.keywords)), known)
+    options = _alternatives((k for o in item.options for k in (o.text, *o.keywords)), known)
     count = ONES[1 : len(item.options) + 1]
-    vocabulary = sorted(
-        {w for p in (*options, *anything, *fillers) for w in p.split()}
-        | {"option", "number", "the", "one", *count, *ORDINALS[: len(item.options)]}
-    )
-    rules = {"word": vocabulary, "answer": ["<word>+"]}
+    rules = {
+        "option": options,
+        "position": [
+            f"(option | number) ({' | '.join(count)})",
+            f"the ({' | '.join(ORDINALS[: len(item.options)])}) [one]",
+            *count,
+        ],
+        "filler": fillers,
+        "answer": ["[<filler>] (<option> | <position>)", *anything],
+    }
     return _grammar(rules)

@@ -130,15 +130,17 @@ class SpeechBehaviour:
         self.listening = ctx
         early = self._early.take(ctx["item"])
         if early is not None:
-            self.on_heard(early)
+            text, sure = early
+            self.on_heard(text, sure=sure)
 
-    def on_heard(self, text: str, item_shown: str = "") -> None:
-        """Words recognised by the ASR (``item_shown``: the item of the sentence on screen)."""
+    def on_heard(self, text: str, item_shown: str = "", sure: bool = True) -> None:
+        """Words recognised by the ASR (``item_shown``: the item of the sentence on screen;
+        ``sure``: the recogniser was confident enough, else they are not understood)."""
         ctx = self.listening
         if ctx is None or ctx.done:
             unless = ""
             if item_shown:  # perhaps an answer to the window about to open: keep it a moment
-                self._early.keep(text, item_shown)
+                self._early.keep((text, sure), item_shown)
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
@@ -149,6 +151,10 @@ class SpeechBehaviour:
         self.listening = None
         if item is None:  # the DSR does not say what the options are: nothing to match
             self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
+            ctx.finish("not_understood", heard=text)
+            return
+        if not sure:
+            self.log.info(f"heard {text!r} with too little confidence: not understood")
             ctx.finish("not_understood", heard=text)
             return
         meaning = understand(item, text)

@@ -2,8 +2,10 @@
 test_part through the TTS, stops at once when the person it talks to leaves, and listens for
 answers, mapping recognised words to the item's options. Its rules: grammars/speech.yaml.
 
-Publishers: clarc/speaker/say, clarc/speaker/stop, and REP-155's /humans/voices/tracked and
-/humans/voices/anonymous_speaker/speech (what was heard: nodes/humans_topics.py).
+ROS Parameters: min_confidence (0.5: a recognised text less sure than this is not understood,
+and the item is asked again). Publishers: clarc/speaker/say, clarc/speaker/stop, and REP-155's
+/humans/voices/tracked and /humans/voices/anonymous_speaker/speech (what was heard:
+nodes/humans_topics.py).
 Subscriptions: clarc/speaker/events, clarc/asr. Plus the DSR topics (dsr_graph.ros.agent).
 """
 
@@ -19,6 +21,7 @@ from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import SpeechHumans
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.parameters import declare, float_param
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.timers import OneShot
 from dsr_graph.rules.runner import Process
@@ -28,6 +31,18 @@ class SpeechAgent(GrammarAgentNode):
     GRAMMAR = "speech"
 
     NAME = "speech"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        super().declare_node_parameters(node)
+        declare(
+            node,
+            "min_confidence",
+            0.5,
+            "a recognised text less sure than this is not understood (asked again)",
+            minimum=0.0,
+            maximum=1.0,
+        )
 
     def __init__(self):
         super().__init__()
@@ -80,8 +95,10 @@ class SpeechAgent(GrammarAgentNode):
         ):
             raise ValueError(f"confidence must be a number from 0 to 1, got {confidence!r}")
         self._humans.heard(text, confidence)
+        sure = confidence >= float_param(self, "min_confidence")
         shown = self.dsr.graph.edge("test", "test_part", "is_in")
-        self.behaviour.on_heard(text, shown.attrs.get("item", "") if shown is not None else "")
+        item_shown = shown.attrs.get("item", "") if shown is not None else ""
+        self.behaviour.on_heard(text, item_shown, sure=sure)
 
 
 main = main_for(SpeechAgent)

@@ -20,6 +20,7 @@ SIGNERS = (
     "/person",
     "/gait_analyser",
     "/camera",
+    "/asr",
     "/speech",
     "/panel",
     "/pelea",

@@ -47,10 +47,6 @@ class Voice:
             raise ValueError(f"pitch {self.pitch}: 0 to 99")
 
 
-def espeak_available() -> bool:
-    return shutil.which("espeak-ng") is not None
-
-
 @lru_cache(maxsize=512)
 def speak(text: str, voice: Voice = Voice()) -> np.ndarray:
     """``text`` said by ``voice``, 16 kHz int16 (espeak-ng writes 22.05 kHz; soxr resamples).

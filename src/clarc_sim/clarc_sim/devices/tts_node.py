@@ -1,10 +1,14 @@
 """The TTS output stand-in: "speaks" each sentence for as long as it would take (words at a
 rate, scaled), announcing start, end or stopped on clarc/speaker/events; a new sentence or a
 stop cuts the current one. With ``wav_dir`` set and espeak-ng installed it also writes real
-audio, one WAV per sentence.
+audio, one WAV per sentence. With ``audio`` it speaks for real: espeak-ng's ``voice`` at
+``voice_rate`` words a minute, played in real time (audio cannot be sped up: ``time_scale`` does
+not shorten it) as 50 ms chunks on clarc/speaker/audio, each stamped with when it is played; the
+sentence ends when its audio does.
 
-ROS Parameters: time_scale (1.0), words_per_second (2.5), wav_dir (""). Subscriptions:
-clarc/speaker/say, clarc/speaker/stop. Publishers: clarc/speaker/events.
+ROS Parameters: time_scale (1.0), words_per_second (2.5), wav_dir (""), audio (false), voice
+("en-us"), voice_rate (150). Subscriptions: clarc/speaker/say, clarc/speaker/stop. Publishers:
+clarc/speaker/events, clarc/speaker/audio (audio_common_msgs/AudioDataStamped, with audio).
 """
 
 from __future__ import annotations
@@ -15,9 +19,13 @@ import subprocess
 import time
 from typing import Any
 
+import numpy as np
 from std_msgs.msg import String
 
 from clarc_agents import topics
+from clarc_agents.asr.audio import RATE
+from clarc_agents.asr.audio_topics import CHUNK, CHUNK_SAMPLES, audio_message, audio_publishers
+from clarc_sim.devices.sound import Voice, speak
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
@@ -40,6 +48,17 @@ class TtsStandIn(DsrNode):
         declare(
             node, "wav_dir", "", "write one WAV per sentence here (needs espeak-ng)", read_only=True
         )
+        declare(node, "audio", False, "speak for real on clarc/speaker/audio", read_only=True)
+        declare(node, "voice", "en-us", "the robot's espeak-ng voice (audio)", read_only=True)
+        declare(
+            node,
+            "voice_rate",
+            150,
+            "words a minute (audio)",
+            read_only=True,
+            minimum=80,
+            maximum=450,
+        )
 
     def __init__(self):
         super().__init__()
@@ -53,6 +72,12 @@ class TtsStandIn(DsrNode):
                 "wav_dir is set but espeak-ng is not installed: no audio files"
             )
         self._events = self.create_publisher(String, topics.SPEAKER, qos_stream())
+        self._playing: tuple[np.ndarray, int, float] | None = None  # samples, played, start
+        if param(self, "audio"):
+            self._voice = Voice(param(self, "voice"), param(self, "voice_rate"))
+            speak("ready", self._voice)  # the voice exists (a RuntimeError ends the node now)
+            self._audio, self._audio_info = audio_publishers(self, topics.SPEAKER_AUDIO)
+            self.create_timer(CHUNK, self._play)
         subscribe_json(self, topics.SPEAKER_SAY, self.on_say, qos_stream())
         subscribe_json(self, topics.SPEAKER_STOP, self.on_stop, qos_stream())
 
@@ -73,6 +98,12 @@ class TtsStandIn(DsrNode):
         if self._current is not None:
             self._cut("stopped")
         self._current = sentence
+        if param(self, "audio"):
+            samples = speak(sentence["text"], self._voice)
+            self._playing = (samples, 0, time.time())
+            self._emit(sentence, "start")
+            self._play()
+            return
         self._emit(sentence, "start")
         seconds = speaking_time(sentence["text"], float_param(self, "words_per_second"))
         self._timer = OneShot(
@@ -84,7 +115,23 @@ class TtsStandIn(DsrNode):
         if self._current is not None and self._current["id"] == request["id"]:
             self._cut("stopped")
 
+    def _play(self) -> None:
+        """The chunks of the sentence due by now (the timer may be late: they all go, stamped
+        with when they are played); its end when all are out."""
+        if self._playing is None:
+            return
+        samples, played, start = self._playing
+        due = min(len(samples), int((time.time() - start) * RATE) + CHUNK_SAMPLES)
+        while played < due:
+            chunk = samples[played : played + CHUNK_SAMPLES]
+            self._audio.publish(audio_message(chunk, start + played / RATE))
+            played += len(chunk)
+        self._playing = (samples, played, start)
+        if played >= len(samples) and time.time() >= start + len(samples) / RATE:
+            self._cut("end")
+
     def _cut(self, event: str) -> None:
+        self._playing = None
         if self._timer is not None:
             self._timer.cancel()
             self._timer = None

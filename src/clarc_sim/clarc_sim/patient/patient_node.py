@@ -10,8 +10,9 @@ the recording, from clarc/sim/patient/trial), walking out of view once if the sc
 ROS Parameters: scenario (path, required), time_scale (1.0), reaction (1.0 s before answering),
 face (mm in the Kinect's frame, default [900, 0, -400]), place (PELEA's default).
 Subscriptions: clarc/speaker/events.
-Publishers: clarc/sim/patient/voice, clarc/sim/patient/touch, clarc/sim/patient/presence
-(latched), clarc/sim/patient/trial (latched, Get Up & Go).
+Publishers: clarc/sim/patient/voice (with the scenario's voice), clarc/sim/patient/touch,
+clarc/sim/patient/presence (latched), clarc/sim/room (latched: the scenario's room noise and
+SNR), clarc/sim/patient/trial (latched, Get Up & Go).
 """
 
 from __future__ import annotations
@@ -65,6 +66,9 @@ class SimulatedPatient(DsrNode):
         self._voice = self.create_publisher(String, sim_topics.PATIENT_VOICE, qos_stream())
         self._touch = self.create_publisher(String, sim_topics.PATIENT_TOUCH, qos_stream())
         self._presence = self.create_publisher(String, sim_topics.PATIENT_PRESENCE, qos_latched())
+        self._room = self.create_publisher(String, sim_topics.ROOM, qos_latched())
+        room = {"noise": scenario.noise, "snr_db": scenario.snr_db, "voice": list(scenario.voice)}
+        publish_json(self._room, room)
         self.scenario = scenario
         self._left = False
         self._eyes_closed = False
@@ -155,7 +159,7 @@ class SimulatedPatient(DsrNode):
             publish_json(self._touch, {"drawing": action.text})
         elif action.kind == "say":
             self.get_logger().info(f"says {action.text!r}")
-            publish_json(self._voice, {"text": action.text})
+            publish_json(self._voice, {"text": action.text, "voice": list(self.scenario.voice)})
         elif action.kind == "tap":
             self.get_logger().info(f"touches the option worth {action.points}")
             publish_json(self._touch, {"points": action.points})

@@ -33,6 +33,11 @@ patient who does not close them, silent or not, is asked twice and scores 0). Th
 points of a writing or a copying are what the clinician would give the drawing (a line of
 handwriting or the pentagons for 1, a scribble for 0): they are scored in the dashboard.
 
+With ``--audio`` the patient speaks with its own voice in a noisy room (optional, these defaults):
+
+    voice: {name: en-us, rate: 150, pitch: 50}   # an espeak-ng voice, words a minute, 0-99
+    room: {noise: white, snr_db: 30}             # white, babble or television; dB over the noise
+
 A Get Up & Go scenario says ``test: get_up_and_go``:
 
     test: get_up_and_go
@@ -69,6 +74,7 @@ from clarc_agents.exceptions import ScenarioError
 from clarc_agents.yaml_lines import compose, fields
 from clarc_agents.yaml_lines import err as _err
 from clarc_agents.yaml_lines import scalar as _scalar
+from clarc_sim.devices.sound import NOISES
 from clarc_sim.patient.gait_motion import Motion
 
 TIMED = "get_up_and_go"
@@ -114,6 +120,9 @@ class Scenario:
     tracking_losses: int = 0
     leave: float | None = None  # seconds after "go" the patient walks out of view
     rises: bool = True  # False: stays seated whatever is said (cannot do the test)
+    voice: tuple[str, int, int] = ("en-us", 150, 50)  # --audio: espeak-ng voice, wpm, pitch
+    noise: str = "white"  # --audio: the room's noise
+    snr_db: float = 30.0  # --audio: the patient's voice over the room's noise
 
     def plan(self, item: str) -> ItemPlan:
         return self.items[item]
@@ -132,6 +141,7 @@ def parse(text: str, source: str = "scenario") -> Scenario:
     if test == TIMED:
         return _get_up_and_go(source, root)
     definition = definitions.load(test)
+    sound: dict[str, Any] = {}
     for key_node, value_node in root.value:
         key = _scalar(key_node)
         if key == "test":
@@ -142,11 +152,17 @@ def parse(text: str, source: str = "scenario") -> Scenario:
                 raise _err(source, value_node, '"patient" must be a name')
         elif key == "items":
             items_node = value_node
+        elif key in ("voice", "room"):
+            sound[key] = value_node
         else:
-            raise _err(source, key_node, f"unknown key {key!r} (a scenario has patient and items)")
+            raise _err(
+                source,
+                key_node,
+                f"unknown key {key!r} (a scenario has patient and items, and voice and room)",
+            )
     if patient is None:
         raise _err(source, root, 'missing "patient"')
-    scenario = Scenario(patient.strip(), source=source, test=test)
+    scenario = Scenario(patient.strip(), source=source, test=test, **_sound(source, sound))
     listed: dict[str, ItemPlan] = {}
     if items_node is not None and not (
         isinstance(items_node, yaml.ScalarNode) and _scalar(items_node) is None
@@ -168,6 +184,55 @@ def parse(text: str, source: str = "scenario") -> Scenario:
         plan = ItemPlan(spec.key, spec.max, spec.via[0])
         scenario.items[spec.key] = listed.get(spec.key, plan)
     return scenario
+
+
+def _sound(source: str, nodes: dict[str, Any]) -> dict[str, Any]:
+    """``voice: {name, rate, pitch}`` and ``room: {noise, snr_db}`` (--audio), checked."""
+    out: dict[str, Any] = {}
+    if "voice" in nodes:
+        keys = ("name", "rate", "pitch")
+        got = fields(source, nodes["voice"], (), "voice: ", keys)
+        name, rate, pitch = ("en-us", 150, 50)
+        for key, (_, node) in got.items():
+            value = _scalar(node)
+            if key == "name" and not (isinstance(value, str) and value.strip()):
+                raise _err(source, node, "voice: name is an espeak-ng voice (en-us, en-gb, ...)")
+            limits = {"rate": (80, 450), "pitch": (0, 99)}.get(key)
+            if limits and (
+                isinstance(value, bool)
+                or not isinstance(value, int)
+                or not limits[0] <= value <= limits[1]
+            ):
+                raise _err(
+                    source,
+                    node,
+                    f"voice: {key} is a whole number from {limits[0]} to "
+                    f"{limits[1]}, got {value!r}",
+                )
+            name, rate, pitch = (
+                value if key == "name" else name,
+                value if key == "rate" else rate,
+                value if key == "pitch" else pitch,
+            )
+        out["voice"] = (name.strip(), rate, pitch)
+    if "room" in nodes:
+        got = fields(source, nodes["room"], (), "room: ", ("noise", "snr_db"))
+        for key, (_, node) in got.items():
+            value = _scalar(node)
+            if key == "noise" and value not in NOISES:
+                raise _err(
+                    source, node, f"room: noise is one of {', '.join(NOISES)}, got {value!r}"
+                )
+            if key == "snr_db" and (
+                isinstance(value, bool)
+                or not isinstance(value, (int, float))
+                or not -5 <= value <= 60
+            ):
+                raise _err(
+                    source, node, f"room: snr_db is a number of dB from -5 to 60, got {value!r}"
+                )
+            out[key] = float(value) if key == "snr_db" else value
+    return out
 
 
 def _item(source: str, definition: Definition, item: str, node: Any) -> ItemPlan:

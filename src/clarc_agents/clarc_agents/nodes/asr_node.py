@@ -1,0 +1,129 @@
+"""The asr agent (``--audio``): hears the patient in the microphone's stream. It cuts the stream
+into utterances (voice activity detection, asr/utterances.py), recognises each with pocketsphinx
+restricted to what the DSR says is expected now (the awaited item's options, numbers for the
+serial sevens, the free language model for a words item; the item on the screen just before its
+window opens; asr/searches.py), and publishes what it heard, with its confidence and when it was
+said, on clarc/asr: Speech understands it and writes the answer, as from any recogniser. What
+the robot said itself (its speaker's start and end) is never published. It writes nothing in
+the DSR: it reads it. Recognition runs on a thread of its own, so the stream is never held up.
+
+ROS Parameters: setup_timeout (20). Subscriptions: clarc/microphone/audio
+(audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE), clarc/speaker/events, the DSR.
+Publishers: clarc/asr ({"text", "confidence", "start", "end"}).
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+from typing import Any
+
+from audio_common_msgs.msg import AudioDataStamped
+from std_msgs.msg import String
+
+from clarc_agents import topics
+from clarc_agents.asr.audio_topics import qos_audio, samples_of
+from clarc_agents.asr.searches import FREE, Search, search_for
+from clarc_agents.asr.utterances import RobotSpeech, Utterance, Utterances
+from clarc_agents.behaviours.item_options import awaited_item, item_in
+from clarc_agents.definitions import Item
+from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.json_topics import publish_json, subscribe_json
+from dsr_graph.ros.parameters import declare_setup_timeout, float_param
+from dsr_graph.ros.qos import qos_stream
+
+STOP = None  # what the recognition thread is given to end
+
+
+class AsrAgent(DsrNode):
+    NAME = "asr"
+
+    @classmethod
+    def declare_node_parameters(cls, node) -> None:
+        declare_setup_timeout(node, 20.0)
+
+    def __init__(self):
+        super().__init__()
+        self.dsr = DsrAgent()
+        self._utterances = Utterances()
+        self._robot = RobotSpeech()
+        self._work: queue.Queue = queue.Queue()
+        self._thread: threading.Thread | None = None
+
+    def setup(self) -> None:
+        from clarc_agents.asr.recogniser import Recogniser  # the model: a second to load
+
+        self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
+        self._recogniser = Recogniser()
+        self._asr = self.create_publisher(String, topics.ASR, qos_stream())
+        subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
+        self.create_subscription(
+            AudioDataStamped, topics.MICROPHONE_AUDIO, self.on_audio, qos_audio()
+        )
+        self._thread = threading.Thread(target=self._recognise, name="asr", daemon=True)
+        self._thread.start()
+        self.get_logger().info("asr up: listening to the microphone")
+
+    def on_speaker(self, event: dict[str, Any]) -> None:
+        stamp = event.get("stamp")
+        if isinstance(stamp, (int, float)) and not isinstance(stamp, bool):
+            self._robot.event(str(event.get("event")), float(stamp))
+
+    def on_audio(self, message: AudioDataStamped) -> None:
+        data, stamp = samples_of(message)  # a ValueError is logged, the chunk dropped
+        for utterance in self._utterances.feed(data, stamp):
+            if self._robot.spoke_over(utterance.start, utterance.end):
+                self.get_logger().info(
+                    f"{utterance.end - utterance.start:.1f} s of speech while the robot spoke: "
+                    "its own voice, not an answer"
+                )
+                continue
+            self._work.put((utterance, self._expected()))
+
+    def _expected(self) -> Item | None:
+        """The item whose answer is awaited, else the one on the screen (its window about to
+        open), as the DSR says it is answered; None: nothing is expected (free search)."""
+        if not self.dsr.synced:
+            return None
+        graph = self.dsr.graph
+        item = awaited_item(graph)
+        if item is None:
+            shown = graph.edge("test", "test_part", "is_in")
+            key = "" if shown is None else str(shown.attrs.get("item", ""))
+            item = item_in(graph, key) if key else None
+        return item
+
+    def _recognise(self) -> None:
+        while (job := self._work.get()) is not STOP:
+            utterance, item = job
+            try:
+                self._hear(utterance, item)
+            except Exception as e:  # noqa: BLE001 - a bad utterance never ends the thread
+                self.get_logger().error(f"recognition failed: {e!r}")
+
+    def _hear(self, utterance: Utterance, item: Item | None) -> None:
+        search = search_for(item, self._recogniser.known) if item is not None else None
+        search = search or Search(FREE, None)
+        heard = self._recogniser.hear(utterance.samples, search)
+        if not heard.text:
+            self.get_logger().info("speech, but no words recognised in it")
+            return
+        said = {
+            "text": heard.text,
+            "confidence": round(heard.confidence, 3),
+            "start": round(utterance.start + heard.start, 3),
+            "end": round(utterance.start + heard.end, 3),
+        }
+        what = "free" if search.grammar is None else f"{item.key}'s"
+        self.get_logger().info(f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search)")
+        publish_json(self._asr, said)
+
+    def close(self) -> None:
+        if self._thread is not None:
+            self._work.put(STOP)
+            self._thread.join(timeout=10.0)
+        super().close()
+
+
+main = main_for(AsrAgent)
