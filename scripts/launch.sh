@@ -36,6 +36,7 @@
 #                    recognises the microphone's stream (pocketsphinx); at real time (audio
 #                    cannot be sped up) unless --scale says otherwise. The microphone's stream
 #                    goes to <run-dir>/audio/microphone.wav, what the robot said beside it.
+#   --voice-rate WPM the robot's speaking rate with --audio (default 150 words a minute)
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
 # http://127.0.0.1:8081/.
@@ -65,6 +66,7 @@ security=enforce
 viewer_token=""
 camera_hz=0
 audio=false
+voice_rate=150
 scale_given=0
 respawn_delay=${CLARC_RESPAWN_DELAY:-0.5}  # seconds before a dead node is started again
 max_deaths=5  # per node within a minute; one more stops the run
@@ -75,6 +77,7 @@ while [ $# -gt 0 ]; do
     --realtime) scale=1.0; scale_given=1; shift ;;
     --scale) scale="$2"; scale_given=1; shift 2 ;;
     --audio) audio=true; shift ;;
+    --voice-rate) voice_rate="$2"; shift 2 ;;
     --timeout) timeout="$2"; shift 2 ;;
     --run-dir) run=$(realpath -m "$2"); shift 2 ;;
     --wait-start) wait_start=1; shift ;;
@@ -248,7 +251,7 @@ if [ -n "$record" ]; then  # recording from the DSR's first state, before any ot
 fi
 
 scaled=(--ros-args -p time_scale:="$scale")
-start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio"
+start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio" -p voice_rate:="$voice_rate"
 start microphone microphone "${scaled[@]}" -p audio:="$audio" -p wav_file:="$run/audio/microphone.wav"
 if [ "$audio" = true ]; then  # the recogniser, on the microphone's stream
   start asr asr

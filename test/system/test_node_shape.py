@@ -29,6 +29,7 @@ NODES = [
     ("clarc_agents.nodes.pelea_node", "PeleaNode"),
     ("clarc_agents.nodes.gait_analyser_node", "GaitAnalyserNode"),
     ("clarc_agents.nodes.camera_node", "CameraAgent"),
+    ("clarc_agents.nodes.asr_node", "AsrAgent"),
     ("clarc_sim.devices.tts_node", "TtsStandIn"),
     ("clarc_sim.devices.microphone_node", "MicrophoneStandIn"),
     ("clarc_sim.devices.touchscreen_node", "TouchscreenStandIn"),

@@ -31,6 +31,9 @@ ANY_ITEM = ("skip", "next question", "i don't know", "i do not know", "not sure"
 # answer and the search ends inside it ("one it")
 FILLERS = ("well", "i think", "it's", "it is")
 OPERATIONS = ("minus", "take away", "less", "is", "equals", "and")
+# mumbling: heard as itself rather than forced into an option (then it is not understood);
+# short words ("a", "oh", "the") would be heard in place of short answers ("three")
+MUMBLING = ("um", "uh", "hmm", "mm", "eh", "er")
 
 
 @dataclass(frozen=True)
@@ -88,7 +91,8 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
         rules = _number_rules()
         rules["step"] = ["[<operation>] <number>"]
         rules["operation"] = _alternatives(OPERATIONS, known)
-        rules["answer"] = ["<step>+", *anything]
+        rules["mumbling"] = _alternatives(MUMBLING, known)
+        rules["answer"] = ["<step>+", "<mumbling> [<mumbling>] [<mumbling>]", *anything]
         return _grammar(rules)
     if item.kind != "choose":
         return None
@@ -102,6 +106,11 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
             *count,
         ],
         "filler": fillers,
-        "answer": ["[<filler>] (<option> | <position>)", *anything],
+        "mumbling": _alternatives(MUMBLING, known),
+        "answer": [
+            "[<filler>] (<option> | <position>)",
+            "<mumbling> [<mumbling>] [<mumbling>]",
+            *anything,
+        ],
     }
     return _grammar(rules)

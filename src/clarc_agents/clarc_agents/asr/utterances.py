@@ -1,19 +1,30 @@
-"""A microphone's stream cut into utterances (pocketsphinx's Endpointer: WebRTC voice activity
-detection over a sliding window), each with its samples and when it started and ended by the
-stream's own capture stamps (pure but for the VAD)."""
+"""A microphone's stream cut into utterances, each with its samples and when it started and
+ended by the stream's own capture stamps (pure but for the VAD).
+
+A frame (30 ms) is speech when WebRTC's voice activity detector (pocketsphinx's ``Vad``) says
+so *and* it is ``GATE_DB`` louder than the room's noise floor (the quietest tenth of the last
+few seconds' frames): other people talking in the room (babble, a television) are voices too,
+and the VAD alone would hear one endless utterance. An utterance starts when ``RATIO`` of a
+``WINDOW`` are speech and ends when as many are not (pocketsphinx's Endpointer's rule)."""
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from dataclasses import dataclass
 
 import numpy as np
-from pocketsphinx import Endpointer
+from pocketsphinx import Vad
 
 from clarc_agents.asr.audio import RATE
 
 WINDOW = 0.3  # s of audio the speech / no-speech decision is made over
-RATIO = 0.9  # of the window that must agree to change state (pocketsphinx's default)
-MAX_UTTERANCE = 20.0  # s: longer is cut there (a television left on, not an answer)
+RATIO = 0.9  # of the window that must agree to change state
+MAX_UTTERANCE = 20.0  # s: longer is cut there (someone reading aloud, not an answer)
+GATE_DB = 10.0  # a speech frame is this much louder than the noise floor
+PREROLL = 0.3  # s before the window that began an utterance, kept with it (a soft onset)
+FLOOR_SECONDS = 4.0  # the floor is the quietest tenth of this much of the stream
+FLOOR_SHARE = 0.1
 
 
 @dataclass(frozen=True)
@@ -24,19 +35,33 @@ class Utterance:
 
 
 class Utterances:
-    def __init__(self, window: float = WINDOW, ratio: float = RATIO):
-        self._endpointer = Endpointer(window=window, ratio=ratio)
-        self._frame = self._endpointer.frame_bytes
-        self._pending = b""  # bytes not yet a whole frame
-        self._processed = 0  # samples given to the endpointer so far
-        self._speech: list[bytes] = []
+    def __init__(self, window: float = WINDOW, ratio: float = RATIO, gate_db: float = GATE_DB):
+        self._vad = Vad(Vad.LOOSE, RATE)
+        self._frame = self._vad.frame_bytes
+        seconds = self._frame / 2 / RATE
+        self._window = max(2, round(window / seconds))
+        self._needed = math.ceil(ratio * self._window)
+        self._gate = gate_db
+        self._levels: deque[float] = deque(maxlen=round(FLOOR_SECONDS / seconds))
+        self._recent: deque[tuple[bytes, bool]] = deque(maxlen=self._window)
+        self._before: deque[bytes] = deque(maxlen=self._window + round(PREROLL / seconds))
+        self._speech: list[bytes] | None = None  # the utterance under way
         self._start = 0.0
-        self._clock = (0, 0.0)  # (samples processed, capture stamp) at the newest chunk
+        self._pending = b""  # bytes not yet a whole frame
+        self._processed = 0  # samples taken so far
+        self._clock = (0, 0.0)  # (samples taken, capture stamp) at the newest chunk
 
-    def _stamp(self, seconds_in: float) -> float:
-        """The capture time of the sample ``seconds_in`` seconds into the stream."""
+    def _stamp(self, sample: int) -> float:
+        """The capture time of stream sample ``sample``."""
         at, stamp = self._clock
-        return stamp + seconds_in - at / RATE
+        return stamp + (sample - at) / RATE
+
+    def _is_speech(self, frame: bytes) -> bool:
+        samples = np.frombuffer(frame, dtype="<i2").astype(float)
+        level = 10 * math.log10(float(np.mean(samples * samples)) + 1.0)
+        self._levels.append(level)
+        floor = float(np.quantile(self._levels, FLOOR_SHARE))
+        return level >= floor + self._gate and self._vad.is_speech(frame)
 
     def feed(self, pcm: bytes, stamp: float) -> list[Utterance]:
         """A chunk of the stream (PCM16 LE, 16 kHz mono) whose first sample was captured at
@@ -47,20 +72,29 @@ class Utterances:
         self._pending = data[cut:]
         done = []
         for k in range(0, cut, self._frame):
-            speech = self._endpointer.process(data[k : k + self._frame])
+            frame = data[k : k + self._frame]
+            self._recent.append((frame, self._is_speech(frame)))
+            self._before.append(frame)
             self._processed += self._frame // 2
-            if speech is not None:
-                if not self._speech:
-                    self._start = self._stamp(self._endpointer.speech_start)
-                self._speech.append(speech)
-            too_long = len(self._speech) * self._frame / 2 / RATE >= MAX_UTTERANCE
-            if self._speech and (not self._endpointer.in_speech or too_long):
+            voiced = sum(speech for _, speech in self._recent)
+            if self._speech is None:
+                if voiced >= self._needed:  # it began with the window (and a little before)
+                    self._speech = list(self._before)
+                    self._start = self._stamp(
+                        self._processed - len(self._before) * self._frame // 2
+                    )
+                continue
+            self._speech.append(frame)
+            long = len(self._speech) * self._frame / 2 / RATE >= MAX_UTTERANCE
+            if len(self._recent) - voiced >= self._needed or long:
                 done.append(self._finish())
         return done
 
     def _finish(self) -> Utterance:
         samples = np.frombuffer(b"".join(self._speech), dtype="<i2").copy()
-        self._speech = []
+        self._speech = None
+        self._recent.clear()
+        self._before.clear()
         return Utterance(samples, self._start, self._start + len(samples) / RATE)
 
 
