@@ -1051,6 +1051,10 @@ def bench_gug(
 # ---------------------------------------------------------------------------- the report
 def table(report: dict[str, Any]) -> str:
     lines = []
+    if report.get("speech"):
+        from speech import table as speech_table
+
+        lines += speech_table(report["speech"])
     lat = report.get("latency")
     if lat:
         lines.append("change-to-visible latency (2 hops)    p50        p90        p99")
@@ -1227,7 +1231,17 @@ def main() -> int:
     quick = args.quick
     sections = set(
         args.only
-        or ["latency", "throughput", "scale", "kinematics", "barthel", "gug", "camera", "signed"]
+        or [
+            "latency",
+            "throughput",
+            "scale",
+            "kinematics",
+            "barthel",
+            "gug",
+            "camera",
+            "signed",
+            "speech",
+        ]
     )
     domain = 10 + os.getpid() % 90
     report: dict[str, Any] = {
@@ -1274,6 +1288,10 @@ def main() -> int:
             report["camera"] = bench_camera(
                 work, domain, 5.0 if quick else 20.0, 100 if quick else 500
             )
+        if "speech" in sections:
+            from speech import bench_speech
+
+            report["speech"] = bench_speech(quick)
         if "signed" in sections:
             report["signed"] = bench_signed(
                 work, domain, 200 if quick else 2000, 1000 if quick else 5000, 0.1

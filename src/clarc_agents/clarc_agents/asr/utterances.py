@@ -5,7 +5,8 @@ A frame (30 ms) is speech when WebRTC's voice activity detector (pocketsphinx's 
 so *and* it is ``GATE_DB`` louder than the room's noise floor (the quietest tenth of the last
 few seconds' frames): other people talking in the room (babble, a television) are voices too,
 and the VAD alone would hear one endless utterance. An utterance starts when ``RATIO`` of a
-``WINDOW`` are speech and ends when as many are not (pocketsphinx's Endpointer's rule)."""
+``WINDOW`` are speech (pocketsphinx's Endpointer's rule) and ends when as many of a longer
+``END_WINDOW`` are not."""
 
 from __future__ import annotations
 
@@ -18,8 +19,11 @@ from pocketsphinx import Vad
 
 from clarc_agents.asr.audio import RATE
 
-WINDOW = 0.3  # s of audio the speech / no-speech decision is made over
+WINDOW = 0.3  # s of audio in which RATIO must be speech for an utterance to start
 RATIO = 0.9  # of the window that must agree to change state
+# s in which RATIO must be quiet for it to end: longer than the pause at a comma ("I need some
+# help, I do about half" is one answer)
+END_WINDOW = 0.7
 MAX_UTTERANCE = 20.0  # s: longer is cut there (someone reading aloud, not an answer)
 GATE_DB = 10.0  # a speech frame is this much louder than the noise floor
 PREROLL = 0.3  # s before the window that began an utterance, kept with it (a soft onset)
@@ -35,12 +39,21 @@ class Utterance:
 
 
 class Utterances:
-    def __init__(self, window: float = WINDOW, ratio: float = RATIO, gate_db: float = GATE_DB):
+    def __init__(
+        self,
+        window: float = WINDOW,
+        ratio: float = RATIO,
+        gate_db: float = GATE_DB,
+        end_window: float = END_WINDOW,
+    ):
         self._vad = Vad(Vad.LOOSE, RATE)
         self._frame = self._vad.frame_bytes
         seconds = self._frame / 2 / RATE
         self._window = max(2, round(window / seconds))
         self._needed = math.ceil(ratio * self._window)
+        self._end_window = max(2, round(end_window / seconds))
+        self._quiet_needed = math.ceil(ratio * self._end_window)
+        self._tail: deque[bool] = deque(maxlen=self._end_window)
         self._gate = gate_db
         self._levels: deque[float] = deque(maxlen=round(FLOOR_SECONDS / seconds))
         self._recent: deque[tuple[bytes, bool]] = deque(maxlen=self._window)
@@ -73,7 +86,9 @@ class Utterances:
         done = []
         for k in range(0, cut, self._frame):
             frame = data[k : k + self._frame]
-            self._recent.append((frame, self._is_speech(frame)))
+            speech = self._is_speech(frame)
+            self._recent.append((frame, speech))
+            self._tail.append(speech)
             self._before.append(frame)
             self._processed += self._frame // 2
             voiced = sum(speech for _, speech in self._recent)
@@ -86,7 +101,8 @@ class Utterances:
                 continue
             self._speech.append(frame)
             long = len(self._speech) * self._frame / 2 / RATE >= MAX_UTTERANCE
-            if len(self._recent) - voiced >= self._needed or long:
+            quiet = len(self._tail) - sum(self._tail)
+            if quiet >= self._quiet_needed or long:
                 done.append(self._finish())
         return done
 
@@ -95,6 +111,7 @@ class Utterances:
         self._speech = None
         self._recent.clear()
         self._before.clear()
+        self._tail.clear()
         return Utterance(samples, self._start, self._start + len(samples) / RATE)
 
 
