@@ -4,8 +4,9 @@ faster than free decoding here (../shared/docs/SPEECH.md).
 
 - a ``choose`` item: a JSGF grammar of its options' phrases, an option by number or position
   ("option two", "the second one"), plus what is said to any item ("skip", "I don't know");
-- a ``serial`` item: a grammar of numbers, with the subtraction said aloud ("minus seven is");
 - a ``words`` item: the free English language model (any words: the date, a place, objects);
+- a ``serial`` item: the free model too (a grammar of number sequences makes pocketsphinx's
+  grammar search slower than real time);
 - other items (touched, drawn, seen) are not answered by voice: no search.
 
 Nothing here names a test or an item: only the item's kind, options and parts.
@@ -22,15 +23,12 @@ from clarc_agents.definitions import Item
 
 FREE = "free"  # the search with the language model
 ONES = "zero one two three four five six seven eight nine".split()
-TEENS = "ten eleven twelve thirteen fourteen fifteen sixteen seventeen eighteen nineteen".split()
-TENS = "twenty thirty forty fifty sixty seventy eighty ninety".split()
 ORDINALS = ("first", "second", "third", "fourth", "fifth", "sixth")
 # said to any item (questionnaire/answers.py understands them)
 ANY_ITEM = ("skip", "next question", "i don't know", "i do not know", "not sure")
 # said before an answer; none after it: a filler at the end soaks up the noise after the
 # answer and the search ends inside it ("one it")
 FILLERS = ("well", "i think", "it's", "it is")
-OPERATIONS = ("minus", "take away", "less", "is", "equals", "and")
 # mumbling: heard as itself rather than forced into an option (then it is not understood);
 # short words ("a", "oh", "the") would be heard in place of short answers ("three")
 MUMBLING = ("um", "uh", "hmm", "mm", "eh", "er")
@@ -68,18 +66,6 @@ def _grammar(rules: dict[str, list[str]]) -> Search:
     return Search("g" + hashlib.sha256(text.encode()).hexdigest()[:12], text)
 
 
-def _number_rules() -> dict[str, list[str]]:
-    return {
-        "one_to_nine": ONES[1:],
-        "under_hundred": [
-            *ONES,
-            *TEENS,
-            *(f"{t} [<one_to_nine>]" for t in TENS),
-        ],
-        "number": ["[a | one] hundred [and <under_hundred>]", "<under_hundred>"],
-    }
-
-
 def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
     """The search for ``item``'s answer; ``known(word)``: whether the dictionary has the word
     (a phrase with an unknown word cannot be recognised, so it is left out)."""
@@ -88,12 +74,10 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
     if item.kind == "words":
         return Search(FREE, None)
     if item.kind == "serial":
-        rules = _number_rules()
-        rules["step"] = ["[<operation>] <number>"]
-        rules["operation"] = _alternatives(OPERATIONS, known)
-        rules["mumbling"] = _alternatives(MUMBLING, known)
-        rules["answer"] = ["<step>+", "<mumbling> [<mumbling>] [<mumbling>]", *anything]
-        return _grammar(rules)
+        # the free model too: every grammar of number sequences tried (a loop of steps, nested
+        # optional steps, sequences spelt out) made pocketsphinx's grammar search slower than
+        # real time, up to minutes for a few seconds of speech, and no more accurate
+        return Search(FREE, None)
     if item.kind != "choose":
         return None
     options = _alternatives((k for o in item.options for k in (o.text, *o.keywords)), known)
