@@ -41,9 +41,9 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
         assert got["attempts"] >= want["attempts"], (got, run.stdout[-4000:])
     log = tmp_path / "run" / "log"
     asr = (log / "asr.log").read_text()
+    # what the asr heard, and for which item's search
     heard = re.findall(r"heard '([^']*)' \(([\d.]+), (\w+)'s search\)", asr)
     assert ("i eat by myself", "feeding") in [(t, item) for t, _, item in heard], asr[-3000:]
-    assert "while the robot spoke: its own voice, not an answer" in asr
     with wave.open(str(tmp_path / "run" / "audio" / "microphone.wav")) as w:
         assert (w.getframerate(), w.getnchannels(), w.getsampwidth()) == (16000, 1, 2)
         assert w.getnframes() / 16000 > 60  # the whole run, written as it was streamed
