@@ -10,9 +10,10 @@ import pytest
 from conftest import needs_espeak
 
 from clarc_agents import definitions
-from clarc_agents.asr.audio import RATE, AudioError, read_audio
+from clarc_agents.asr.audio import RATE, read_audio
 from clarc_agents.asr.searches import FREE, search_for
 from clarc_agents.asr.utterances import RobotSpeech, Utterances
+from clarc_agents.exceptions import AudioError
 
 DIGITS = "zero one two three four five six seven eight nine".split()
 

@@ -15,6 +15,11 @@ class ScenarioError(DsrError, ValueError):
     """A scenario file is not usable; the message names the file, the line and what is wrong."""
 
 
+class AudioError(DsrError, ValueError):
+    """A recording the recogniser cannot take (not 16-bit PCM WAV or raw); the message names the
+    file and what is wrong."""
+
+
 class DefinitionError(DsrError, ValueError):
     """A test definition file is not usable; the message names the file, the line and what is
     wrong."""

@@ -11,12 +11,10 @@ from pathlib import Path
 import numpy as np
 import soxr
 
+from clarc_agents.exceptions import AudioError
+
 RATE = 16000  # samples a second, as the acoustic model was trained
 DITHER = 8.0  # standard deviation in PCM16 steps: -72 dB below full scale, far under any room
-
-
-class AudioError(ValueError):
-    """A file that is not audio the recogniser can take; the message names what is wrong."""
 
 
 def resample(samples: np.ndarray, rate: int) -> np.ndarray:

@@ -15,9 +15,9 @@ import sys
 import time
 from datetime import date
 
-from clarc_agents.asr.audio import RATE, AudioError, read_audio
+from clarc_agents.asr.audio import RATE, read_audio
 from clarc_agents.asr.searches import FREE, Search, search_for
-from clarc_agents.exceptions import DefinitionError
+from clarc_agents.exceptions import AudioError, DefinitionError
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 from clarc_sim.console.understand_cli import definition_of, explain
 
