@@ -163,8 +163,7 @@ def test_room_noise_is_set_by_the_snr_over_the_patient_s_voice():
 
 
 def test_the_microphone_hears_the_patient_over_the_room_and_the_robot_lower():
-    from clarc_sim.devices.microphone_node import Sources
-    from clarc_sim.devices.sound import RoomNoise
+    from clarc_sim.devices.sound import RoomNoise, Sources
 
     sources = Sources(RoomNoise("white", 0.0))
     sources.add(100, np.full(50, 1000.0))  # the patient from sample 100

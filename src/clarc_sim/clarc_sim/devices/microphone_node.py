@@ -35,7 +35,7 @@ from clarc_agents.asr.audio_topics import (
     samples_of,
 )
 from clarc_sim import sim_topics
-from clarc_sim.devices.sound import RoomNoise, Voice, noise_level, speak, speech_rms
+from clarc_sim.devices.sound import RoomNoise, Sources, Voice, noise_level, speak, speech_rms
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, declare_time_scale, float_param, param
@@ -43,31 +43,6 @@ from dsr_graph.ros.qos import qos_latched, qos_stream
 from dsr_graph.ros.timers import OneShot
 
 CALIBRATION = "I am here, and I can hear you well."  # the sentence the SNR is measured on
-
-
-class Sources:
-    """What the microphone hears, summed sample by sample (pure): sounds queued to start at a
-    given stream sample, over the room's noise."""
-
-    def __init__(self, noise: RoomNoise):
-        self.noise = noise
-        self._sounds: list[tuple[int, np.ndarray]] = []  # (first stream sample, float samples)
-
-    def add(self, at: int, samples: np.ndarray) -> None:
-        self._sounds.append((at, samples.astype(float)))
-
-    def read(self, at: int, n: int) -> np.ndarray:
-        """Stream samples ``at`` .. ``at + n`` as int16."""
-        out = self.noise.read(n)
-        kept = []
-        for start, sound in self._sounds:
-            lo, hi = max(at, start), min(at + n, start + len(sound))
-            if lo < hi:
-                out[lo - at : hi - at] += sound[lo - start : hi - start]
-            if start + len(sound) > at + n:
-                kept.append((start, sound))
-        self._sounds = kept
-        return np.clip(np.round(out), -32768, 32767).astype(np.int16)
 
 
 class MicrophoneStandIn(DsrNode):

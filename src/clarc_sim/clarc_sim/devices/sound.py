@@ -134,3 +134,28 @@ def mixed(parts: list[np.ndarray]) -> np.ndarray:
     for p in parts:
         total[: len(p)] += p
     return np.clip(np.round(total), -32768, 32767).astype(np.int16)
+
+
+class Sources:
+    """What the microphone hears, summed sample by sample (pure): sounds queued to start at a
+    given stream sample, over the room's noise."""
+
+    def __init__(self, noise: RoomNoise):
+        self.noise = noise
+        self._sounds: list[tuple[int, np.ndarray]] = []  # (first stream sample, float samples)
+
+    def add(self, at: int, samples: np.ndarray) -> None:
+        self._sounds.append((at, samples.astype(float)))
+
+    def read(self, at: int, n: int) -> np.ndarray:
+        """Stream samples ``at`` .. ``at + n`` as int16."""
+        out = self.noise.read(n)
+        kept = []
+        for start, sound in self._sounds:
+            lo, hi = max(at, start), min(at + n, start + len(sound))
+            if lo < hi:
+                out[lo - at : hi - at] += sound[lo - start : hi - start]
+            if start + len(sound) > at + n:
+                kept.append((start, sound))
+        self._sounds = kept
+        return np.clip(np.round(out), -32768, 32767).astype(np.int16)
