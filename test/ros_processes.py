@@ -165,8 +165,10 @@ def agent_in_session(ros, timeout=15):
     return agent
 
 
-def send_and_wait(ros, agent, doc, timeout=10):
-    """Send a transaction and spin until its verdict (a dsr_graph.agent.Result)."""
+def send_and_wait(ros, agent, doc, timeout=20):
+    """Send a transaction and spin until its verdict (a dsr_graph.agent.Result). The bound is
+    beyond the server's own wait for a sender's node name (identity.NODE_INFO_WAIT, 10 s), which
+    a just restarted server may need."""
     results = []
     agent.send(doc, results.append)
     wait_for(lambda: results, timeout, "a verdict", ros.session)

@@ -2,6 +2,8 @@
 pure logic: the server's checks without the middleware."""
 
 import json
+import re
+from pathlib import Path
 
 import pytest
 
@@ -189,6 +191,22 @@ def test_a_request_topic_proves_its_sender_only_with_one_rightful_publisher(
 def test_a_publisher_whose_node_is_not_known_yet_gives_no_verdict_yet():
     verdict = sender_on(T, "speech", [Publisher("_NODE_NAMESPACE_UNKNOWN_", "_NODE_NAME_UNKNOWN_")])
     assert verdict.agent is None and verdict.pending and not verdict.intruders
+
+
+def test_a_pending_verdict_is_waited_for_longer_than_what_it_waits_for():
+    """A node's name comes on a reliable topic whose lost first sample Fast DDS sends again at the
+    next heartbeat (3 s by default): three of them. A killed node goes when its lease (the suite's
+    Fast DDS profile) runs out."""
+    unknown = sender_on(T, "speech", [Publisher("/", "_NODE_NAME_UNKNOWN_")])
+    assert unknown.pending >= 3 * 3.0
+    ghost = sender_on(
+        T, "speech", [Publisher("/", "speech", b"old"), Publisher("/", "speech", b"new")]
+    )
+    profile = Path(__file__).resolve().parents[2] / "src/dsr_graph/config/fastdds_profile.xml"
+    lease = re.search(r"<leaseDuration><sec>(\d+)</sec>", profile.read_text())
+    assert ghost.pending > int(lease.group(1))
+    proven = sender_on(T, "speech", [Publisher("/", "speech")])
+    assert proven.agent == "/speech" and not proven.pending
 
 
 def test_each_agent_has_its_own_request_topic():

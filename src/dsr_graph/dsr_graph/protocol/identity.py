@@ -36,10 +36,19 @@ class Sender:
     agent: str | None
     problem: str = ""
     intruders: tuple[str, ...] = ()
-    pending: bool = False  # a publisher's node is not known yet: ask again shortly
+    # seconds the verdict may be waited for from a request's arrival (0: final): a publisher's
+    # node not known yet, or a killed node not gone yet
+    pending: float = 0.0
 
 
 UNKNOWN = "_NODE_NAME_UNKNOWN_"  # rmw's name for a participant whose node info has not arrived
+# Node names come on rmw's ros_discovery_info, a reliable transient-local topic apart from DDS's
+# own endpoint discovery: a first sample lost is sent again at its writer's next heartbeat, every
+# 3 s by Fast DDS's default. Seen in CI after a server's restart: more than 3 s. Three heartbeats.
+NODE_INFO_WAIT = 10.0
+# A node killed outright stays listed until its DDS lease (2 s, config/fastdds_profile.xml) runs
+# out, beside its restarted self.
+LEASE_WAIT = 3.0
 
 
 def agent_topic(node_name: str) -> str:
@@ -52,7 +61,9 @@ def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) ->
     if any(p.name == UNKNOWN for p in publishers):
         # DDS found the publisher before the ROS graph learnt its node (typically just after
         # a restart): not a verdict yet
-        return Sender(None, f"{topic} has a publisher whose node is not known yet", pending=True)
+        return Sender(
+            None, f"{topic} has a publisher whose node is not known yet", pending=NODE_INFO_WAIT
+        )
     # one node may publish through several endpoints (two DsrAgents in one node): what counts
     # is how many nodes publish, told apart by name and by DDS participant
     nodes = sorted({(p.fqn, p.participant): p for p in publishers}.values(), key=_order)
@@ -85,7 +96,7 @@ def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) ->
         f"{topic} has {len(nodes)} publishing nodes named {owner!r} ({names}): "
         "two nodes share that name (or one of them died and is not gone yet)",
         tuple(sorted({p.fqn for p in owners})),
-        pending=True,
+        pending=LEASE_WAIT,
     )
 
 

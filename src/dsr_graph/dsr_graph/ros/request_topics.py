@@ -20,9 +20,8 @@ from dsr_graph.ros.qos import qos_presence, qos_stream
 
 MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
-# seconds requests wait while the verdict is pending (a publisher's node not known yet, or the
-# ghost of a killed node, listed until its DDS lease, 2 s in dsr_graph/config, runs out), or
-# while the bytes of binary values they reference are on their way
+# seconds requests wait while the bytes of binary values they reference are on their way (a
+# pending verdict on the sender says itself how long it may be waited for)
 HOLD = 3.0
 STRING = "std_msgs/msg/String"
 
@@ -117,12 +116,12 @@ class RequestTopics:
         self._deliver(topic, texts, time.monotonic())
 
     def _deliver(self, topic: str, texts: list[str], since: float) -> None:
-        patient = time.monotonic() - since < HOLD
-        if patient and not all(self.ready(text) for text in texts):
+        waited = time.monotonic() - since
+        if waited < HOLD and not all(self.ready(text) for text in texts):
             self._held[topic] = (since, texts)
             return
         verdict = self.sender(topic) if self.trust_graph else NO_VERDICT
-        if verdict.pending and patient:
+        if waited < verdict.pending:
             self._held[topic] = (since, texts)
             return
         self._held.pop(topic, None)
