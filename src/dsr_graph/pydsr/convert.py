@@ -1,0 +1,127 @@
+"""Between the DSR's graph and pydsr's elements (pure). CORTEX holds RT translations in
+millimetres and the DSR in metres: they are converted here, and nowhere else. An RT edge shows
+its transform as CORTEX's attributes ``rt_translation`` (mm) and ``rt_rotation_euler_xyz``
+(radians, float32 as CORTEX keeps them); written back, they become the edge's transform.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from dsr_graph.formats.units import PER_METRE
+from dsr_graph.model import rigid
+from dsr_graph.model.binary import ARRAYS, BYTES, BlobRef
+from dsr_graph.model.graph import Edge as GraphEdge
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.graph import Node as GraphNode
+from dsr_graph.model.vocabulary import RT
+from pydsr.elements import Attribute, Edge, Node
+
+MM = PER_METRE["mm"]
+RT_TRANSLATION = "rt_translation"
+RT_ROTATION = "rt_rotation_euler_xyz"
+RT_ATTRS = (RT_TRANSLATION, RT_ROTATION)
+
+
+def attribute_of(value: Any, timestamp: int = 0, agent_id: int = 0) -> Attribute:
+    """A graph value as CORTEX returns it: float vectors as float32 arrays, bytes as uint8."""
+    if isinstance(value, BlobRef):  # bytes this replica was not sent (a camera's image)
+        value = np.zeros(0, dtype=np.uint8)
+    elif isinstance(value, (bytes, bytearray)):
+        value = np.frombuffer(bytes(value), dtype=np.uint8).copy()
+    elif isinstance(value, np.ndarray):
+        value = value.reshape(-1) if value.dtype == np.uint8 else value.astype(np.float32).ravel()
+    elif isinstance(value, list) and all(isinstance(v, str) for v in value) and value:
+        value = ";".join(value)  # a string vector has no CORTEX kind: shown joined, read-only
+    elif isinstance(value, list) and value and isinstance(value[0], list):
+        value = np.asarray(value, dtype=np.float32).ravel()
+    return Attribute(value, timestamp, agent_id)
+
+
+def node_of(graph: Graph, node: GraphNode) -> Node:
+    out = Node._of(node.id, node.type, node.name)
+    out.attrs.update({k: attribute_of(v) for k, v in node.attrs.items()})
+    for edge in graph.out_edges(node.id):
+        out.edges[(edge.dst, edge.type)] = edge_of(graph, edge)
+    return out
+
+
+def edge_of(graph: Graph, edge: GraphEdge) -> Edge:
+    out = Edge(edge.dst, edge.src, edge.type, 0)
+    out.attrs.update({k: attribute_of(v) for k, v in edge.attrs.items()})
+    if edge.rt is not None:
+        out.attrs[RT_TRANSLATION] = Attribute(
+            np.asarray(edge.rt[:3, 3] * MM, dtype=np.float32), 0, 0
+        )
+        out.attrs[RT_ROTATION] = Attribute(
+            np.asarray(rigid.euler_xyz(edge.rt), dtype=np.float32), 0, 0
+        )
+    return out
+
+
+def rt_of(translation_mm: Any, rotation_euler_xyz: Any) -> dict[str, Any]:
+    """CORTEX's pose (mm, radians) as the DSR's ``rt`` (metres)."""
+    translation = [float(v) / MM for v in np.asarray(translation_mm, dtype=float).ravel()]
+    rotation = [float(v) for v in np.asarray(rotation_euler_xyz, dtype=float).ravel()]
+    return {"translation": translation, "rotation_euler_xyz": rotation}
+
+
+def matrix_mm(matrix: np.ndarray) -> np.ndarray:
+    """A DSR transform (metres) as CORTEX's 4x4 (mm)."""
+    out = np.array(matrix, dtype=float)
+    out[:3, 3] *= MM
+    return out
+
+
+def graph_value(graph: Graph, name: str, attribute: Attribute) -> Any:
+    """An attribute's value as the graph's vocabulary types it (JSON-able, or bytes)."""
+    value = attribute.value
+    if isinstance(value, np.ndarray):
+        type_name = graph.vocabulary.attribute_type(name)
+        if type_name == BYTES:
+            return value.astype(np.uint8).tobytes()
+        if type_name in ARRAYS:  # CORTEX's vectors are flat: an array of one dimension
+            return np.ascontiguousarray(value, dtype=ARRAYS[type_name][1])
+        return [int(v) for v in value] if value.dtype.kind in "ui" else [float(v) for v in value]
+    return value
+
+
+def attr_changes(
+    graph: Graph, current: dict[str, Any], wanted: dict[str, Attribute]
+) -> tuple[dict[str, Any], list[str]]:
+    """The sets and removals that turn ``current`` (a graph element's attrs) into ``wanted``;
+    an attribute read and handed back unchanged is not written again."""
+    sets = {}
+    for name, attribute in wanted.items():
+        if name in RT_ATTRS:
+            continue
+        if name in current and _same(attribute_of(current[name]).value, attribute.value):
+            continue
+        sets[name] = graph_value(graph, name, attribute)
+    removes = [name for name in current if name not in wanted and name not in RT_ATTRS]
+    return sets, removes
+
+
+def wanted_rt(edge: Edge, current: GraphEdge | None = None) -> dict[str, Any] | None:
+    """The transform an edge's CORTEX attributes give, when it has both; None also when they
+    are those ``current`` shows (read and handed back unchanged)."""
+    if edge.type != RT or not all(k in edge.attrs for k in RT_ATTRS):
+        return None
+    if current is not None and current.rt is not None:
+        shown = {
+            RT_TRANSLATION: current.rt[:3, 3] * MM,
+            RT_ROTATION: rigid.euler_xyz(current.rt),
+        }
+        if all(
+            _same(np.asarray(shown[k], dtype=np.float32), edge.attrs[k].value) for k in RT_ATTRS
+        ):
+            return None
+    return rt_of(edge.attrs[RT_TRANSLATION].value, edge.attrs[RT_ROTATION].value)
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return np.shape(a) == np.shape(b) and bool(np.all(np.asarray(a) == np.asarray(b)))
+    return type(a) is type(b) and a == b

@@ -1,0 +1,231 @@
+"""pydsr's values: ``Attribute``, ``Node`` and ``Edge`` as CORTEX's Python API has them
+(robocomp/cortex, python-wrapper/python_api.cpp): detached copies a program reads and edits, then
+hands to ``DSRGraph.update_node`` / ``insert_or_assign_edge``. Pure: no graph, no ROS.
+
+CORTEX's conventions are kept here: a node type outside CORTEX's registry raises RuntimeError, an
+attribute keeps the kind of value it was made with (TypeError otherwise), ``timestamp`` (ns) and
+``agent_id`` change with the value, an edge is ``Edge(to, from, type, agent_id)``.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+# CORTEX's node type registry (core/include/dsr/core/types/type_checking/dsr_node_type.h), with
+# "root", the type of a CORTEX world's root in its own files and tests
+CORTEX_NODE_TYPES = frozenset(
+    """root world transform room differentialrobot omnirobot robot path_to_target intention rgbd
+    pan_tilt battery pose laser ultrasound camera imu slam_device object affordance_space person
+    personal_space plane box cylinder ball mesh face nape body head trunk hip chest nose left_eye
+    right_eye left_ear right_ear left_arm right_arm left_shoulder right_shoulder left_elbow
+    right_elbow left_wrist right_wrist left_hand right_hand left_hip right_hip left_leg right_leg
+    left_knee right_knee mug cup noodles table chair shelve dish spoon testtype glass plant
+    microwave oven vase refrigerator book bottle fork knife bowl diningtable container road
+    building vehicle gps grid task compressed agent wayp servo virtual_person""".split()
+)
+
+# the id of the agent that made the last DSRGraph: CORTEX stamps new values with it
+_local_agent = {"id": 0}
+
+
+def set_local_agent_id(agent_id: int) -> None:
+    _local_agent["id"] = int(agent_id)
+
+
+def now_ns() -> int:
+    return time.time_ns()
+
+
+def _kind(value: Any) -> str:
+    """The kind of value an attribute holds (CORTEX's variant, collapsed to what Python tells)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "bool"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, (int, np.integer)):
+        return "int"
+    if isinstance(value, (float, np.floating)):
+        return "float"
+    if isinstance(value, (bytes, bytearray)):
+        return "bytes"
+    if isinstance(value, np.ndarray):
+        if value.dtype == np.uint8:
+            return "bytes"
+        if np.issubdtype(value.dtype, np.integer) and value.dtype.kind == "u":
+            return "uint64_vector"
+        if np.issubdtype(value.dtype, np.number):
+            return "float_vector"
+    if isinstance(value, (list, tuple)) and all(
+        isinstance(v, (int, float, np.number)) and not isinstance(v, bool) for v in value
+    ):
+        return "float_vector"
+    raise TypeError(
+        f"an attribute's value is a str, bool, int, float, a list or numpy array of numbers, or "
+        f"bytes; got {type(value).__name__}"
+    )
+
+
+def _stored(value: Any, kind: str) -> Any:
+    """The value as the attribute keeps it (vectors as numpy arrays, as CORTEX returns them)."""
+    if kind == "float_vector":
+        return np.asarray(value, dtype=np.float32)
+    if kind == "bytes":
+        return (
+            np.frombuffer(bytes(value), dtype=np.uint8).copy()
+            if not isinstance(value, np.ndarray)
+            else value.astype(np.uint8)
+        )
+    if kind == "uint64_vector":
+        return np.asarray(value, dtype=np.uint64)
+    if kind == "int":
+        return int(value)
+    if kind == "float":
+        return float(value)
+    if kind == "bool":
+        return bool(value)
+    return value
+
+
+class Attribute:
+    """``Attribute(value, timestamp, agent_id)``, ``Attribute(value, agent_id)`` or
+    ``Attribute(value)`` (stamped now, by the local agent)."""
+
+    __slots__ = ("_kind", "_value", "_timestamp", "_agent_id")
+
+    def __init__(self, value: Any, *args: int, **kwargs: int):
+        if len(args) > 2:
+            raise TypeError("Attribute(value, timestamp, agent_id) takes at most 3 arguments")
+        names = ("timestamp", "agent_id") if len(args) + len(kwargs) == 2 else ("agent_id",)
+        given = dict(zip(names, args, strict=False))
+        for key, v in kwargs.items():
+            if key not in ("timestamp", "agent_id") or key in given:
+                raise TypeError(f"Attribute() got an unexpected argument {key!r}")
+            given[key] = v
+        self._kind = _kind(value)
+        self._value = _stored(value, self._kind)
+        self._timestamp = int(given.get("timestamp", now_ns()))
+        self._agent_id = int(given.get("agent_id", _local_agent["id"]))
+
+    @property
+    def value(self) -> Any:
+        return self._value
+
+    @value.setter
+    def value(self, value: Any) -> None:
+        try:
+            kind = _kind(value)
+        except TypeError:
+            kind = type(value).__name__
+        if kind != self._kind:
+            raise TypeError(
+                f"Attributes cannot change type. Selected type is {self._kind} and used type is "
+                f"{kind}"
+            )
+        self._value = _stored(value, kind)
+        self._timestamp = now_ns()
+        self._agent_id = _local_agent["id"]
+
+    @property
+    def timestamp(self) -> int:
+        """When the value was written, in ns since the epoch (read-only)."""
+        return self._timestamp
+
+    @property
+    def agent_id(self) -> int:
+        """The id of the agent that wrote the value (read-only)."""
+        return self._agent_id
+
+    def __repr__(self) -> str:
+        return f" < {self._value!r} > "
+
+
+class Edge:
+    """``Edge(to, from, type, agent_id)``: CORTEX's argument order, destination first."""
+
+    __slots__ = ("_to", "_from", "_type", "agent_id", "attrs")
+
+    def __init__(self, to: int, frm: int, type: str, agent_id: int, **kwargs: Any):
+        if kwargs.keys() - {"from"}:
+            raise TypeError(f"Edge() got unexpected arguments {sorted(kwargs.keys() - {'from'})}")
+        self._to = int(to)
+        self._from = int(kwargs.get("from", frm))
+        self._type = str(type)
+        self.agent_id = int(agent_id)
+        self.attrs: dict[str, Attribute] = {}
+
+    @property
+    def type(self) -> str:
+        return self._type
+
+    @property
+    def origin(self) -> int:
+        return self._from
+
+    @property
+    def destination(self) -> int:
+        return self._to
+
+    def __repr__(self) -> str:
+        lines = [f"Type: {self._type} from: {self._from} to: {self._to}"]
+        lines += [f"      [{k}] -- {v!r}" for k, v in self.attrs.items()]
+        return "\n".join(lines)
+
+
+class Node:
+    """``Node(agent_id, type, name="")``; ``id`` is given when the graph inserts it. ``edges``
+    maps ``(to, type)`` to the node's outgoing edges."""
+
+    __slots__ = ("_id", "_type", "_name", "agent_id", "attrs", "edges")
+
+    def __init__(self, agent_id: int, type: str, name: str = ""):
+        if type not in CORTEX_NODE_TYPES:
+            raise RuntimeError(f"Error, {type} is not a valid node type")
+        self._id = 0
+        self._type = type
+        self._name = name
+        self.agent_id = int(agent_id)
+        self.attrs: dict[str, Attribute] = {}
+        self.edges: dict[tuple[int, str], Edge] = {}
+
+    @classmethod
+    def _of(cls, id: int, type: str, name: str, agent_id: int = 0) -> Node:
+        """A node as the graph holds it, whatever its type (the suite's own types included)."""
+        node = cls.__new__(cls)
+        node._id, node._type, node._name, node.agent_id = id, type, name, agent_id
+        node.attrs, node.edges = {}, {}
+        return node
+
+    @property
+    def id(self) -> int:
+        return self._id
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def type(self) -> str:
+        return self._type
+
+    def get_edges(self) -> list[Edge]:
+        return list(self.edges.values())
+
+    def __repr__(self) -> str:
+        lines = [
+            f"Node: {self._id}",
+            f"  Type: {self._type}",
+            f"  Name: {self._name}",
+            f"  Agent id: {self.agent_id}",
+            "  ATTRIBUTES: [",
+        ]
+        lines += [f"      [{k}] -- {v!r}" for k, v in self.attrs.items()]
+        lines += ["   ]", "  EDGES: ["]
+        lines += [
+            f"          Edge type: {e.type} from: {e.origin} to: {e.destination}"
+            for e in self.edges.values()
+        ]
+        lines += ["          ]"]
+        return "\n".join(lines)
