@@ -1,0 +1,36 @@
+"""A pydsr agent that writes: a crate under the room, its colour, an edge and its attribute, a
+ball on the crate, then removes the edge and the ball. Prints each step's result as JSON."""
+
+import json
+
+from pydsr import Attribute, DSRGraph, Edge, Node, rt_api
+
+
+def out(*fields):
+    print(json.dumps(fields), flush=True)
+
+
+g = DSRGraph(0, "writer", 1)
+rt = rt_api(g)
+room = g.get_id_from_name("room")
+crate = Node(1, "box", "crate")
+crate.attrs["color"] = Attribute("white")
+crate_id = g.insert_node(crate)
+out("insert_node", crate_id)
+out(
+    "rt", rt.insert_or_assign_edge_RT(g.get_node(room), crate_id, [1500.0, 500.0, 0.0], [0, 0, 0.5])
+)
+node = g.get_node(crate_id)
+node.attrs["color"].value = "red"
+out("update_node", g.update_node(node))
+out("edge", g.insert_or_assign_edge(Edge(room, crate_id, "in", 1)))
+edge = g.get_edge(crate_id, room, "in")
+edge.attrs["color"] = Attribute("blue")
+out("edge_attr", g.insert_or_assign_edge(edge))
+ball_id = g.insert_node(Node(1, "ball", "ball"))
+out("ball", ball_id)
+out("ball_rt", rt.insert_or_assign_edge_RT(g.get_node(crate_id), ball_id, [0, 0, 300.0], [0, 0, 0]))
+out("delete_edge", g.delete_edge(crate_id, room, "in"))
+out("delete_node", g.delete_node(ball_id))
+out("refused", g.delete_node(room))  # it has RT children: the DSR keeps every pose
+g.close()

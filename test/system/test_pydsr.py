@@ -1,0 +1,98 @@
+"""pydsr agents against a live DSR: two programs written the CORTEX way, in two processes, join one
+dsr_server; one writes, the other's signals fire with CORTEX's arguments, and the server, the
+listener's replica and the viewer hold the same graph."""
+
+import json
+import sys
+from pathlib import Path
+
+from browser import free_port, http_get
+from ros_processes import snapshot_via, wait_for
+
+REPO = Path(__file__).resolve().parents[2]
+WORLD = REPO / "worlds" / "clarc_room.json"
+PROGRAMS = Path(__file__).parent / "pydsr_programs"
+TOKEN = "a-test-token-of-the-viewer"
+WAIT = 60  # seconds for a program on a busy machine
+
+
+def lines(ros, name):
+    return [json.loads(x) for x in ros.procs.log(name).splitlines() if x.startswith("[")]
+
+
+def viewer_graph(url):
+    status, body = http_get(url + "api/graph", TOKEN)
+    return json.loads(body) if status == 200 else None
+
+
+def test_two_pydsr_agents_in_two_processes_share_one_dsr(ros):
+    ros.procs.start_server(ros.tmp / "state", world=WORLD)
+    snapshot_via(ros.session, timeout=20)
+    port = free_port()
+    ros.procs.start(
+        "viewer", ["dsr_viewer", "--ros-args", "-p", f"port:={port}", "-p", f"token:={TOKEN}"]
+    )
+    viewer = f"http://127.0.0.1:{port}/"
+    done, dumped = ros.tmp / "done", ros.tmp / "listener.json"
+    ros.procs.start("listener", [sys.executable, PROGRAMS / "listener.py", done, dumped])
+    wait_for(lambda: any(x[0] == "READY" for x in lines(ros, "listener")), WAIT, "the listener")
+    room = next(x for x in lines(ros, "listener") if x[0] == "READY")[1]
+
+    wrote = ros.procs.run(sys.executable, PROGRAMS / "writer.py", timeout=WAIT * 2)
+    assert wrote.returncode == 0, wrote.stdout + wrote.stderr
+    steps = dict((x[0], x[1]) for x in map(json.loads, wrote.stdout.splitlines()))
+    crate, ball = steps["insert_node"], steps["ball"]
+    assert all(v for k, v in steps.items() if k != "refused") and steps["refused"] is False, steps
+    assert "rt-orphan" in wrote.stderr  # the refusal says why
+
+    expected = [
+        ["UPDATE_NODE", crate, "box"],
+        ["UPDATE_EDGE", room, crate, "RT"],
+        ["UPDATE_NODE_ATTR", crate, ["color"]],
+        ["UPDATE_EDGE", crate, room, "in"],
+        ["UPDATE_EDGE_ATTR", crate, room, "in", ["color"]],
+        ["UPDATE_NODE", ball, "ball"],
+        ["UPDATE_EDGE", crate, ball, "RT"],
+        ["DELETE_EDGE", crate, room, "in"],
+        ["DELETE_EDGE", crate, ball, "RT"],
+        ["DELETE_NODE", ball],
+        ["DELETE_NODE_OBJ", "ball"],
+    ]
+
+    def heard():
+        return [x for x in lines(ros, "listener") if x[0] != "READY"]
+
+    wait_for(lambda: len(heard()) >= len(expected), WAIT, "the listener's signals")
+    assert heard() == expected
+
+    done.touch()
+    ros.procs.procs["listener"].wait(timeout=WAIT)
+    server = snapshot_via(ros.session, timeout=20)
+    wait_for(lambda: (viewer_graph(viewer) or {}).get("seq") == server["seq"], WAIT, "the viewer")
+    seen = viewer_graph(viewer)
+    replica = json.loads(dumped.read_text())["DSRModel"]["symbols"]
+
+    def shape(doc):
+        nodes = {(n["id"], n["name"], n["type"]) for n in doc["nodes"]}
+        edges = {(e["from"], e["to"], e["type"]) for e in doc["edges"]}
+        return nodes, edges
+
+    names = {int(k): s["name"] for k, s in replica.items()}
+    replica_shape = (
+        {(int(k), s["name"], s["type"]) for k, s in replica.items()},
+        {
+            (names[int(link["src"])], names[int(link["dst"])], link["label"])
+            for s in replica.values()
+            for link in s["links"]
+        },
+    )
+    assert shape(server) == replica_shape == shape(seen)
+    crate_node = next(n for n in server["nodes"] if n["name"] == "crate")
+    assert (
+        crate_node["attrs"]["color"] == "red"
+        and replica[str(crate)]["attribute"]["color"]["value"] == "red"
+    )
+    placed = next(e for e in server["edges"] if e["to"] == "crate")
+    assert [row[3] for row in placed["rt"]["matrix"][:3]] == [1.5, 0.5, 0.0]  # metres inside
+    link = next(x for x in replica["1"]["links"] if x["dst"] == str(crate))
+    assert link["linkAttribute"]["rt_translation"]["value"] == [1500.0, 500.0, 0.0]  # mm outside
