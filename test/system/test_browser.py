@@ -181,6 +181,9 @@ def test_viewer_shows_a_change_within_a_second_and_scrubs_back(ros, viewer):
         page.wait_for_selector("#node-table")
         table = page.inner_text("#node-table")
         assert "version\t2" in table and "patient\tCarlos" in table
+        # who wrote each attribute, and when; who last moved it
+        assert "patient\tCarlos\t/test_client, " in table
+        assert page.inner_text("#moved").startswith("pose written by /test_client, ")
         page.select_option("#frame", "room")
         page.wait_for_function(
             "document.getElementById('pose').dataset.translation && Math.abs("

@@ -86,6 +86,29 @@ def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
     services = {s["name"]: s["types"] for s in info["services"]}
     assert services["/dsr/get_attribute"] == ["dsr_msgs/srv/GetAttribute"]
 
+    # provenance: who wrote each attribute, and when
+    before = time.time()
+    r = ros.procs.run(
+        "dsr",
+        "apply",
+        "-",
+        input='{"ops": [{"op": "set_node_attrs", "node": "speaking", "attrs": {"color": "red"}}]}',
+    )
+    assert r.returncode == 0, r.stdout + r.stderr
+    r = ros.procs.run("dsr", "get", "speaking", "color", "--provenance")
+    written = json.loads(r.stdout)
+    assert written["value"] == "red" and written["provenance"]["agent"].startswith("/dsr")
+    assert before - 1 <= written["provenance"]["time"] <= time.time() + 1
+    assert (
+        json.loads(ros.procs.run("dsr", "get", "robot", "port", "--provenance").stdout)[
+            "provenance"
+        ]
+        is None
+    )  # from the world file: nobody wrote it since
+    whole = json.loads(ros.procs.run("dsr", "get", "speaking", "--provenance").stdout)
+    assert whole["provenance"]["color"] == written["provenance"]
+    assert "provenance" not in json.loads(ros.procs.run("dsr", "get", "speaking").stdout)
+
 
 def test_watch_prints_deltas_in_order(ros):
     start(ros)

@@ -332,3 +332,23 @@ def test_cortex_own_world_file_loads_and_answers(cortex_dir):
     assert inner.transform("world", "laser", 0) is not None
     assert inner.transform("world", [1.1, 3.3, 6.6], "laser", 0) is not None
     assert rt_api(g).get_translation(1, 2, 0) is not None
+
+
+def test_an_attribute_read_from_the_graph_says_who_wrote_it_and_when(g):
+    import time
+
+    from pydsr.elements import agent_number
+
+    before = time.time_ns()
+    root = g.get_node("root")
+    root.attrs["color"].value = "red"
+    g.update_node(root)
+    color = g.get_node("root").attrs["color"]
+    assert color.agent_name == "/tester" and color.agent_id == agent_number("/tester")
+    assert before - 1e6 <= color.timestamp <= time.time_ns() + 1e6
+    loaded = g.get_node("robot").attrs["pos_x"]  # from the file: nobody wrote it here
+    assert (loaded.timestamp, loaded.agent_id, loaded.agent_name) == (0, 0, "")
+    rt_api(g).insert_or_assign_edge_RT(g.get_node("robot"), 3, [1.0, 2.0, 3.0], [0, 0, 0])
+    moved = g.get_edge(2, 3, "RT").attrs["rt_translation"]
+    assert moved.agent_name == "/tester" and moved.timestamp >= before
+    assert agent_number("/tester") == agent_number("/tester") != agent_number("/speech")

@@ -16,8 +16,9 @@ from dsr_graph.model.binary import ARRAYS, BYTES, BlobRef
 from dsr_graph.model.graph import Edge as GraphEdge
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.graph import Node as GraphNode
+from dsr_graph.model.provenance import RT_KEY
 from dsr_graph.model.vocabulary import RT
-from pydsr.elements import Attribute, Edge, Node
+from pydsr.elements import Attribute, Edge, Node, agent_number
 
 MM = PER_METRE["mm"]
 RT_TRANSLATION = "rt_translation"
@@ -25,8 +26,9 @@ RT_ROTATION = "rt_rotation_euler_xyz"
 RT_ATTRS = (RT_TRANSLATION, RT_ROTATION)
 
 
-def attribute_of(value: Any, timestamp: int = 0, agent_id: int = 0) -> Attribute:
-    """A graph value as CORTEX returns it: float vectors as float32 arrays, bytes as uint8."""
+def attribute_of(value: Any, stamp: tuple[float, str] | None = None) -> Attribute:
+    """A graph value as CORTEX returns it (float vectors as float32 arrays, bytes as uint8),
+    with its provenance: the time (ns) and the agent of its last write; 0 and 0 if unknown."""
     if isinstance(value, BlobRef):  # bytes this replica was not sent (a camera's image)
         value = np.zeros(0, dtype=np.uint8)
     elif isinstance(value, (bytes, bytearray)):
@@ -37,12 +39,21 @@ def attribute_of(value: Any, timestamp: int = 0, agent_id: int = 0) -> Attribute
         value = ";".join(value)  # a string vector has no CORTEX kind: shown joined, read-only
     elif isinstance(value, list) and value and isinstance(value[0], list):
         value = np.asarray(value, dtype=np.float32).ravel()
-    return Attribute(value, timestamp, agent_id)
+    return _stamped(Attribute(value, 0, 0), stamp)
+
+
+def _stamped(attribute: Attribute, stamp: tuple[float, str] | None) -> Attribute:
+    if stamp is not None:
+        when, agent = stamp
+        attribute._timestamp = round(when * 1e9)
+        attribute._agent_id = agent_number(agent)
+        attribute._agent_name = agent
+    return attribute
 
 
 def node_of(graph: Graph, node: GraphNode) -> Node:
     out = Node._of(node.id, node.type, node.name)
-    out.attrs.update({k: attribute_of(v) for k, v in node.attrs.items()})
+    out.attrs.update({k: attribute_of(v, node.prov.get(k)) for k, v in node.attrs.items()})
     for edge in graph.out_edges(node.id):
         out.edges[(edge.dst, edge.type)] = edge_of(graph, edge)
     return out
@@ -50,14 +61,13 @@ def node_of(graph: Graph, node: GraphNode) -> Node:
 
 def edge_of(graph: Graph, edge: GraphEdge) -> Edge:
     out = Edge(edge.dst, edge.src, edge.type, 0)
-    out.attrs.update({k: attribute_of(v) for k, v in edge.attrs.items()})
+    out.attrs.update({k: attribute_of(v, edge.prov.get(k)) for k, v in edge.attrs.items()})
     if edge.rt is not None:
-        out.attrs[RT_TRANSLATION] = Attribute(
-            np.asarray(edge.rt[:3, 3] * MM, dtype=np.float32), 0, 0
-        )
-        out.attrs[RT_ROTATION] = Attribute(
-            np.asarray(rigid.euler_xyz(edge.rt), dtype=np.float32), 0, 0
-        )
+        moved = edge.prov.get(RT_KEY)
+        translation = np.asarray(edge.rt[:3, 3] * MM, dtype=np.float32)
+        rotation = np.asarray(rigid.euler_xyz(edge.rt), dtype=np.float32)
+        out.attrs[RT_TRANSLATION] = _stamped(Attribute(translation, 0, 0), moved)
+        out.attrs[RT_ROTATION] = _stamped(Attribute(rotation, 0, 0), moved)
     return out
 
 

@@ -10,6 +10,7 @@ attribute keeps the kind of value it was made with (TypeError otherwise), ``time
 from __future__ import annotations
 
 import time
+import zlib
 from typing import Any
 
 import numpy as np
@@ -37,6 +38,12 @@ def set_local_agent_id(agent_id: int) -> None:
 
 def now_ns() -> int:
     return time.time_ns()
+
+
+def agent_number(name: str) -> int:
+    """CORTEX's integer agent id for a DSR agent, known by its node name: its CRC-32, the same
+    in every process (the DSR stamps names; CORTEX's ids are programs' own numbers)."""
+    return zlib.crc32(name.encode("utf-8"))
 
 
 def _kind(value: Any) -> str:
@@ -93,7 +100,7 @@ class Attribute:
     """``Attribute(value, timestamp, agent_id)``, ``Attribute(value, agent_id)`` or
     ``Attribute(value)`` (stamped now, by the local agent)."""
 
-    __slots__ = ("_kind", "_value", "_timestamp", "_agent_id")
+    __slots__ = ("_kind", "_value", "_timestamp", "_agent_id", "_agent_name")
 
     def __init__(self, value: Any, *args: int, **kwargs: int):
         if len(args) > 2:
@@ -108,6 +115,7 @@ class Attribute:
         self._value = _stored(value, self._kind)
         self._timestamp = int(given.get("timestamp", now_ns()))
         self._agent_id = int(given.get("agent_id", _local_agent["id"]))
+        self._agent_name = ""
 
     @property
     def value(self) -> Any:
@@ -127,6 +135,7 @@ class Attribute:
         self._value = _stored(value, kind)
         self._timestamp = now_ns()
         self._agent_id = _local_agent["id"]
+        self._agent_name = ""
 
     @property
     def timestamp(self) -> int:
@@ -135,8 +144,15 @@ class Attribute:
 
     @property
     def agent_id(self) -> int:
-        """The id of the agent that wrote the value (read-only)."""
+        """The id of the agent that wrote the value (read-only). Read from the graph: the
+        number of the writer's node name (``agent_number``)."""
         return self._agent_id
+
+    @property
+    def agent_name(self) -> str:
+        """The writer's ROS node name, for a value read from the graph ("" otherwise; not
+        CORTEX's)."""
+        return self._agent_name
 
     def __repr__(self) -> str:
         return f" < {self._value!r} > "

@@ -2,8 +2,11 @@
 
     {"format": "dsr-graph", "version": 1, "kind": "world" | "snapshot", "seq": N (snapshots),
      "units": {"length": "m" | "cm" | "mm"} (optional: mm when absent; see units.py),
-     "nodes": [{"id", "name", "type", "attrs", "version" (snapshots)}],
-     "edges": [{"from": name, "to": name, "type", "attrs", "rt" (RT only), "version" (snapshots)}]}
+     "nodes": [{"id", "name", "type", "attrs", "version" (snapshots), "provenance" (optional)}],
+     "edges": [{"from": name, "to": name, "type", "attrs", "rt" (RT only), "version" (snapshots),
+                "provenance" (optional)}]}
+
+"provenance": {attribute name (or "$rt"): [time, agent]}, who last wrote it (model/provenance.py).
 
 Transactions share the header; see ``transaction.py``.
 """
@@ -16,7 +19,7 @@ from typing import Any
 from dsr_graph.exceptions import FormatError, Violation
 from dsr_graph.formats import units
 from dsr_graph.formats.world_builder import WorldBuilder
-from dsr_graph.model import rigid
+from dsr_graph.model import provenance, rigid
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
@@ -45,6 +48,9 @@ def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[s
         ]
     else:
         nodes = [{"id": n.id, "name": n.name, "type": n.type, "attrs": n.attrs} for n in ordered]
+    for item, n in zip(nodes, ordered, strict=True):
+        if n.prov:  # who wrote each attribute, and when (model/provenance.py)
+            item["provenance"] = n.prov
     edges = []
     for edge in sorted(graph.edges(), key=attrgetter("key")):
         item = {
@@ -57,6 +63,8 @@ def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[s
             item["rt"] = rigid.to_json(edge.rt)
         if with_versions:
             item["version"] = edge.version
+        if edge.prov:
+            item["provenance"] = edge.prov
         edges.append(item)
     doc: dict[str, Any] = {"format": FORMAT, "version": VERSION, "kind": kind}
     doc["units"] = {"length": units.METRES}
@@ -100,7 +108,7 @@ def from_json(
         if not isinstance(item, dict) or "name" not in item or "type" not in item:
             builder.report("malformed", f"nodes[{i}]", 'a node needs "name" and "type"', at)
             continue
-        unknown = set(item) - {"id", "name", "type", "attrs", "version"}
+        unknown = set(item) - {"id", "name", "type", "attrs", "version", "provenance"}
         if unknown:
             builder.report(
                 "malformed", f"node {item['name']!r}", f"unknown keys {sorted(unknown)}", at
@@ -108,14 +116,16 @@ def from_json(
         if builder.node(
             item["name"], item["type"], id=item.get("id"), attrs=item.get("attrs"), at=at
         ):
+            node = builder.graph.node(item["name"])
             if kind == "snapshot" and isinstance(item.get("version"), int):
-                node_versions[builder.graph.node(item["name"]).id] = item["version"]
+                node_versions[node.id] = item["version"]
+            _read_provenance(builder, node, item, f"node {node.name!r}", at)
     for i, item in enumerate(doc.get("edges", [])):
         at = f"{source}: edges[{i}]"
         if not isinstance(item, dict) or not all(k in item for k in ("from", "to", "type")):
             builder.report("malformed", f"edges[{i}]", 'an edge needs "from", "to" and "type"', at)
             continue
-        unknown = set(item) - {"from", "to", "type", "attrs", "rt", "version"}
+        unknown = set(item) - {"from", "to", "type", "attrs", "rt", "version", "provenance"}
         if unknown:
             builder.report(
                 "malformed",
@@ -131,12 +141,25 @@ def from_json(
             rt=item.get("rt"),
             at=at,
         ):
+            edge = builder.graph.edge(item["from"], item["to"], item["type"])
             if kind == "snapshot" and isinstance(item.get("version"), int):
-                edge = builder.graph.edge(item["from"], item["to"], item["type"])
                 edge_versions[edge.key] = item["version"]
+            _read_provenance(builder, edge, item, builder.graph.describe_edge(*edge.key), at)
     graph = builder.finish()
     graph.restore_versions(node_versions, edge_versions)
     return graph, builder.violations
+
+
+def _read_provenance(builder: WorldBuilder, element, item: dict, label: str, at: str) -> None:
+    """The element's stamps, when the document has them (optional); bad ones are reported and
+    left out, the element kept."""
+    if "provenance" not in item:
+        return
+    names = element.attrs.keys()
+    try:
+        element.prov = provenance.read(item["provenance"], names, label)
+    except FormatError as e:
+        builder.report("malformed", label, str(e).removeprefix(f"{label}: "), at)
 
 
 def snapshot_from_json(

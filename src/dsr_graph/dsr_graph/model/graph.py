@@ -21,6 +21,7 @@ to exactly the state it started from.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -41,21 +42,31 @@ MAX_NAME_LENGTH = 256
 
 
 class Node:
-    __slots__ = ("id", "name", "type", "attrs", "version")
+    # prov: attribute name -> (time, agent) of its last write (model/provenance.py)
+    __slots__ = ("id", "name", "type", "attrs", "version", "prov")
 
-    def __init__(self, id: int, name: str, type: str, attrs: dict[str, Any], version: int = 1):
+    def __init__(
+        self,
+        id: int,
+        name: str,
+        type: str,
+        attrs: dict[str, Any],
+        version: int = 1,
+        prov: dict[str, tuple[float, str]] | None = None,
+    ):
         self.id = id
         self.name = name
         self.type = type
         self.attrs = attrs
         self.version = version
+        self.prov = {} if prov is None else prov
 
     def __repr__(self) -> str:
         return f"Node({self.id}, {self.name!r}, {self.type!r}, v{self.version})"
 
 
 class Edge:
-    __slots__ = ("src", "dst", "type", "attrs", "version", "rt")
+    __slots__ = ("src", "dst", "type", "attrs", "version", "rt", "prov")
 
     def __init__(
         self,
@@ -65,6 +76,7 @@ class Edge:
         attrs: dict[str, Any],
         rt: np.ndarray | None = None,
         version: int = 1,
+        prov: dict[str, tuple[float, str]] | None = None,
     ):
         self.src = src
         self.dst = dst
@@ -72,6 +84,7 @@ class Edge:
         self.attrs = attrs
         self.rt = rt
         self.version = version
+        self.prov = {} if prov is None else prov
 
     @property
     def key(self) -> EdgeKey:
@@ -79,6 +92,11 @@ class Edge:
 
     def __repr__(self) -> str:
         return f"Edge({self.src}->{self.dst} {self.type!r}, v{self.version})"
+
+
+def _prov(item: Mapping[str, Any]) -> dict[str, tuple[float, str]]:
+    """A trusted snapshot element's stamps (lists in JSON) as the graph keeps them."""
+    return {name: (t, sys.intern(a)) for name, (t, a) in (item.get("provenance") or {}).items()}
 
 
 def _fail(rule: str, element: str, message: str) -> None:
@@ -525,7 +543,7 @@ class Graph:
         decode = self._binary_decoder(binary_names)
         for n in nodes:
             attrs = decode(n.get("attrs") or {})
-            node = Node(n["id"], n["name"], n["type"], attrs, n.get("version", 1))
+            node = Node(n["id"], n["name"], n["type"], attrs, n.get("version", 1), _prov(n))
             self._nodes[node.id] = node
             ids[node.name] = node.id
         if self._nodes:
@@ -541,6 +559,7 @@ class Graph:
                     decode(e.get("attrs") or {}),
                     matrix,
                     e.get("version", 1),
+                    _prov(e),
                 )
             )
 

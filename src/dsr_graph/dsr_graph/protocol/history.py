@@ -11,7 +11,7 @@ from dsr_graph.exceptions import SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
-from dsr_graph.model.transaction import apply_ops
+from dsr_graph.model.provenance import apply_delta
 from dsr_graph.protocol.blobs import extract, resolve
 from dsr_graph.protocol.volatility import follows, is_volatile
 
@@ -44,7 +44,7 @@ class History:
         in the timeline: a past seq shows its sensor values as of the checkpoint before it."""
         if self.graph is None or not follows(delta, self.seq):
             raise SeqUnavailable(f"delta {delta.get('seq')} does not follow seq {self.seq}")
-        apply_ops(self.graph, delta["ops"])
+        apply_delta(self.graph, delta)
         if is_volatile(delta):
             return
         self.seq = delta["seq"]
@@ -73,7 +73,7 @@ class History:
                 break
             if delta["seq"] != base + 1:
                 raise SeqUnavailable(f"seq {seq} falls in a gap of the history")
-            apply_ops(graph, delta["ops"])
+            apply_delta(graph, delta)
             base = delta["seq"]
         if base != seq:  # the deltas stop short of seq: it lies in a gap
             raise SeqUnavailable(f"seq {seq} falls in a gap of the history")

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from dsr_graph.model import rigid
+from dsr_graph.model import provenance, rigid
 from dsr_graph.model.graph import Edge, Graph
 from dsr_graph.model.vocabulary import RT
 
@@ -64,6 +64,8 @@ def edge_json(graph: Graph, edge: Edge) -> dict[str, Any]:
     }
     if edge.rt is not None:
         doc["rt"] = rigid.to_json(edge.rt)
+    if edge.prov:  # who wrote each attribute (and the transform, "$rt"), and when
+        doc["provenance"] = provenance.shown(edge.prov)
     return doc
 
 
@@ -72,7 +74,7 @@ def node_json(graph: Graph, name: str) -> dict[str, Any] | None:
     if node is None:
         return None
     key = lambda e: (e.src, e.dst, e.type)  # noqa: E731 - a stable order for readers and tests
-    return {
+    doc = {
         "id": node.id,
         "name": node.name,
         "type": node.type,
@@ -81,3 +83,6 @@ def node_json(graph: Graph, name: str) -> dict[str, Any] | None:
         "out": [edge_json(graph, e) for e in sorted(graph.out_edges(node.id), key=key)],
         "in": [edge_json(graph, e) for e in sorted(graph.in_edges(node.id), key=key)],
     }
+    if node.prov:
+        doc["provenance"] = provenance.shown(node.prov)
+    return doc

@@ -16,7 +16,7 @@ from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.claims import ClaimTable
 from dsr_graph.model.graph import Graph
-from dsr_graph.model.transaction import apply_ops
+from dsr_graph.model.provenance import apply_delta
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol.volatility import follows, is_volatile
 
@@ -66,7 +66,7 @@ class Replica:
         if not self.synced or self._pending or not follows(delta, self.seq):
             return []  # behind (or ahead): the next one will do
         try:
-            apply_ops(self.graph, delta["ops"])
+            apply_delta(self.graph, delta)
         except TransactionRejected:  # diverged (never expected): start over from a snapshot
             self.synced = False
             return []
@@ -95,7 +95,7 @@ class Replica:
         while self.seq + 1 in self._pending:
             delta = self._pending.pop(self.seq + 1)
             try:
-                apply_ops(self.graph, delta["ops"])
+                apply_delta(self.graph, delta)
             except TransactionRejected:  # diverged (never expected): start over from a snapshot
                 self._pending[delta["seq"]] = delta
                 self.synced = False

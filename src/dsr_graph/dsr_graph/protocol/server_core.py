@@ -19,6 +19,7 @@ from typing import Any
 
 from dsr_graph.exceptions import MissingBlob, TransactionRejected, ValueTypeError, Violation
 from dsr_graph.formats import dsr_json, safe_json, units
+from dsr_graph.model import provenance
 from dsr_graph.model.binary import declared_size
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
@@ -210,7 +211,9 @@ class ServerCore:
 
         changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
         volatile = not changes and only_volatile(self.graph, canonical)
-        return self._commit(tx.agent, tx.id, canonical, changes, now, volatile)
+        delta = self._commit(tx.agent, tx.id, canonical, changes, now, volatile)
+        provenance.stamp(self.graph, canonical, delta["stamp"], delta["agent"])
+        return delta
 
     def _check_limits(self, tx) -> None:
         """The server's limits, each refusal naming the limit (the graph is not touched)."""
@@ -340,7 +343,8 @@ class ServerCore:
             raise ValueError(
                 f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}"
             )
-        apply_ops(self.graph, [without_absent_volatile(self.graph, op) for op in delta["ops"]])
+        ops = [without_absent_volatile(self.graph, op) for op in delta["ops"]]
+        provenance.apply_delta(self.graph, delta, ops)
         self.claims.apply_changes(delta.get("claims", {}))
         self.seq = delta["seq"]
         self._remember(delta.get("id") or "", self.seq)

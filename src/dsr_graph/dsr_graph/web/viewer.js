@@ -140,10 +140,18 @@ async function scrubTo(seq) {
 }
 
 // -- inspector -----------------------------------------------------------------------------
-function row(table, key, value, node) {
+function written(stamp) {
+  // provenance: [time (s since the epoch), agent] of the attribute's last write
+  return stamp ? `${stamp[1]}, ${new Date(stamp[0] * 1000).toLocaleString()}` : "";
+}
+
+function row(table, key, value, node, stamp) {
   const tr = table.insertRow();
   tr.insertCell().textContent = key;
   const cell = tr.insertCell();
+  const by = tr.insertCell();
+  by.className = "written";
+  by.textContent = written(stamp);
   if (value && typeof value === "object" && "$binary" in value) {  // bytes, never in the JSON
     cell.textContent = `<${value.$binary} ${value.shape ? value.shape.join("x") : value.size + " bytes"}>`;
     if (value.shape && (value.shape.length === 2 || (value.shape.length === 3 && value.shape[2] === 3))) {
@@ -196,7 +204,8 @@ function inspect(name) {
   row(table, "id", String(node.id));
   row(table, "type", node.type);
   row(table, "version", String(node.version));
-  for (const [k, v] of Object.entries(node.attrs)) row(table, k, v, node.name);
+  const prov = node.provenance || {};
+  for (const [k, v] of Object.entries(node.attrs)) row(table, k, v, node.name, prov[k]);
   details.append(table);
   const geometric = new Set();
   for (const e of state.snapshot.edges) if (e.type === "RT") { geometric.add(e.from); geometric.add(e.to); }
@@ -213,6 +222,13 @@ function inspect(name) {
     details.append(label, pose);
     const parent = state.snapshot.edges.find((e) => e.type === "RT" && e.to === name);
     select.value = parent ? parent.from : name;
+    const moved = parent && parent.provenance && parent.provenance["$rt"];
+    if (moved) {
+      const by = document.createElement("p");
+      by.id = "moved";
+      by.textContent = `pose written by ${written(moved)}`;
+      details.append(by);
+    }
     showPose(select.value, name, pose);
   }
 }
