@@ -1103,6 +1103,10 @@ def table(report: dict[str, Any]) -> str:
                 f"{v['server_rss_bytes_per_node']:16.0f}"
             )
         lines.append(f"  target {sc['targets']}: {'met' if sc['met'] else 'NOT met'}")
+    if report.get("provenance"):
+        from cortex import provenance_lines
+
+        lines += provenance_lines(report["provenance"])
     kin = report.get("kinematics")
     if kin:
         lines.append("kinematics   depth  cold q/s  cached q/s  naive numpy q/s")
@@ -1241,6 +1245,7 @@ def main() -> int:
             "camera",
             "signed",
             "speech",
+            "provenance",
         ]
     )
     domain = 10 + os.getpid() % 90
@@ -1287,6 +1292,12 @@ def main() -> int:
         if "camera" in sections:
             report["camera"] = bench_camera(
                 work, domain, 5.0 if quick else 20.0, 100 if quick else 500
+            )
+        if "provenance" in sections:
+            from cortex import bench_provenance
+
+            report["provenance"] = bench_provenance(
+                build_world, [10000] if quick else [10000, 100000], 2000 if quick else 10000
             )
         if "speech" in sections:
             from speech import bench_speech
