@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
@@ -635,3 +636,44 @@ def test_the_rt_tree_is_on_tf_static_and_a_moved_edge_on_tf(ros, cortex_dir):
         "laser_pose to leave /tf_static",
         ros.session,
     )
+
+
+def test_a_pose_asked_at_a_past_time_comes_from_the_servers_rt_history(ros):
+    """dsr/get_transform through `dsr transform --live --at`: interpolated between the values
+    the server stamped, refused by name before what its bounded history holds."""
+    world = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
+    ros.procs.start_server(ros.tmp / "state", world=world, rt_history_count=2)
+    snapshot_via(ros.session, timeout=20)
+    agent = agent_in_session(ros)
+    stamps = []
+    for x in (1.0, 2.0, 3.0):
+        moved = send_and_wait(
+            ros,
+            agent,
+            {
+                "ops": [
+                    {
+                        "op": "set_rt",
+                        "from": "room",
+                        "to": "chair",
+                        "rt": {"translation": [x, 0.0, 0.0], "rotation_euler_xyz": [0, 0, 0]},
+                    }
+                ]
+            },
+        )
+        assert moved.accepted
+        stamps.append(moved.delta["stamp"])
+        time.sleep(0.05)  # distinct stamps
+
+    def at(when):
+        return ros.procs.run("dsr", "transform", "--live", "room", "chair", "--at", repr(when))
+
+    middle = json.loads(at((stamps[1] + stamps[2]) / 2).stdout)
+    assert middle["translation"] == pytest.approx([2.5, 0.0, 0.0])
+    now = json.loads(ros.procs.run("dsr", "transform", "--live", "room", "chair").stdout)
+    assert now["translation"] == pytest.approx([3.0, 0.0, 0.0])
+    refused = at(stamps[0])  # two values kept: the first move is gone
+    assert refused.returncode == 1 and "'room'->'chair'" in refused.stderr
+    assert "at most 2 values" in refused.stderr
+    ago = ros.procs.run("dsr", "transform", "--live", "room", "chair", "--at", "-0.001")
+    assert json.loads(ago.stdout)["translation"] == pytest.approx([3.0, 0.0, 0.0])

@@ -225,7 +225,32 @@ def test_rt_api_reads_poses_in_millimetres(g):
     pose = rt.get_RT_pose_from_parent(g.get_node("laser"))
     assert pose[:3, 3] == pytest.approx([100.0, 0.0, 300.0])
     assert rt.get_RT_pose_from_parent(g.get_node("root")) is None
-    assert rt.get_edge_RT_as_rtmat(edge, 123) is None  # no history yet: only now
+
+
+def test_cortex_timestamps_ask_the_rt_history_in_nanoseconds(g):
+    import time
+
+    rt, inner = rt_api(g), inner_api(g)
+    loaded = time.time_ns()
+    assert rt.insert_or_assign_edge_RT(g.get_node("robot"), 3, [300.0, 0.0, 300.0], [0, 0, 0])
+    moved = time.time_ns()
+    assert rt.insert_or_assign_edge_RT(g.get_node("robot"), 3, [500.0, 0.0, 300.0], [0, 0, 0])
+    # before the first move, the laser held what the file said; then the history has it
+    assert rt.get_translation(2, 3, loaded - 10**9) == pytest.approx([100.0, 0.0, 300.0])
+    assert rt.get_translation(2, 3, time.time_ns())[0] == pytest.approx(500.0)
+    between = rt.get_translation(2, 3, moved)[0]
+    assert 300.0 <= between <= 500.0
+    edge = rt.get_edge_RT(g.get_node("robot"), 3)
+    assert rt.get_edge_RT_as_rtmat(edge, loaded - 10**9)[:3, 3] == pytest.approx([100, 0, 300])
+    assert inner.transform("root", "laser", loaded - 10**9) == pytest.approx(
+        [1000.0, 2100.0, 300.0], abs=1e-3
+    )
+    # an edge made here did not exist before: that time is refused (None, the reason logged)
+    box = g.insert_node(Node(12, "box", "box"))
+    made = time.time_ns()
+    rt.insert_or_assign_edge_RT(g.get_node("root"), box, [0.0, 0.0, 0.0], [0, 0, 0])
+    assert rt.get_translation(1, box, made - 10**9) is None
+    assert inner.transform("root", "box", made - 10**9) is None
 
 
 def test_inner_api_transforms_between_frames_in_millimetres(g):

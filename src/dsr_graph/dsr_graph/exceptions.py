@@ -64,6 +64,10 @@ class LookupFailed(DsrError):
     """A query named a node that does not exist or is not part of the geometric tree."""
 
 
+class OutsideHistory(LookupFailed):
+    """A transform was asked for a time the RT history does not hold (model/rt_history.py)."""
+
+
 class TimedOutError(DsrError):
     """Something this process waits for (the server, a snapshot, an answer) did not come in time."""
 

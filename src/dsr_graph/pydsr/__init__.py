@@ -8,7 +8,7 @@ written for CORTEX run here unchanged: ``from pydsr import *``.
 
 What differs from CORTEX (README, "Coming from CORTEX"): the transport is ROS 2 and writes go
 through the DSR server as transactions (a refused one returns None / False and logs why); the
-DSR's rules hold (a node with RT children is not deleted); the RT history is not kept yet.
+DSR's rules hold (a node with RT children is not deleted).
 """
 
 from pydsr import signals

@@ -2,8 +2,9 @@
 CORTEX's millimetres. ``inner_api``'s first frame argument is the one the answer is expressed in
 (CORTEX binds it under the name ``orig``, its C++ calls it ``dest``: the order is what counts).
 
-``timestamp``: 0 (CORTEX's default) is the graph as it is now. The RT history is not kept yet:
-any other time gets None, with the reason logged.
+``timestamp``: 0 (CORTEX's default) is the graph as it is now; any other is a time in ns since
+the epoch (CORTEX's), answered from the RT history the replica keeps (interpolated between the
+two nearest values); a time the history does not hold gets None, the reason logged.
 """
 
 from __future__ import annotations
@@ -24,13 +25,8 @@ from pydsr.elements import Attribute, Edge, Node
 log = logging.getLogger("pydsr")
 
 
-def _now_only(timestamp: int, what: str) -> bool:
-    if timestamp:
-        log.warning(
-            "%s at %s: the RT history is not kept; only timestamp 0 (now) is", what, timestamp
-        )
-        return False
-    return True
+def _seconds(timestamp: int) -> float:
+    return float(timestamp) / 1e9
 
 
 class rt_api:  # noqa: N801 (CORTEX's name)
@@ -70,8 +66,9 @@ class rt_api:  # noqa: N801 (CORTEX's name)
             return convert.matrix_mm(g.edge(parent.id, node.id, RT).rt)
 
     def get_edge_RT_as_rtmat(self, edge: Edge, timestamp: int = 0) -> np.ndarray | None:  # noqa: N802
-        if not _now_only(timestamp, "get_edge_RT_as_rtmat"):
-            return None
+        """The edge's pose (4x4, mm): as the edge says (timestamp 0), or at that time."""
+        if timestamp:
+            return self._past(edge.origin, edge.destination, timestamp)
         rt = convert.wanted_rt(edge)
         if rt is None:
             return None
@@ -79,10 +76,25 @@ class rt_api:  # noqa: N801 (CORTEX's name)
             rigid.from_translation_euler(rt["translation"], rt["rotation_euler_xyz"])
         )
 
+    def _past(self, frm: int, to: int, timestamp: int) -> np.ndarray | None:
+        with self._g._link.lock:
+            g = self._g._graph
+            edge = g.edge(frm, to, RT) if frm in g and to in g else None
+            if edge is None:
+                return None
+            label = g.describe_edge(*edge.key)
+            try:
+                matrix = g.rt_history.matrix_at(edge.key, edge.rt, _seconds(timestamp), label)
+            except LookupFailed as e:
+                log.warning("%s", e)
+                return None
+        return convert.matrix_mm(matrix)
+
     def get_translation(self, node_id: int, to: int, timestamp: int = 0) -> np.ndarray | None:
-        """The translation (mm) of the RT edge ``node_id`` -> ``to``."""
-        if not _now_only(timestamp, "get_translation"):
-            return None
+        """The translation (mm) of the RT edge ``node_id`` -> ``to`` (now, or at that time)."""
+        if timestamp:
+            past = self._past(int(node_id), int(to), timestamp)
+            return None if past is None else past[:3, 3]
         with self._g._link.lock:
             g = self._g._graph
             if node_id not in g or to not in g:
@@ -98,12 +110,14 @@ class inner_api:  # noqa: N801 (CORTEX's name)
     def get_transformation_matrix(
         self, orig: str, dest: str, timestamp: int = 0
     ) -> np.ndarray | None:
-        """The 4x4 (mm) taking coordinates in frame ``dest`` to frame ``orig`` (CORTEX's names)."""
-        if not _now_only(timestamp, "get_transformation_matrix"):
-            return None
+        """The 4x4 (mm) taking coordinates in frame ``dest`` to frame ``orig`` (CORTEX's names),
+        now or at that time."""
         with self._g._link.lock:
+            g = self._g._graph
             try:
-                return convert.matrix_mm(self._g._graph.transform(orig, dest))
+                if timestamp:
+                    return convert.matrix_mm(g.transform_at(orig, dest, _seconds(timestamp)))
+                return convert.matrix_mm(g.transform(orig, dest))
             except LookupFailed as e:
                 log.warning("get_transformation_matrix(%r, %r): %s", orig, dest, e)
                 return None

@@ -30,6 +30,7 @@ import numpy as np
 
 from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Violation
 from dsr_graph.model import rigid
+from dsr_graph.model.rt_history import RtHistory
 from dsr_graph.model.rt_tree import RtTree
 from dsr_graph.model.undo_log import UndoLog
 from dsr_graph.model.values import BINARY, UINT64_MAX, coerce
@@ -120,6 +121,8 @@ class Graph:
         # a replica's graph: a transform given as a matrix comes from a DSR server, which
         # checked it is rigid, so only its shape is checked again (sensor-rate poses)
         self.trusted_rt = False
+        # each RT edge's recent transforms, kept as deltas are applied (rt_history.remember)
+        self.rt_history = RtHistory()
 
     # ------------------------------------------------------------------ naming and lookup
     def node(self, ref: NodeRef) -> Node:
@@ -201,6 +204,26 @@ class Graph:
         if len(self._tree.roots) > 1:  # only in a loaded world that breaks rt-single-tree
             self._same_tree(a, b)
         return self._tree.transform(a, b)
+
+    def transform_at(self, frm: NodeRef, to: NodeRef, when: float) -> np.ndarray:
+        """``transform(frm, to)`` as it was at time ``when`` (seconds since the epoch), from each
+        edge's RT history; ``OutsideHistory`` names the edge whose history does not reach it."""
+        a, b = self._geometric_id(frm), self._geometric_id(to)
+        self._same_tree(a, b)
+        up_a, up_b = self._tree.ancestry(a), self._tree.ancestry(b)
+        on_b = set(up_b)
+        top = next(n for n in up_a if n in on_b)  # the closest common ancestor
+
+        def pose(node: int) -> np.ndarray:  # the node's pose in the common ancestor's frame
+            m = np.eye(4)
+            while node != top:
+                edge = self._tree.edge_to(node)
+                label = self.describe_edge(*edge.key)
+                m = self.rt_history.matrix_at(edge.key, edge.rt, when, label) @ m
+                node = edge.src
+            return m
+
+        return rigid.inverse(pose(a)) @ pose(b)
 
     def chain(self, frm: NodeRef, to: NodeRef) -> list[str]:
         """Names on the path frm -> closest common ancestor -> to."""
@@ -439,6 +462,7 @@ class Graph:
         edge = self._existing_edge(src, dst, RT)
         matrix = self._checked_rt(edge.key, rt)
         old_matrix, old_version = edge.rt, edge.version
+        self.rt_history.before_change(edge.key, old_matrix)
         edge.rt = matrix
         edge.version += 1
         self._tree.invalidate(edge.dst)

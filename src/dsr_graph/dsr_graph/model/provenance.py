@@ -16,6 +16,7 @@ from collections.abc import Iterable, Mapping
 from typing import Any
 
 from dsr_graph.exceptions import FormatError
+from dsr_graph.model import rt_history
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_ops
 
@@ -71,10 +72,18 @@ def _edge(graph: Graph, op: Mapping[str, Any]):
 
 
 def apply_delta(graph: Graph, delta: Mapping[str, Any], ops: list | None = None) -> None:
-    """Apply a delta the server accepted (a replica, a replay) and stamp what it wrote."""
+    """Apply a delta the server accepted (a replica, a replay): stamp what it wrote, and keep
+    the transforms it wrote in the RT history, at the delta's time."""
     ops = delta["ops"] if ops is None else ops
     apply_ops(graph, ops)
-    stamp(graph, ops, delta.get("stamp"), delta.get("agent"))
+    stamped(graph, ops, delta.get("stamp"), delta.get("agent"))
+
+
+def stamped(graph: Graph, ops: list, when: Any, agent: Any) -> None:
+    """What a delta's ``ops`` (applied) wrote, stamped at ``when`` by ``agent``: provenance and
+    the RT history."""
+    stamp(graph, ops, when, agent)
+    rt_history.remember(graph, ops, when)
 
 
 def read(value: Any, names: Iterable[str], element: str) -> dict[str, Stamp]:

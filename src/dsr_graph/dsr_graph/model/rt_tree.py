@@ -57,6 +57,10 @@ class RtTree:
         """An RT edge touches the node: it is part of the kinematic tree."""
         return node_id in self.parent or bool(self.children.get(node_id))
 
+    def edge_to(self, child: int) -> Edge:
+        """The RT edge from the node's parent to it."""
+        return self._edge_to[child]
+
     def ancestry(self, node_id: int) -> list[int]:
         """The node, its parent, ... up to its root."""
         path = [node_id]

@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
+from dsr_graph.exceptions import LookupFailed
 from dsr_graph.model import provenance, rigid
 from dsr_graph.model.graph import Edge, Graph
 from dsr_graph.model.vocabulary import RT
@@ -86,3 +90,11 @@ def node_json(graph: Graph, name: str) -> dict[str, Any] | None:
     if node.prov:
         doc["provenance"] = provenance.shown(node.prov)
     return doc
+
+
+def transform(graph: Graph, frm: str, to: str, at: float = 0.0) -> np.ndarray:
+    """``to``'s pose in ``frm``'s frame, now (``at`` 0) or at time ``at`` from the RT history;
+    ``LookupFailed`` (``OutsideHistory``) says why not."""
+    if isinstance(at, bool) or not isinstance(at, (int, float)) or not math.isfinite(at):
+        raise LookupFailed(f"at must be seconds since the epoch (0: now), got {at!r}")
+    return graph.transform(frm, to) if at == 0 else graph.transform_at(frm, to, float(at))

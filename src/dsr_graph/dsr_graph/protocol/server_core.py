@@ -212,7 +212,7 @@ class ServerCore:
         changes = self._claim_changes(tx, claim_keys, release_keys, preempted, canonical, now)
         volatile = not changes and only_volatile(self.graph, canonical)
         delta = self._commit(tx.agent, tx.id, canonical, changes, now, volatile)
-        provenance.stamp(self.graph, canonical, delta["stamp"], delta["agent"])
+        provenance.stamped(self.graph, canonical, delta["stamp"], delta["agent"])
         return delta
 
     def _check_limits(self, tx) -> None:

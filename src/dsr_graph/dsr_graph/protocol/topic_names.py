@@ -28,6 +28,7 @@ HEARTBEAT = "dsr/heartbeat"  # std_msgs/String, JSON {seq, stamp} every second <
 GET_ATTRIBUTE = "dsr/get_attribute"  # dsr_msgs/srv/GetAttribute
 GET_NODE = "dsr/get_node"  # dsr_msgs/srv/GetNode
 GET_SNAPSHOT = "dsr/get_snapshot"  # dsr_msgs/srv/GetSnapshot
+GET_TRANSFORM = "dsr/get_transform"  # dsr_msgs/srv/GetTransform
 POSE_PREFIX = "dsr/pose"  # geometry_msgs/PoseStamped per geometric node, latched
 MARKERS = "dsr/markers"  # visualization_msgs/MarkerArray: the graph drawn for RViz, latched
 

@@ -19,6 +19,8 @@ ROS Parameters:
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
         claims are freed (default 3.0).
+    rt_history_seconds (float), rt_history_count (int): each RT edge's past transforms kept for
+        dsr/get_transform's ``at`` (default 10 s, at most 100 values; model/rt_history.py).
     policy_file (str): YAML of who may write what, with which claim priority
         (model/policy.py); empty: every agent may write anything, all with the same priority.
 Subscriptions:
@@ -44,7 +46,8 @@ Publishers:
         RT parent's frame (header.frame_id = the parent's name), again on every change.
 Services:
     dsr/get_attribute (dsr_msgs/GetAttribute), dsr/get_node (dsr_msgs/GetNode),
-    dsr/get_snapshot (dsr_msgs/GetSnapshot).
+    dsr/get_snapshot (dsr_msgs/GetSnapshot), dsr/get_transform (dsr_msgs/GetTransform: now, or
+    at a past time from the RT history).
 """
 
 from __future__ import annotations
@@ -58,13 +61,15 @@ from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from dsr_graph.exceptions import KeystoreError, StateMismatch, Violation
+from dsr_graph.exceptions import KeystoreError, LookupFailed, StateMismatch, Violation
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
+from dsr_graph.model import rigid
 from dsr_graph.model.binary import dumps, to_json_value
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
+from dsr_graph.model.rt_history import DEFAULT_MAX_AGE, DEFAULT_MAX_COUNT
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text
@@ -91,7 +96,7 @@ from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_stream
 from dsr_graph.ros.request_topics import RequestTopics
 from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.msg import Blob
-from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot
+from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot, GetTransform
 
 ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same topic
 BLOB_CACHE_BYTES = 256 * 1024 * 1024  # binary values' bytes the server keeps, newest first
@@ -211,6 +216,22 @@ class DsrServer(DsrNode):
         )
         declare(
             node,
+            "rt_history_seconds",
+            DEFAULT_MAX_AGE,
+            "seconds of each RT edge's past transforms kept for dsr/get_transform's at",
+            read_only=True,
+            minimum=0.001,
+        )
+        declare(
+            node,
+            "rt_history_count",
+            DEFAULT_MAX_COUNT,
+            "past transforms kept per RT edge, at most",
+            read_only=True,
+            minimum=2,
+        )
+        declare(
+            node,
             "policy_file",
             "",
             "YAML: who may write what, and claim priorities (empty: all may, all equal)",
@@ -299,6 +320,9 @@ class DsrServer(DsrNode):
                 f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
                 f"{len(graph)} nodes, {graph.edge_count()} edges"
             )
+        self.core.graph.rt_history.limit(
+            float_param(self, "rt_history_seconds"), param(self, "rt_history_count")
+        )
 
         self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
@@ -334,6 +358,7 @@ class DsrServer(DsrNode):
         self.create_service(GetAttribute, topic_names.GET_ATTRIBUTE, self.on_get_attribute)
         self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
         self.create_service(GetSnapshot, topic_names.GET_SNAPSHOT, self.on_get_snapshot)
+        self.create_service(GetTransform, topic_names.GET_TRANSFORM, self.on_get_transform)
         self.create_timer(float_param(self, "heartbeat_period"), self.on_heartbeat)
         if param(self, "publish_poses"):
             for edge in list(self.core.graph.edges()):
@@ -590,6 +615,19 @@ class DsrServer(DsrNode):
         response.node_json = dumps(doc) if doc is not None else ""
         response.seq = self.core.seq
         response.error = "" if doc is not None else f"no node {request.node!r}"
+        return response
+
+    def on_get_transform(self, request: GetTransform.Request, response: GetTransform.Response):
+        response.seq = self.core.seq
+        try:
+            matrix = queries.transform(
+                self.core.graph, request.from_node, request.to_node, request.at
+            )
+        except LookupFailed as e:
+            response.found, response.error = False, str(e)
+            return response
+        response.found = True
+        response.pose_json = dumps(rigid.pose_json(matrix))
         return response
 
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
