@@ -90,3 +90,75 @@ def provenance_lines(report: dict[str, Any]) -> list[str]:
         )
     lines.append(f"  on the wire: {report['wire']}")
     return lines
+
+
+def bench_rt_history(depths: list[int], queries: int, values: int = 100) -> dict[str, Any]:
+    """A chain asked at a past time (every edge on it moved ``values`` times, the time between
+    two of them) next to today's cached transform and the cold one, on the same graph."""
+    from dsr_graph.model.graph import Graph
+
+    out: dict[str, Any] = {}
+    rnd = random.Random(5)
+    for d in depths:
+        g = Graph()
+        ops: list[dict[str, Any]] = [{"op": "insert_node", "name": "root", "type": "world"}]
+        parent = "root"
+        for i in range(d):
+            ops.append({"op": "insert_node", "name": f"l{i}", "type": "transform"})
+            ops.append(
+                {
+                    "op": "insert_edge",
+                    "from": parent,
+                    "to": f"l{i}",
+                    "type": "RT",
+                    "rt": {"translation": [0.1, 0, 0], "rotation_euler_xyz": [0, 0, 0.1]},
+                }
+            )
+            parent = f"l{i}"
+        apply_ops(g, ops)
+        g.rt_history.limit(float(values + 1), values)  # a second apart: all of them kept
+        for k in range(values):  # every edge moves at each time step
+            moves = [
+                {
+                    "op": "set_rt",
+                    "from": "root" if i == 0 else f"l{i - 1}",
+                    "to": f"l{i}",
+                    "rt": {
+                        "translation": [rnd.uniform(-1, 1), 0, 0],
+                        "rotation_euler_xyz": [0, 0, rnd.uniform(-3, 3)],
+                    },
+                }
+                for i in range(d)
+            ]
+            provenance.apply_delta(g, {"ops": moves, "stamp": 1000.0 + k, "agent": "/x"})
+        leaf = f"l{d - 1}"
+        times = [1000.0 + rnd.uniform(0, values - 1) for _ in range(queries)]  # held times
+        t = time.perf_counter()
+        for when in times:
+            g.transform_at("root", leaf, when)
+        past = queries / (time.perf_counter() - t)
+        g.transform("root", leaf)
+        t = time.perf_counter()
+        for _ in range(queries):
+            g.transform("root", leaf)
+        cached = queries / (time.perf_counter() - t)
+        t = time.perf_counter()
+        for _ in range(queries):
+            g._tree.clear_cache()
+            g.transform("root", leaf)
+        cold = queries / (time.perf_counter() - t)
+        out[str(d)] = {"at_time_q_per_s": past, "cached_q_per_s": cached, "cold_q_per_s": cold}
+    return {"depths": out, "values_per_edge": values}
+
+
+def rt_history_lines(report: dict[str, Any]) -> list[str]:
+    lines = [
+        f"rt history   depth  at a past time q/s  cached q/s  cold q/s  "
+        f"({report['values_per_edge']} values an edge)"
+    ]
+    for k, v in report["depths"].items():
+        lines.append(
+            f"  {'':<9} {k:>5}  {v['at_time_q_per_s']:18.0f}  {v['cached_q_per_s']:10.0f}  "
+            f"{v['cold_q_per_s']:8.0f}"
+        )
+    return lines

@@ -1107,6 +1107,10 @@ def table(report: dict[str, Any]) -> str:
         from cortex import provenance_lines
 
         lines += provenance_lines(report["provenance"])
+    if report.get("rt_history"):
+        from cortex import rt_history_lines
+
+        lines += rt_history_lines(report["rt_history"])
     kin = report.get("kinematics")
     if kin:
         lines.append("kinematics   depth  cold q/s  cached q/s  naive numpy q/s")
@@ -1246,6 +1250,7 @@ def main() -> int:
             "signed",
             "speech",
             "provenance",
+            "rt_history",
         ]
     )
     domain = 10 + os.getpid() % 90
@@ -1299,6 +1304,10 @@ def main() -> int:
             report["provenance"] = bench_provenance(
                 build_world, [10000] if quick else [10000, 100000], 2000 if quick else 10000
             )
+        if "rt_history" in sections:
+            from cortex import bench_rt_history
+
+            report["rt_history"] = bench_rt_history([2, 10, 50], 2000 if quick else 20000)
         if "speech" in sections:
             from speech import bench_speech
 

@@ -218,7 +218,7 @@ class Graph:
             m = np.eye(4)
             while node != top:
                 edge = self._tree.edge_to(node)
-                label = self.describe_edge(*edge.key)
+                label = lambda key=edge.key: self.describe_edge(*key)  # noqa: E731 (on refusal)
                 m = self.rt_history.matrix_at(edge.key, edge.rt, when, label) @ m
                 node = edge.src
             return m

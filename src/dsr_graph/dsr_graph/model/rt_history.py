@@ -12,9 +12,9 @@ kept, the time is refused by name (``OutsideHistory``).
 
 from __future__ import annotations
 
+import bisect
 import math
-from collections import deque
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -28,9 +28,35 @@ DEFAULT_MAX_AGE = 10.0  # seconds
 DEFAULT_MAX_COUNT = 100  # values per edge: 3.3 s of a 30 Hz skeleton, 10 s of anything slower
 
 
+class _Values:
+    """One edge's kept values, oldest first: times, matrices, and each rotation's quaternion
+    once it was needed (interpolation)."""
+
+    __slots__ = ("times", "poses", "quats")
+
+    def __init__(self) -> None:
+        self.times: list[float] = []
+        self.poses: list[np.ndarray] = []
+        self.quats: list[np.ndarray | None] = []
+
+    def append(self, when: float, matrix: np.ndarray) -> None:
+        self.times.append(when)
+        self.poses.append(matrix)
+        self.quats.append(None)
+
+    def drop_oldest(self, n: int) -> None:
+        del self.times[:n], self.poses[:n], self.quats[:n]
+
+    def quat(self, i: int) -> np.ndarray:
+        q = self.quats[i]
+        if q is None:
+            q = self.quats[i] = quaternions.mat2quat(self.poses[i][:3, :3])
+        return q
+
+
 class RtHistory:
     def __init__(self, max_age: float = DEFAULT_MAX_AGE, max_count: int = DEFAULT_MAX_COUNT):
-        self._values: dict[EdgeKey, deque[tuple[float, np.ndarray]]] = {}
+        self._values: dict[EdgeKey, _Values] = {}
         self.limit(max_age, max_count)
 
     def limit(self, max_age: float, max_count: int) -> None:
@@ -48,18 +74,24 @@ class RtHistory:
         """An edge's transform is about to change: what it held until now is kept, if it is the
         first change of it here."""
         if key not in self._values:
-            self._values[key] = deque([(SINCE_EVER, matrix)])
+            values = self._values[key] = _Values()
+            values.append(SINCE_EVER, matrix)
 
     def record(self, key: EdgeKey, when: float, matrix: np.ndarray) -> None:
-        values = self._values.setdefault(key, deque())
-        if values and when < values[-1][0]:
-            when = values[-1][0]  # a clock stepped back: times never go back in a history
-        values.append((when, matrix))
-        while len(values) > self.max_count:
-            values.popleft()
+        values = self._values.get(key)
+        if values is None:
+            values = self._values[key] = _Values()
+        if values.times and when < values.times[-1]:
+            when = values.times[-1]  # a clock stepped back: times never go back in a history
+        values.append(when, matrix)
+        times = values.times
+        # at most max_count; none older than max_age behind the newest but the one current then
+        drop = max(0, len(times) - self.max_count)
         cutoff = when - self.max_age
-        while len(values) > 1 and values[1][0] <= cutoff:
-            values.popleft()
+        while drop + 1 < len(times) and times[drop + 1] <= cutoff:
+            drop += 1
+        if drop:
+            values.drop_oldest(drop)
 
     def forget(self, keys: Iterable[EdgeKey]) -> None:
         for key in keys:
@@ -71,30 +103,36 @@ class RtHistory:
     def span(self, key: EdgeKey) -> tuple[float, float] | None:
         """(oldest, newest) time kept for the edge; None for an edge never changed here."""
         values = self._values.get(key)
-        return (values[0][0], values[-1][0]) if values else None
+        return (values.times[0], values.times[-1]) if values else None
 
-    def matrix_at(self, key: EdgeKey, current: np.ndarray, when: float, label: str) -> np.ndarray:
+    def matrix_at(
+        self, key: EdgeKey, current: np.ndarray, when: float, label: Callable[[], str]
+    ) -> np.ndarray:
+        """The edge's transform at ``when``; ``label()`` names the edge in a refusal."""
         values = self._values.get(key)
-        if not values or when >= values[-1][0]:
+        if values is None or when >= values.times[-1]:
             return current  # never changed here, or held since its newest value
-        if when < values[0][0]:
+        times = values.times
+        if when < times[0]:
             raise OutsideHistory(
-                f"{label}: no transform at {when:.3f}: its history holds {values[0][0]:.3f} to "
-                f"{values[-1][0]:.3f} (at most {self.max_count} values, {self.max_age:g} s)"
+                f"{label()}: no transform at {when:.3f}: its history holds {times[0]:.3f} to "
+                f"{times[-1]:.3f} (at most {self.max_count} values, {self.max_age:g} s)"
             )
-        # the last value at or before ``when`` (few values: a scan from the newest end)
-        i = len(values) - 1
-        while values[i][0] > when:
-            i -= 1
-        (t0, m0), (t1, m1) = values[i], values[i + 1]
+        i = bisect.bisect_right(times, when) - 1  # the last value at or before ``when``
+        t0, t1 = times[i], times[i + 1]
         if t0 == SINCE_EVER or t1 == t0:
-            return m0
-        return interpolate(m0, m1, (when - t0) / (t1 - t0))
+            return values.poses[i]
+        f = (when - t0) / (t1 - t0)
+        return _between(values.poses[i], values.poses[i + 1], values.quat(i), values.quat(i + 1), f)
 
 
 def interpolate(m0: np.ndarray, m1: np.ndarray, f: float) -> np.ndarray:
     """The pose a fraction ``f`` of the way from ``m0`` to ``m1``."""
     q0, q1 = quaternions.mat2quat(m0[:3, :3]), quaternions.mat2quat(m1[:3, :3])
+    return _between(m0, m1, q0, q1, f)
+
+
+def _between(m0: np.ndarray, m1: np.ndarray, q0: np.ndarray, q1: np.ndarray, f: float):
     if np.dot(q0, q1) < 0:
         q1 = -q1  # the shortest arc
     axis, angle = quaternions.quat2axangle(quaternions.qmult(quaternions.qinverse(q0), q1))
