@@ -107,6 +107,10 @@ def test_an_edge_is_made_destination_first_and_its_ends_are_read_only():
         with pytest.raises(AttributeError):
             setattr(e, name, 22)
     e.agent_id = 22
+    by_name = Edge(to=10, **{"from": 11}, type="RT", agent_id=3)  # CORTEX's keywords
+    assert (by_name.destination, by_name.origin, by_name.agent_id) == (10, 11, 3)
+    with pytest.raises(TypeError):
+        Edge(10, 11)
     e.attrs["test"] = Attribute(10.4, 0, 12)
     assert len(e.attrs) == 1
     del e.attrs["test"]

@@ -163,11 +163,18 @@ class Edge:
 
     __slots__ = ("_to", "_from", "_type", "agent_id", "attrs")
 
-    def __init__(self, to: int, frm: int, type: str, agent_id: int, **kwargs: Any):
+    def __init__(
+        self, to: int, frm: int | None = None, type: str = "", agent_id: int = 0, **kwargs: Any
+    ):
+        # CORTEX's keyword for the origin is ``from``: Edge(to=2, **{"from": 1}, type="in", ...)
         if kwargs.keys() - {"from"}:
             raise TypeError(f"Edge() got unexpected arguments {sorted(kwargs.keys() - {'from'})}")
+        if (frm is None) == ("from" not in kwargs):
+            raise TypeError("Edge(to, from, type, agent_id) needs its origin, once")
+        if not type:
+            raise TypeError("Edge(to, from, type, agent_id) needs its type")
         self._to = int(to)
-        self._from = int(kwargs.get("from", frm))
+        self._from = int(kwargs["from"] if frm is None else frm)
         self._type = str(type)
         self.agent_id = int(agent_id)
         self.attrs: dict[str, Attribute] = {}
