@@ -96,3 +96,43 @@ def test_two_pydsr_agents_in_two_processes_share_one_dsr(ros):
     assert [row[3] for row in placed["rt"]["matrix"][:3]] == [1.5, 0.5, 0.0]  # metres inside
     link = next(x for x in replica["1"]["links"] if x["dst"] == str(crate))
     assert link["linkAttribute"]["rt_translation"]["value"] == [1500.0, 500.0, 0.0]  # mm outside
+
+
+def test_the_cortex_style_example_follows_the_robots_barthel_test(ros):
+    """examples/cortex_item_audit.py, a pydsr agent, next to the real agents of scripts/launch.sh
+    (the default Barthel scenario, in this test's ROS domain): it reports every answered item with
+    the answer CGAmed stored, written by /pelea."""
+    from ros_processes import EPHEMERAL_PORTS, stored_tests
+
+    db = ros.tmp / "cgamed.sqlite"
+    launch = ros.procs.start(
+        "launch",
+        [
+            REPO / "scripts" / "launch.sh",
+            *("--scenario", REPO / "scenarios" / "default.yaml", "--db", db),
+            *("--timeout", "200", *EPHEMERAL_PORTS, "--run-dir", ros.tmp / "run"),
+        ],
+    )
+    snapshot_via(ros.session, timeout=120)  # the robot's DSR server is up
+    ros.procs.start("audit", [sys.executable, REPO / "examples" / "cortex_item_audit.py"])
+    assert launch.wait(timeout=260) == 0, ros.procs.log("launch")[-3000:]
+    [stored] = stored_tests(db, ros.procs.env())
+    answered = {i["item"]: i for i in stored["items"] if i["points"] is not None}
+
+    def answers():
+        return {x["item"]: x for x in audit_lines(ros) if x["event"] == "answer"}
+
+    wait_for(lambda: set(answers()) >= set(answered), WAIT, "the audit's answers")
+    ros.procs.stop("audit")
+    reported = answers()
+    assert set(reported) == set(answered), (reported, answered)
+    for item, record in reported.items():
+        assert (
+            record["answer"] == answered[item]["points"] and record["via"] == answered[item]["via"]
+        )
+        assert record["by"] == "/pelea" and record["at"].endswith("+00:00")
+    assert any(x["event"] == "joined" for x in audit_lines(ros))
+
+
+def audit_lines(ros):
+    return [json.loads(x) for x in ros.procs.log("audit").splitlines() if x.startswith("{")]
