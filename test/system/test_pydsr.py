@@ -52,6 +52,7 @@ def test_two_pydsr_agents_in_two_processes_share_one_dsr(ros):
         ["UPDATE_EDGE", crate, room, "in"],
         ["UPDATE_EDGE_ATTR", crate, room, "in", ["color"]],
         ["UPDATE_NODE", ball, "ball"],
+        ["UPDATE_NODE_ATTR", ball, ["color"]],  # written by the writer's own handler
         ["UPDATE_EDGE", crate, ball, "RT"],
         ["DELETE_EDGE", crate, room, "in"],
         ["DELETE_EDGE", crate, ball, "RT"],

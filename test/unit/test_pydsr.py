@@ -141,6 +141,7 @@ def test_reads_by_id_and_by_name(g):
     assert g.get_edge(1, 2, "RT") is not None and g.get_edge("root", "robot", "RT") is not None
     assert g.get_edge(11111, 22222, "RT") is None and g.get_edge("a", "b", "RT") is None
     assert len(g.get_edges_by_type("RT")) == 3 and g.get_edges_by_type("in") == []
+    assert sorted((e.origin, e.destination) for e in g.get_edges()) == [(1, 2), (1, 4), (2, 3)]
     assert [e.origin for e in g.get_edges_to_id(3)] == [2] and g.get_edges_to_id(1) == []
     root = g.get_node("root")
     assert set(root.edges) == {(2, "RT"), (4, "RT")}

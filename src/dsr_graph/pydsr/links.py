@@ -12,6 +12,7 @@ keep a replica, and call a listener with every delta applied to it.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import threading
 import time
@@ -61,6 +62,7 @@ class RosLink:
 
         self.name = name
         self.lock = threading.RLock()
+        self._closed = False
         self.context = Context()
         rclpy.init(context=self.context)
         try:
@@ -72,6 +74,9 @@ class RosLink:
             self._thread = threading.Thread(target=self._spin, name=f"pydsr {name}", daemon=True)
             self._running = True
             self._thread.start()
+            # CORTEX programs never close their graph: at exit the ROS thread must be stopped
+            # before the interpreter goes (else rclpy's wait aborts the process)
+            atexit.register(self.close)
             self._wait(lambda: self.agent.ready, timeout, "the DSR server's snapshot")
         except BaseException:
             self.close()
@@ -129,6 +134,10 @@ class RosLink:
             time.sleep(0.01)
 
     def close(self) -> None:
+        if self._closed:
+            return
+        self._closed = True
+        atexit.unregister(self.close)
         self._running = False
         thread = getattr(self, "_thread", None)
         if thread is not None and thread is not threading.current_thread():
