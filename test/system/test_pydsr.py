@@ -137,3 +137,29 @@ def test_the_cortex_style_example_follows_the_robots_barthel_test(ros):
 
 def audit_lines(ros):
     return [json.loads(x) for x in ros.procs.log("audit").splitlines() if x.startswith("{")]
+
+
+def test_a_pydsr_agent_reads_the_cameras_images_it_was_not_sent(ros):
+    """camera_api on a replica that holds only the images' digests: dsr/get_blob brings them."""
+    import zlib
+
+    import numpy as np
+
+    from ros_processes import agent_in_session, send_and_wait
+
+    ros.procs.start_server(ros.tmp / "state", world=WORLD)
+    snapshot_via(ros.session, timeout=20)
+    rgb = np.random.default_rng(1).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    depth = np.random.default_rng(2).random((480, 640), dtype=np.float32)
+    agent = agent_in_session(ros)
+    image = {"cam_rgb": rgb, "cam_depth": depth, "cam_rgb_width": 640, "cam_rgb_height": 480}
+    written = send_and_wait(
+        ros, agent, {"ops": [{"op": "set_node_attrs", "node": "kinect", "attrs": image}]}
+    )
+    assert written.accepted, written.error
+    read = ros.procs.run(sys.executable, PROGRAMS / "camera_reader.py", timeout=WAIT)
+    assert read.returncode == 0, read.stdout + read.stderr
+    got = json.loads(read.stdout.splitlines()[-1])
+    assert got["rgb"] == [[480, 640, 3], "uint8", zlib.crc32(rgb.tobytes())]
+    assert got["depth"] == [[480, 640], "float32", zlib.crc32(depth.tobytes())]
+    assert got["size"] == [640, 480]

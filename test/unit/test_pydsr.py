@@ -8,7 +8,7 @@ import logging
 import numpy as np
 import pytest
 
-from pydsr import Attribute, DSRGraph, Edge, Node, inner_api, rt_api, signals
+from pydsr import Attribute, DSRGraph, Edge, Node, camera_api, inner_api, rt_api, signals
 
 # a CORTEX world (its format: mm, ids as strings), root -> robot -> laser, root -> table
 WORLD = {
@@ -382,3 +382,49 @@ def test_an_attribute_read_from_the_graph_says_who_wrote_it_and_when(g):
     moved = g.get_edge(2, 3, "RT").attrs["rt_translation"]
     assert moved.agent_name == "/tester" and moved.timestamp >= before
     assert agent_number("/tester") == agent_number("/tester") != agent_number("/speech")
+
+
+def test_camera_api_reads_a_camera_nodes_images(tmp_path):
+    import base64
+
+    rgb = np.arange(4 * 6 * 3, dtype=np.uint8).reshape(4, 6, 3)
+    depth = np.linspace(0.5, 4.0, 24, dtype=np.float32).reshape(4, 6)
+    world = {
+        "format": "dsr-graph",
+        "version": 1,
+        "kind": "world",
+        "units": {"length": "m"},
+        "nodes": [
+            {"name": "room", "type": "room"},
+            {
+                "name": "kinect",
+                "type": "rgbd",
+                "attrs": {
+                    "cam_rgb_width": 6,
+                    "cam_rgb_height": 4,
+                    "cam_rgb": {
+                        "$array": base64.b64encode(rgb.tobytes()).decode(),
+                        "dtype": "uint8",
+                        "shape": [4, 6, 3],
+                    },
+                    "cam_depth": {
+                        "$array": base64.b64encode(depth.tobytes()).decode(),
+                        "dtype": "float32",
+                        "shape": [4, 6],
+                    },
+                },
+            },
+            {"name": "panel", "type": "panel"},
+        ],
+        "edges": [
+            {"from": "room", "to": "kinect", "type": "RT", "rt": {"matrix": np.eye(4).tolist()}}
+        ],
+    }
+    path = tmp_path / "camera.json"
+    path.write_text(json.dumps(world))
+    g = DSRGraph(0, "viewer", 5, str(path))
+    camera = camera_api(g, g.get_node("kinect"))
+    assert np.array_equal(camera.get_rgb_image(), rgb) and camera.get_rgb_image().dtype == np.uint8
+    assert np.array_equal(camera.get_depth_image(), depth)
+    assert (camera.width, camera.height, camera.id) == (6, 4, g.get_id_from_name("kinect"))
+    assert camera_api(g, g.get_node("panel")).get_rgb_image() is None

@@ -12,8 +12,18 @@ DSR's rules hold (a node with RT children is not deleted).
 """
 
 from pydsr import signals
+from pydsr.camera import camera_api
 from pydsr.elements import Attribute, Edge, Node
 from pydsr.geometry import inner_api, rt_api
 from pydsr.graph import DSRGraph
 
-__all__ = ["Attribute", "DSRGraph", "Edge", "Node", "inner_api", "rt_api", "signals"]
+__all__ = [
+    "Attribute",
+    "DSRGraph",
+    "Edge",
+    "Node",
+    "camera_api",
+    "inner_api",
+    "rt_api",
+    "signals",
+]

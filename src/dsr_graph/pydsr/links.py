@@ -20,7 +20,9 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.exceptions import TimedOutError
+from dsr_graph.model.binary import BYTES, BlobRef
 from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.blobs import binary_value
 from dsr_graph.protocol.local_bus import LocalBus
 from dsr_graph.protocol.server_core import Result
 
@@ -48,6 +50,11 @@ class LocalLink:
         self.bus.run(until=lambda: bool(results), limit=timeout)
         return results[0]
 
+    def binary(self, node: str, attribute: str, timeout: float) -> Any:
+        """A binary value (bytes or an array) as the graph holds it; None if it has none."""
+        found = self.graph.find(node)
+        return None if found is None else found.attrs.get(attribute)
+
     def close(self) -> None:
         pass
 
@@ -71,6 +78,10 @@ class RosLink:
             self.executor.add_node(self.node)
             self.agent = DsrAgent()
             self.agent.setup(self.node, timeout_sec=timeout)
+            from dsr_graph.protocol.topic_names import GET_BLOB
+            from dsr_msgs.srv import GetBlob
+
+            self._blob_client = self.node.create_client(GetBlob, GET_BLOB)
             self._thread = threading.Thread(target=self._spin, name=f"pydsr {name}", daemon=True)
             self._running = True
             self._thread.start()
@@ -103,6 +114,28 @@ class RosLink:
         if not done.wait(timeout):
             raise TimedOutError(f"no verdict from the DSR server within {timeout} s")
         return results[0]
+
+    def binary(self, node: str, attribute: str, timeout: float) -> Any:
+        """A binary value (bytes or an array): the replica's, or, where it holds only the
+        value's digest (the bytes were not sent to it), the server's (dsr/get_blob)."""
+        with self.lock:
+            found = self.graph.find(node)
+            value = None if found is None else found.attrs.get(attribute)
+        if not isinstance(value, BlobRef):
+            return value
+        from dsr_msgs.srv import GetBlob
+
+        done = threading.Event()
+        with self.lock:
+            future = self._blob_client.call_async(GetBlob.Request(node=node, attribute=attribute))
+        future.add_done_callback(lambda f: done.set())
+        if not done.wait(timeout):
+            raise TimedOutError(f"no answer from dsr/get_blob within {timeout} s")
+        answer = future.result()
+        if not answer.found:
+            return None
+        shape = tuple(answer.shape) if answer.dtype != BYTES else None
+        return binary_value(answer.dtype, shape, bytes(answer.data))
 
     def _spin(self) -> None:
         from rclpy.executors import (

@@ -14,12 +14,10 @@ what a deletion's ids and objects come from.
 from __future__ import annotations
 
 import enum
-import json
 from collections.abc import Callable, Iterator
 from typing import Any
 
 from dsr_graph.formats import dsr_json
-from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.transaction import apply_op
 from pydsr import convert
@@ -152,8 +150,13 @@ def _node_deleted(g: Graph, node_id: int, with_edges: bool) -> list[Event]:
 
 
 def _copy(graph: Graph) -> Graph:
-    # through text: the document shares the graph's attribute dicts
-    doc = json.loads(dumps(dsr_json.to_json(graph, kind="snapshot", seq=0)))
+    # the document shares the graph's attribute dicts: each is copied (the values themselves
+    # are replaced by changes, never changed in place; binary ones are read-only)
+    doc = dsr_json.to_json(graph, kind="snapshot", seq=0)
+    for item in doc["nodes"] + doc["edges"]:
+        item["attrs"] = dict(item["attrs"])
+        if "provenance" in item:
+            item["provenance"] = dict(item["provenance"])
     copy, _ = dsr_json.snapshot_from_json(doc, graph.vocabulary, trusted=True)
     copy.trusted_rt = True
     return copy

@@ -137,10 +137,16 @@ def _value(ref: BlobRef, data: Blob) -> Any:
     size = memoryview(data).nbytes
     if size != ref.size:
         raise ValueTypeError(f"the binary value {ref.digest} is {size} bytes, not {ref.size}")
-    if ref.dtype == BYTES:
+    return binary_value(ref.dtype, ref.shape, data)
+
+
+def binary_value(dtype: str, shape: tuple[int, ...] | None, data: Blob) -> Any:
+    """A binary value from its bytes: ``bytes``, or a read-only array of that element type and
+    shape over the bytes themselves (never copied, never changed)."""
+    if dtype == BYTES:
         return bytes(data)
-    value = np.frombuffer(data, dtype=DTYPES[ref.dtype]).reshape(ref.shape)
-    value.flags.writeable = False  # over the blob's own bytes, never copied, never changed
+    value = np.frombuffer(data, dtype=DTYPES[dtype]).reshape(shape)
+    value.flags.writeable = False
     return value
 
 

@@ -10,6 +10,7 @@ import numpy as np
 
 from dsr_graph.exceptions import LookupFailed
 from dsr_graph.model import provenance, rigid
+from dsr_graph.model.binary import BYTES, ELEMENT_OF
 from dsr_graph.model.graph import Edge, Graph
 from dsr_graph.model.vocabulary import RT
 
@@ -98,3 +99,29 @@ def transform(graph: Graph, frm: str, to: str, at: float = 0.0) -> np.ndarray:
     if isinstance(at, bool) or not isinstance(at, (int, float)) or not math.isfinite(at):
         raise LookupFailed(f"at must be seconds since the epoch (0: now), got {at!r}")
     return graph.transform(frm, to) if at == 0 else graph.transform_at(frm, to, float(at))
+
+
+@dataclass
+class BinaryAnswer:
+    found: bool
+    dtype: str = ""
+    shape: tuple[int, ...] = ()
+    data: bytes = b""
+    error: str = ""
+
+
+def read_binary(graph: Graph, node: str, attribute: str) -> BinaryAnswer:
+    """The bytes of a node's binary value (bytes, or an array: its element type and shape)."""
+    holder = graph.find(node)
+    if holder is None:
+        return BinaryAnswer(False, error=f"no node {node!r}")
+    if attribute not in holder.attrs:
+        return BinaryAnswer(False, error=f"node {node!r} has no attribute {attribute!r}")
+    value = holder.attrs[attribute]
+    if isinstance(value, bytes):
+        return BinaryAnswer(True, BYTES, (), value)
+    if isinstance(value, np.ndarray):
+        return BinaryAnswer(True, ELEMENT_OF[value.dtype], value.shape, value.tobytes())
+    return BinaryAnswer(
+        False, error=f"node {node!r}: {attribute!r} is not a binary value (dsr/get_attribute)"
+    )

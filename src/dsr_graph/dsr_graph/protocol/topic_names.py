@@ -26,6 +26,7 @@ REJECTIONS = "dsr/rejections"  # std_msgs/String, JSON {id, agent, reason, error
 ALARMS = "dsr/alarms"  # std_msgs/String, JSON {kind, topic, intruders, message} <- server
 HEARTBEAT = "dsr/heartbeat"  # std_msgs/String, JSON {seq, stamp} every second <- server
 GET_ATTRIBUTE = "dsr/get_attribute"  # dsr_msgs/srv/GetAttribute
+GET_BLOB = "dsr/get_blob"  # dsr_msgs/srv/GetBlob: a binary value's bytes
 GET_NODE = "dsr/get_node"  # dsr_msgs/srv/GetNode
 GET_SNAPSHOT = "dsr/get_snapshot"  # dsr_msgs/srv/GetSnapshot
 GET_TRANSFORM = "dsr/get_transform"  # dsr_msgs/srv/GetTransform

@@ -47,11 +47,13 @@ Publishers:
 Services:
     dsr/get_attribute (dsr_msgs/GetAttribute), dsr/get_node (dsr_msgs/GetNode),
     dsr/get_snapshot (dsr_msgs/GetSnapshot), dsr/get_transform (dsr_msgs/GetTransform: now, or
-    at a past time from the RT history).
+    at a past time from the RT history), dsr/get_blob (dsr_msgs/GetBlob: a binary value's
+    bytes, for a replica that holds only its digest).
 """
 
 from __future__ import annotations
 
+import array
 import time
 import uuid
 from typing import Any
@@ -96,7 +98,7 @@ from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_stream
 from dsr_graph.ros.request_topics import RequestTopics
 from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.msg import Blob
-from dsr_msgs.srv import GetAttribute, GetNode, GetSnapshot, GetTransform
+from dsr_msgs.srv import GetAttribute, GetBlob, GetNode, GetSnapshot, GetTransform
 
 ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same topic
 BLOB_CACHE_BYTES = 256 * 1024 * 1024  # binary values' bytes the server keeps, newest first
@@ -359,6 +361,7 @@ class DsrServer(DsrNode):
         self.create_service(GetNode, topic_names.GET_NODE, self.on_get_node)
         self.create_service(GetSnapshot, topic_names.GET_SNAPSHOT, self.on_get_snapshot)
         self.create_service(GetTransform, topic_names.GET_TRANSFORM, self.on_get_transform)
+        self.create_service(GetBlob, topic_names.GET_BLOB, self.on_get_blob)
         self.create_timer(float_param(self, "heartbeat_period"), self.on_heartbeat)
         if param(self, "publish_poses"):
             for edge in list(self.core.graph.edges()):
@@ -615,6 +618,15 @@ class DsrServer(DsrNode):
         response.node_json = dumps(doc) if doc is not None else ""
         response.seq = self.core.seq
         response.error = "" if doc is not None else f"no node {request.node!r}"
+        return response
+
+    def on_get_blob(self, request: GetBlob.Request, response: GetBlob.Response):
+        answer = queries.read_binary(self.core.graph, request.node, request.attribute)
+        response.found, response.error, response.seq = answer.found, answer.error, self.core.seq
+        if answer.found:
+            response.dtype = answer.dtype
+            response.shape = list(answer.shape)
+            response.data = array.array("B", answer.data)  # one copy, not element by element
         return response
 
     def on_get_transform(self, request: GetTransform.Request, response: GetTransform.Response):
