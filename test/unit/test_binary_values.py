@@ -183,3 +183,23 @@ def test_a_terminal_shows_a_binary_value_by_its_type_and_size():
         )
     )
     assert "cam {image=<uint8 4x5x3>}" in delta_text(delta)
+
+
+def test_dsr_get_blob_answers_a_values_bytes_type_and_shape_or_says_why_not():
+    from dsr_graph.protocol.blobs import binary_value
+    from dsr_graph.protocol.queries import read_binary
+
+    core = camera_core()
+    attrs = {"image": IMAGE, "blob": b"\x01\x02", "name": "front"}
+    assert not isinstance(
+        core.submit(dumps({"ops": [{"op": "set_node_attrs", "node": "cam", "attrs": attrs}]})),
+        Rejection,
+    )
+    image = read_binary(core.graph, "cam", "image")
+    assert (image.found, image.dtype, image.shape) == (True, "uint8", (4, 5, 3))
+    assert equal(binary_value(image.dtype, image.shape, image.data), IMAGE)
+    raw = read_binary(core.graph, "cam", "blob")
+    assert (raw.dtype, raw.shape, raw.data) == ("bytes", (), b"\x01\x02")
+    assert "not a binary value" in read_binary(core.graph, "cam", "name").error
+    assert "no attribute 'depth_image'" in read_binary(core.graph, "cam", "depth_image").error
+    assert read_binary(core.graph, "nobody", "image").error == "no node 'nobody'"
