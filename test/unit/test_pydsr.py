@@ -428,3 +428,125 @@ def test_camera_api_reads_a_camera_nodes_images(tmp_path):
     assert np.array_equal(camera.get_depth_image(), depth)
     assert (camera.width, camera.height, camera.id) == (6, 4, g.get_id_from_name("kinect"))
     assert camera_api(g, g.get_node("panel")).get_rgb_image() is None
+
+
+F = np.float64  # CORTEX's tests say np.float, which numpy no longer has
+
+
+@pytest.mark.parametrize(
+    "name, good, bad_attributes, bad_values",
+    [
+        (
+            "vehicle_id",
+            [10, 11, int(12.45)],
+            [10.0, "10.0", True, [10], [10.0], [10, 12]],
+            ["s", 10.0, [10], (10,), np.array([1.2], F)],
+        ),
+        (
+            "vehicle_occupancy",
+            [True, False],
+            [10.0, "10.0", 1, 0, [10], [10.0]],
+            [1, 1.0, "True", [True]],
+        ),
+        (
+            "vehicle_steer",
+            [1.0, float(12)],
+            [True, "10.0", 1, 0, [10], [10.0, 11.2]],
+            [1, "1.0", [1.0], np.array([1.2], F)],
+        ),
+        (
+            "test_double_type",
+            [1.0, 1.1324325435436457],
+            [True, "10.0", 1, -12, [10.0]],
+            [1, "1.0", -12, True, [10.0]],
+        ),
+        (
+            "name",
+            ["Prueba"],
+            [True, 10.0, 1, [10], [10.0, 11.2]],
+            [1, np.array([1.2], F), [10.0], True],
+        ),
+        (
+            "rt_translation",
+            [[10.0], [10.0, 11.2], np.array([1.2, 4.4], F)],
+            [
+                True,
+                10.0,
+                1,
+                [10],
+                "[10.0]",
+                [10, 12, 22],
+                np.array([12, 44], np.uint8),
+                np.array([12, 44], np.uint64),
+            ],
+            [[10, 11], np.array([1, 4], np.uint8), 11.0, [[11.0, 0.0, 1.1]]],
+        ),
+        (
+            "cam_image",
+            [[100], [100, 112], np.array([12, 44], np.uint8)],
+            [True, 10.0, 1, 0, "[10.0]", np.array([12.5, 44.2], F)],
+            [
+                np.array([1, 2], np.uint32),
+                np.array([1, 2], np.uint64),
+                [12456, 41233544],
+                [1.0, 244.0],
+                [10, 1.0],
+                [[11, 0, 1]],
+            ],
+        ),
+        (
+            "test_uint32_type",
+            [100, 1, 0],
+            [True, 10.0, "[10.0]", [10.0, 12.0], [10, 11], -12],
+            [100.0, "100", True],
+        ),
+        (
+            "parent",
+            [100, 3689348814741910323, 0],
+            [True, 10.0, "[10.0]", [10, 11], -12],
+            [-12, True, 1.0],
+        ),
+        (
+            "test_uint64_vec_type",
+            [[256], [100, 112], np.array([12, 44], np.uint64)],
+            [True, 10.0, 1, "[10.0]", np.array([12.5], F)],
+            [
+                np.array([1, 2], np.uint32),
+                np.array([1.5], F),
+                [1.0, 244.0],
+                [10, 1.0],
+                [[11, 0, 1]],
+            ],
+        ),
+        (
+            "test_vec3_type",
+            [[10.0, 1.0, 0.0], (10.0, 11.1, 11.1), np.array([1.2, 4.4, 0.0], F)],
+            [True, 10.0, 1, [10], "[10.0]", [10, 12, 22], np.array([12, 44, 0], np.uint8)],
+            [
+                [10, 11],
+                11.0,
+                [[11.0, 0.0, 0.0]],
+                np.array([1.2], F),
+                (10.0, 11.1, 11.1, 1.0),
+                (10.0, 11.1),
+            ],
+        ),
+    ],
+)
+def test_an_attribute_takes_the_values_its_names_cortex_type_takes(
+    name, good, bad_attributes, bad_values
+):
+    """CORTEX's VariantCastTest, case by case: what goes into a typed attribute and what is a
+    TypeError."""
+    node = Node(12, "root", "elmundo")
+    for value in good:
+        node.attrs[name] = Attribute(value, 1)
+        node.attrs[name].value = value
+    for value in bad_attributes:
+        with pytest.raises(TypeError):
+            node.attrs[name] = Attribute(value, 1)
+    for value in bad_values:
+        with pytest.raises(TypeError):
+            node.attrs[name].value = value
+    with pytest.raises(TypeError):
+        Attribute([10, "a"], 1)  # no kind of value at all

@@ -18,7 +18,7 @@ from dsr_graph.model.graph import Graph
 from dsr_graph.model.graph import Node as GraphNode
 from dsr_graph.model.provenance import RT_KEY
 from dsr_graph.model.vocabulary import RT
-from pydsr.elements import Attribute, Edge, Node, agent_number
+from pydsr.elements import Attribute, AttributeMap, Edge, Node, agent_number
 
 MM = PER_METRE["mm"]
 RT_TRANSLATION = "rt_translation"
@@ -27,19 +27,23 @@ RT_ATTRS = (RT_TRANSLATION, RT_ROTATION)
 
 
 def attribute_of(value: Any, stamp: tuple[float, str] | None = None) -> Attribute:
-    """A graph value as CORTEX returns it (float vectors as float32 arrays, bytes as uint8),
-    with its provenance: the time (ns) and the agent of its last write; 0 and 0 if unknown."""
-    if isinstance(value, BlobRef):  # bytes this replica was not sent (a camera's image)
+    """A graph value as CORTEX returns it (float vectors as float32 arrays, byte vectors as
+    uint8, images as the arrays they are), with its provenance: the time (ns) and the agent of
+    its last write; 0 and 0 if unknown."""
+    if isinstance(value, BlobRef):  # bytes this replica was not sent (camera_api fetches them)
         value = np.zeros(0, dtype=np.uint8)
-    elif isinstance(value, (bytes, bytearray)):
-        value = np.frombuffer(bytes(value), dtype=np.uint8).copy()
-    elif isinstance(value, np.ndarray):
-        value = value.reshape(-1) if value.dtype == np.uint8 else value.astype(np.float32).ravel()
-    elif isinstance(value, list) and all(isinstance(v, str) for v in value) and value:
-        value = ";".join(value)  # a string vector has no CORTEX kind: shown joined, read-only
-    elif isinstance(value, list) and value and isinstance(value[0], list):
-        value = np.asarray(value, dtype=np.float32).ravel()
     return _stamped(Attribute(value, 0, 0), stamp)
+
+
+def _read(attrs: AttributeMap, values: dict[str, Any], prov: dict) -> None:
+    """The graph's values into a map, typed by their names where they fit (a value the graph
+    holds always fits its vocabulary type; a CORTEX shape it does not is left untyped)."""
+    for name, value in values.items():
+        attribute = attribute_of(value, prov.get(name))
+        try:
+            attrs[name] = attribute
+        except TypeError:
+            dict.__setitem__(attrs, name, attribute)
 
 
 def _stamped(attribute: Attribute, stamp: tuple[float, str] | None) -> Attribute:
@@ -53,7 +57,7 @@ def _stamped(attribute: Attribute, stamp: tuple[float, str] | None) -> Attribute
 
 def node_of(graph: Graph, node: GraphNode) -> Node:
     out = Node._of(node.id, node.type, node.name)
-    out.attrs.update({k: attribute_of(v, node.prov.get(k)) for k, v in node.attrs.items()})
+    _read(out.attrs, node.attrs, node.prov)
     for edge in graph.out_edges(node.id):
         out.edges[(edge.dst, edge.type)] = edge_of(graph, edge)
     return out
@@ -61,7 +65,7 @@ def node_of(graph: Graph, node: GraphNode) -> Node:
 
 def edge_of(graph: Graph, edge: GraphEdge) -> Edge:
     out = Edge(edge.dst, edge.src, edge.type, 0)
-    out.attrs.update({k: attribute_of(v, edge.prov.get(k)) for k, v in edge.attrs.items()})
+    _read(out.attrs, edge.attrs, edge.prov)
     if edge.rt is not None:
         moved = edge.prov.get(RT_KEY)
         translation = np.asarray(edge.rt[:3, 3] * MM, dtype=np.float32)
@@ -107,11 +111,21 @@ def attr_changes(
     for name, attribute in wanted.items():
         if name in RT_ATTRS:
             continue
-        if name in current and _same(attribute_of(current[name]).value, attribute.value):
+        if name in current and _same(_shown(name, current[name]), attribute.value):
             continue
         sets[name] = graph_value(graph, name, attribute)
     removes = [name for name in current if name not in wanted and name not in RT_ATTRS]
     return sets, removes
+
+
+def _shown(name: str, value: Any) -> Any:
+    """A graph value as a program reading it sees it (typed by its name where it fits)."""
+    attribute = attribute_of(value)
+    try:
+        attribute._bind(name)
+    except TypeError:
+        pass
+    return attribute.value
 
 
 def wanted_rt(edge: Edge, current: GraphEdge | None = None) -> dict[str, Any] | None:

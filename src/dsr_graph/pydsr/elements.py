@@ -13,7 +13,7 @@ import time
 import zlib
 from typing import Any
 
-import numpy as np
+from pydsr import value_types
 
 # CORTEX's node type registry (core/include/dsr/core/types/type_checking/dsr_node_type.h), with
 # "root", the type of a CORTEX world's root in its own files and tests
@@ -46,61 +46,11 @@ def agent_number(name: str) -> int:
     return zlib.crc32(name.encode("utf-8"))
 
 
-def _kind(value: Any) -> str:
-    """The kind of value an attribute holds (CORTEX's variant, collapsed to what Python tells)."""
-    if isinstance(value, (bool, np.bool_)):
-        return "bool"
-    if isinstance(value, str):
-        return "string"
-    if isinstance(value, (int, np.integer)):
-        return "int"
-    if isinstance(value, (float, np.floating)):
-        return "float"
-    if isinstance(value, (bytes, bytearray)):
-        return "bytes"
-    if isinstance(value, np.ndarray):
-        if value.dtype == np.uint8:
-            return "bytes"
-        if np.issubdtype(value.dtype, np.integer) and value.dtype.kind == "u":
-            return "uint64_vector"
-        if np.issubdtype(value.dtype, np.number):
-            return "float_vector"
-    if isinstance(value, (list, tuple)) and all(
-        isinstance(v, (int, float, np.number)) and not isinstance(v, bool) for v in value
-    ):
-        return "float_vector"
-    raise TypeError(
-        f"an attribute's value is a str, bool, int, float, a list or numpy array of numbers, or "
-        f"bytes; got {type(value).__name__}"
-    )
-
-
-def _stored(value: Any, kind: str) -> Any:
-    """The value as the attribute keeps it (vectors as numpy arrays, as CORTEX returns them)."""
-    if kind == "float_vector":
-        return np.asarray(value, dtype=np.float32)
-    if kind == "bytes":
-        return (
-            np.frombuffer(bytes(value), dtype=np.uint8).copy()
-            if not isinstance(value, np.ndarray)
-            else value.astype(np.uint8)
-        )
-    if kind == "uint64_vector":
-        return np.asarray(value, dtype=np.uint64)
-    if kind == "int":
-        return int(value)
-    if kind == "float":
-        return float(value)
-    if kind == "bool":
-        return bool(value)
-    return value
-
-
 class Attribute:
     """``Attribute(value, timestamp, agent_id)``, ``Attribute(value, agent_id)`` or
     ``Attribute(value)`` (stamped now, by the local agent)."""
 
-    __slots__ = ("_kind", "_value", "_timestamp", "_agent_id", "_agent_name")
+    __slots__ = ("_kind", "_value", "_timestamp", "_agent_id", "_agent_name", "_declared")
 
     def __init__(self, value: Any, *args: int, **kwargs: int):
         if len(args) > 2:
@@ -111,11 +61,24 @@ class Attribute:
             if key not in ("timestamp", "agent_id") or key in given:
                 raise TypeError(f"Attribute() got an unexpected argument {key!r}")
             given[key] = v
-        self._kind = _kind(value)
-        self._value = _stored(value, self._kind)
+        self._kind = value_types.kind_of(value)
+        self._declared: tuple[str, int | None] | None = None  # its name's type, once in a map
+        self._value = value_types.stored(value, self._kind, None)
         self._timestamp = int(given.get("timestamp", now_ns()))
         self._agent_id = int(given.get("agent_id", _local_agent["id"]))
         self._agent_name = ""
+
+    def _bind(self, name: str) -> None:
+        """It is now the attribute called ``name``: its value must fit that name's type."""
+        declared = value_types.declared_type(name)
+        if declared is not None:
+            if not value_types.accepts(declared, self._kind, self._value):
+                raise TypeError(
+                    f"attribute {name!r} is {value_types.describe(declared)}: a {self._kind} "
+                    "value does not fit it"
+                )
+            self._value = value_types.stored(self._value, self._kind, declared)
+        self._declared = declared
 
     @property
     def value(self) -> Any:
@@ -123,16 +86,20 @@ class Attribute:
 
     @value.setter
     def value(self, value: Any) -> None:
-        try:
-            kind = _kind(value)
-        except TypeError:
-            kind = type(value).__name__
-        if kind != self._kind:
+        kind = value_types.kind_of(value)
+        if self._declared is not None:
+            fits = value_types.accepts(self._declared, kind, value)
+            selected = value_types.describe(self._declared)
+        else:
+            fits = value_types.same_family(kind, self._kind)
+            selected = self._kind
+        if not fits:
             raise TypeError(
-                f"Attributes cannot change type. Selected type is {self._kind} and used type is "
+                f"Attributes cannot change type. Selected type is {selected} and used type is "
                 f"{kind}"
             )
-        self._value = _stored(value, kind)
+        self._kind = kind
+        self._value = value_types.stored(value, kind, self._declared)
         self._timestamp = now_ns()
         self._agent_id = _local_agent["id"]
         self._agent_name = ""
@@ -158,6 +125,26 @@ class Attribute:
         return f" < {self._value!r} > "
 
 
+class AttributeMap(dict):
+    """A node's or an edge's attributes: name -> ``Attribute``, each checked against its name's
+    type as it goes in (CORTEX's typed map)."""
+
+    def __setitem__(self, name: str, attribute: Attribute) -> None:
+        if not isinstance(name, str) or not isinstance(attribute, Attribute):
+            raise TypeError("attrs maps a name (str) to an Attribute")
+        attribute._bind(name)
+        super().__setitem__(name, attribute)
+
+    def update(self, *args: Any, **kwargs: Any) -> None:
+        for name, attribute in dict(*args, **kwargs).items():
+            self[name] = attribute
+
+    def setdefault(self, name: str, default: Any = None) -> Any:
+        if name not in self:
+            self[name] = default
+        return self[name]
+
+
 class Edge:
     """``Edge(to, from, type, agent_id)``: CORTEX's argument order, destination first."""
 
@@ -177,7 +164,7 @@ class Edge:
         self._from = int(kwargs["from"] if frm is None else frm)
         self._type = str(type)
         self.agent_id = int(agent_id)
-        self.attrs: dict[str, Attribute] = {}
+        self.attrs: AttributeMap = AttributeMap()
 
     @property
     def type(self) -> str:
@@ -210,7 +197,7 @@ class Node:
         self._type = type
         self._name = name
         self.agent_id = int(agent_id)
-        self.attrs: dict[str, Attribute] = {}
+        self.attrs: AttributeMap = AttributeMap()
         self.edges: dict[tuple[int, str], Edge] = {}
 
     @classmethod
@@ -218,7 +205,7 @@ class Node:
         """A node as the graph holds it, whatever its type (the suite's own types included)."""
         node = cls.__new__(cls)
         node._id, node._type, node._name, node.agent_id = id, type, name, agent_id
-        node.attrs, node.edges = {}, {}
+        node.attrs, node.edges = AttributeMap(), {}
         return node
 
     @property
