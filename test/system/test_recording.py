@@ -37,15 +37,15 @@ def server_graph_at_end(state_dir: Path) -> dict:
     """The server's graph as its state directory holds it: snapshot plus journal."""
     from dsr_graph.formats import dsr_json
     from dsr_graph.formats.state_store import StateStore
-    from dsr_graph.model.transaction import apply_ops
+    from dsr_graph.model.provenance import apply_delta
 
     store = StateStore(state_dir)
     snapshot = store.load_snapshot()
     graph, seq = dsr_json.snapshot_from_json(snapshot)
     last = [seq]
 
-    def replay(delta):
-        apply_ops(graph, delta["ops"])
+    def replay(delta):  # as the server replays it: who wrote each value, and when, included
+        apply_delta(graph, delta)
         last[0] = delta["seq"]
 
     store.replay_journal(seq, replay)
