@@ -103,18 +103,20 @@ def graph_value(graph: Graph, name: str, attribute: Attribute) -> Any:
 
 
 def attr_changes(
-    graph: Graph, current: dict[str, Any], wanted: dict[str, Attribute]
+    graph: Graph, current: dict[str, Any], wanted: dict[str, Attribute], rt: bool = False
 ) -> tuple[dict[str, Any], list[str]]:
     """The sets and removals that turn ``current`` (a graph element's attrs) into ``wanted``;
-    an attribute read and handed back unchanged is not written again."""
+    an attribute read and handed back unchanged is not written again. ``rt``: an RT edge, whose
+    ``rt_translation`` and ``rt_rotation_euler_xyz`` are its transform, not attributes."""
+    skipped = RT_ATTRS if rt else ()
     sets = {}
     for name, attribute in wanted.items():
-        if name in RT_ATTRS:
+        if name in skipped:
             continue
         if name in current and _same(_shown(name, current[name]), attribute.value):
             continue
         sets[name] = graph_value(graph, name, attribute)
-    removes = [name for name in current if name not in wanted and name not in RT_ATTRS]
+    removes = [name for name in current if name not in wanted and name not in skipped]
     return sets, removes
 
 

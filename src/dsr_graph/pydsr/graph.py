@@ -227,7 +227,7 @@ class DSRGraph:
         if current is None:
             return self._insert_edge_ops(g, edge, origin=edge.origin)
         key = {"from": edge.origin, "to": edge.destination, "type": edge.type}
-        sets, removes = convert.attr_changes(g, current.attrs, edge.attrs)
+        sets, removes = convert.attr_changes(g, current.attrs, edge.attrs, rt=edge.type == RT)
         ops: list[dict[str, Any]] = []
         if sets:
             ops.append({"op": "set_edge_attrs", **key, "attrs": sets})
