@@ -550,3 +550,16 @@ def test_an_attribute_takes_the_values_its_names_cortex_type_takes(
             node.attrs[name].value = value
     with pytest.raises(TypeError):
         Attribute([10, "a"], 1)  # no kind of value at all
+
+
+def test_rt_attributes_of_a_symbolic_edge_are_ordinary_attributes(g):
+    edge = Edge(4, 2, "in", 12)
+    edge.attrs["rt_translation"] = Attribute([1.0, 2.0, 3.0])
+    assert g.insert_or_assign_edge(edge)
+    read = g.get_edge(2, 4, "in")
+    assert list(read.attrs["rt_translation"].value) == [1.0, 2.0, 3.0]
+    read.attrs["rt_translation"].value = [4.0, 5.0, 6.0]
+    assert g.insert_or_assign_edge(read)
+    assert g._graph.edge(2, 4, "in").attrs["rt_translation"] == [4.0, 5.0, 6.0]
+    del read.attrs["rt_translation"]
+    assert g.insert_or_assign_edge(read) and "rt_translation" not in g._graph.edge(2, 4, "in").attrs
