@@ -79,7 +79,7 @@ class rt_api:  # noqa: N801 (CORTEX's name)
     def _past(self, frm: int, to: int, timestamp: int) -> np.ndarray | None:
         with self._g._link.lock:
             g = self._g._graph
-            edge = g.edge(frm, to, RT) if frm in g and to in g else None
+            edge = g.edge(frm, to, RT)
             if edge is None:
                 return None
             label = lambda: g.describe_edge(*edge.key)  # noqa: E731 (named on refusal)

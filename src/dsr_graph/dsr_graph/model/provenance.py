@@ -37,12 +37,12 @@ def stamp(graph: Graph, ops: Iterable[Mapping[str, Any]], when: Any, agent: Any)
                 _mark(
                     node.prov,
                     op,
-                    kind.endswith("remove_node_attrs"),
+                    kind == "remove_node_attrs",
                     mark,
                     fresh=kind == "insert_node",
                 )
         elif kind in ("insert_edge", "set_edge_attrs", "remove_edge_attrs", "set_rt"):
-            edge = _edge(graph, op)
+            edge = graph.edge(op["from"], op["to"], op.get("type", "RT"))  # None if gone
             if edge is None:
                 continue
             if kind == "set_rt":
@@ -62,13 +62,6 @@ def _mark(prov: dict, op: Mapping[str, Any], removed: bool, mark: Stamp, fresh: 
     else:
         for name in op.get("attrs") or ():
             prov[name] = mark
-
-
-def _edge(graph: Graph, op: Mapping[str, Any]):
-    src, dst = graph.find(op["from"]), graph.find(op["to"])
-    if src is None or dst is None:
-        return None
-    return graph.edge(src.id, dst.id, op.get("type", "RT"))
 
 
 def apply_delta(graph: Graph, delta: Mapping[str, Any], ops: list | None = None) -> None:

@@ -149,17 +149,16 @@ def remember(graph: Any, ops: Iterable[Mapping[str, Any]], when: Any) -> None:
     if isinstance(when, bool) or not isinstance(when, (int, float)):
         return
     history: RtHistory = graph.rt_history
-    deleted_node = False
+    pruned = False
     for op in ops:
         kind = op["op"]
         if kind == "set_rt" or (kind == "insert_edge" and "rt" in op):
-            src, dst = graph.find(op["from"]), graph.find(op["to"])
-            edge = None if src is None or dst is None else graph.edge(src.id, dst.id, "RT")
+            edge = graph.edge(op["from"], op["to"], "RT")  # None if a later op deleted it
             if edge is not None:
                 history.record(edge.key, float(when), edge.rt)
         elif kind == "delete_edge" and op["type"] == "RT":
-            deleted_node = True  # its ends are names: check which kept edges are gone
+            pruned = True  # its ends are names: check which kept edges are gone
         elif kind == "delete_node":
-            deleted_node = True
-    if deleted_node:
+            pruned = True
+    if pruned:
         history.forget(k for k in history.keys() if graph.edge(*k) is None)
