@@ -8,8 +8,12 @@ searches; their real-time factors (CPU time over audio time)."""
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
 import time
 from datetime import date
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -28,19 +32,100 @@ VOICES = (
     Voice("en-gb", 130, 45),
     Voice("en-gb-scotland", 170, 40),
     Voice("en-us+f3", 140, 60),
+    Voice("en-gb-x-rp", 120, 55),
 )
 CONDITIONS = (("clean", None, None), ("white", "white", 20.0), ("white", "white", 10.0))
 CONDITIONS += (("white", "white", 5.0), ("babble", "babble", 10.0))
 ORDINAL = ("first", "second", "third", "fourth")
-SERIAL = (
-    "ninety three, eighty six, seventy nine, seventy two, sixty five",
-    "ninety three, eighty five, seventy eight",
-    "one hundred minus seven is ninety three, minus seven is eighty six",
-)
+
+
+def _spelt(n: int) -> str:
+    """A number under 101 in words, as people say it."""
+    units = "zero one two three four five six seven eight nine ten eleven twelve thirteen"
+    units += " fourteen fifteen sixteen seventeen eighteen nineteen"
+    tens = "twenty thirty forty fifty sixty seventy eighty ninety".split()
+    if n == 100:
+        return "one hundred"
+    if n < 20:
+        return units.split()[n]
+    return tens[n // 10 - 2] + ("" if n % 10 == 0 else " " + units.split()[n % 10])
+
+
+def serial_answers() -> list[str]:
+    """Serial sevens as patients give them: 1 to 5 numbers, right or with one slip (the next
+    numbers then follow from the slip, as the instrument scores them), plain and narrated
+    ("minus seven is ..."), a few with hesitations."""
+    out = []
+    for length in range(1, 6):
+        for slip in range(length + 1):  # slip == length: no slip
+            given, previous = [], 100
+            for k in range(length):
+                previous = previous - 7 + (1 if k == slip else 0)
+                given.append(previous)
+            spoken = [_spelt(n) for n in given]
+            out.append(", ".join(spoken))
+            out.append("one hundred minus seven is " + ", minus seven is ".join(spoken))
+    out += [
+        "um, ninety three, I think eighty six, seventy nine",
+        "ninety three, uh, eighty six",
+        "one hundred take away seven, ninety three, take away seven, eighty six",
+        "ninety, eighty, seventy",
+        "ninety three, eighty three, seventy three",
+        "I don't know",
+    ]
+    return out
+
+
+# (item, what is said) for the words items: right, partly right, wrong, hedged, unknown
 WORDS = {
-    "registration": ("apple, table, penny", "apple and penny"),
-    "naming": ("a pencil and a watch", "a pencil"),
-    "orientation_place": ("Spain, Seville, first floor",),
+    "registration": (
+        "apple, table, penny",
+        "apple and penny",
+        "table, penny",
+        "apple",
+        "penny, apple, table",
+        "apple, banana, penny",
+        "a car, a dog and a table",
+        "I don't know",
+    ),
+    "recall": (
+        "apple, table, penny",
+        "apple and table",
+        "penny",
+        "table and penny",
+        "apple, orange",
+        "a chair, a penny",
+        "I don't remember",
+        "table, apple, penny",
+    ),
+    "naming": (
+        "a pencil and a watch",
+        "pencil, watch",
+        "a pen and a clock",
+        "a pencil",
+        "a watch",
+        "a wristwatch and a pencil",
+        "scissors",
+        "a pen or a pencil",
+    ),
+    "orientation_place": (
+        "Spain, Seville, first floor",
+        "Spain, Andalusia, Seville, the hospital, the first floor",
+        "Seville",
+        "France, Paris",
+        "the hospital, the second floor",
+        "Spain or Portugal",
+    ),
+    "orientation_time": (
+        "twenty twenty six, winter, the first of December, Tuesday, December",
+        "two thousand and twenty six, winter, December the first, Tuesday",
+        "twenty twenty five, autumn, the second, Monday, November",
+        "Monday or Tuesday",
+        "it is December",
+        "winter, Tuesday",
+        "I don't know",
+    ),
+    "repetition": ("no ifs, ands, or buts", "no ifs and buts", "no buts", "if and but"),
 }
 
 
@@ -54,7 +139,7 @@ def answers() -> list[tuple[str, Any, str]]:
                 out.append(("choose", item, f"option {('one', 'two', 'three', 'four')[n - 1]}"))
                 out.append(("choose", item, f"the {ORDINAL[n - 1]} one"))
     mmse = definitions.load("mmse").filled(values(date(2026, 12, 1)))
-    out += [("serial", mmse.item("attention"), said) for said in SERIAL]
+    out += [("serial", mmse.item("attention"), said) for said in serial_answers()]
     out += [("words", mmse.item(key), said) for key, phrases in WORDS.items() for said in phrases]
     return out
 
@@ -91,7 +176,8 @@ def bench_speech(quick: bool) -> dict[str, Any]:
     free = Search(FREE, None)
     out: dict[str, Any] = {"voices": [v.name for v in voices], "answers_per_condition": 0}
     rtf = {"restricted": [0.0, 0.0], "free": [0.0, 0.0]}  # CPU s, audio s
-    words_right = {"restricted": [0, 0], "free": [0, 0]}  # word errors, reference words
+    # per kind: {search: [word errors, reference words]}
+    words_right: dict[str, dict[str, list[int]]] = {}
     by_condition: dict[str, dict[str, list[int]]] = {}
     seed = 0
     for label, noise, snr in CONDITIONS:
@@ -117,26 +203,29 @@ def bench_speech(quick: bool) -> dict[str, Any]:
                 tally = counts.setdefault(kind, [0, 0])
                 tally[0] += right
                 tally[1] += 1
-                # the baseline, free decoding of the same audio (a sample: it is slow)
-                if kind == "choose" and snr in (None, 20.0) and seed % (8 if quick else 4) == 0:
+                # the baseline, free decoding of the same audio (a sample of the choose answers,
+                # every serial and words one: it is slow)
+                sampled = kind != "choose" or seed % (8 if quick else 4) == 0
+                if snr in (None, 20.0) and sampled:
                     started = time.process_time()
                     baseline = recogniser.hear(audio, free)
                     rtf["free"][0] += time.process_time() - started
                     rtf["free"][1] += len(audio) / RATE
                     reference = words(said)
                     for which, text in (("restricted", heard.text), ("free", baseline.text)):
-                        words_right[which][0] += _word_errors(reference, words(text))
-                        words_right[which][1] += len(reference)
+                        errors = words_right.setdefault(kind, {}).setdefault(which, [0, 0])
+                        errors[0] += _word_errors(reference, words(text))
+                        errors[1] += len(reference)
         by_condition[name] = {
             k: {"right": r, "of": n, "share": r / n} for k, (r, n) in counts.items()
         }
         out["answers_per_condition"] = sum(n for _, n in counts.values())
     out["understood"] = by_condition
     out["word_accuracy"] = {
-        k: {"share": 1 - e / max(n, 1), "reference_words": n} for k, (e, n) in words_right.items()
+        kind: {k: {"share": 1 - e / max(n, 1), "reference_words": n} for k, (e, n) in s.items()}
+        for kind, s in words_right.items()
     }
     out["real_time_factor"] = {k: cpu / max(audio, 1e-9) for k, (cpu, audio) in rtf.items()}
-    out["not_measured"] = "end of speech to the answer in the DSR (needs the whole loop)"
     return out
 
 
@@ -153,11 +242,68 @@ def table(speech: dict[str, Any]) -> list[str]:
         )
         lines.append(f"  {condition:<16} {cells}")
     wa, rtf = speech["word_accuracy"], speech["real_time_factor"]
-    lines.append(
-        f"  word accuracy (choose, clean and 20 dB): restricted {wa['restricted']['share']:.1%}, "
-        f"free model (baseline) {wa['free']['share']:.1%} of {wa['free']['reference_words']} words"
-    )
+    for kind in sorted(wa):
+        lines.append(
+            f"  word accuracy ({kind}, clean and 20 dB): restricted "
+            f"{wa[kind]['restricted']['share']:.1%}, free model (baseline) "
+            f"{wa[kind]['free']['share']:.1%} of {wa[kind]['free']['reference_words']} words"
+        )
     lines.append(
         f"  real-time factor: restricted {rtf['restricted']:.3f}, free model {rtf['free']:.3f}"
     )
+    loop = speech.get("loop")
+    if loop and "error" in loop:
+        lines.append(f"  end of speech to the answer in the DSR: {loop['error']}")
+    elif loop:
+        d = loop["end_of_speech_to_dsr_ms"]
+        lines.append(
+            f"  end of speech to the answer in the DSR ({loop['answers']} answers, --audio): "
+            f"p50 {d['p50_ms']:.0f} ms, p99 {d['p99_ms']:.0f} ms"
+        )
     return lines
+
+
+def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:
+    """End of speech to the answer in the DSR, through the whole loop with sound: the default
+    Barthel scenario run by scripts/launch.sh --audio (patient en-gb at 25 dB SNR of white noise,
+    the robot at 300 words a minute, pace 0.7) and recorded to MCAP. For each hypothesis the asr
+    node published (clarc/asr: its text and the capture time its speech ended) whose text
+    Speech stored as an answer or as not understood, the time from that end to the recorder
+    receiving the DSR delta that holds it: what any agent of the DSR sees."""
+    from dsr_graph.formats.mcap_recording import dsr_channels, messages
+
+    scenario = work / "aloud.yaml"
+    text = (root / "scenarios" / "default.yaml").read_text()
+    sound = "voice: {name: en-gb, rate: 160, pitch: 40}\nroom: {noise: white, snr_db: 25}\n"
+    scenario.write_text(text.replace("items:", sound + "items:", 1))
+    recording = work / "aloud.mcap"
+    argv = [str(root / "scripts" / "launch.sh"), "--scenario", str(scenario), "--audio"]
+    argv += ["--scale", "0.7", "--voice-rate", "300", "--timeout", "480"]
+    argv += ["--db", str(work / "aloud.sqlite"), "--run-dir", str(work / "aloud_run")]
+    argv += ["--viewer-port", "0", "--dashboard-port", "0", "--record", str(recording)]
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
+    run = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=600)
+    if run.returncode != 0:
+        return {"error": f"launch.sh exited {run.returncode}: {run.stderr[-2000:]}"}
+    deltas = dsr_channels(recording)["deltas"]
+    pending: list[tuple[str, float]] = []  # (the JSON of what Speech stores, end of speech)
+    delays = []
+    for m in messages(recording, ["/clarc/asr", deltas]):
+        if m.topic == "/clarc/asr":
+            said = json.loads(m.message.data)
+            pending.append((json.dumps(said["text"]), float(said["end"])))
+            continue
+        for i, (stored, end) in enumerate(pending):
+            if stored in m.message.data:
+                delays.append(m.log_time / 1e9 - end)
+                del pending[i]
+                break
+    if not delays:
+        return {"error": "no hypothesis was found stored in the DSR", "heard": len(pending)}
+    p50, p99 = np.percentile(delays, [50, 99])
+    return {
+        "answers": len(delays),
+        "hypotheses_not_stored": len(pending),
+        "end_of_speech_to_dsr_ms": {"p50_ms": 1000 * p50, "p99_ms": 1000 * p99},
+        "delays_ms": [round(1000 * d, 1) for d in delays],
+    }

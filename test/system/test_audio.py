@@ -42,7 +42,7 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
     log = tmp_path / "run" / "log"
     asr = (log / "asr.log").read_text()
     # what the asr heard, and for which item's search
-    heard = re.findall(r"heard '([^']*)' \(([\d.]+), (\w+)'s search\)", asr)
+    heard = re.findall(r"heard '([^']*)' \(([\d.]+), (\w+)'s \w+ search\)", asr)
     assert ("i eat by myself", "feeding") in [(t, item) for t, _, item in heard], asr[-3000:]
     with wave.open(str(tmp_path / "run" / "audio" / "microphone.wav")) as w:
         assert (w.getframerate(), w.getnchannels(), w.getsampwidth()) == (16000, 1, 2)

@@ -115,7 +115,7 @@ class AsrAgent(DsrNode):
             "start": round(utterance.start + heard.start, 3),
             "end": round(utterance.start + heard.end, 3),
         }
-        what = "free" if search.grammar is None else f"{item.key}'s"
+        what = "free" if search.kind == "free" else f"{item.key}'s {search.kind}"
         self.get_logger().info(f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search)")
         publish_json(self._asr, said)
 

@@ -58,7 +58,7 @@ def hear(path: str, test: str | None, key: str | None, today: date) -> dict:
         "confidence": round(heard.confidence, 3),
         "start": heard.start,
         "end": heard.end,
-        "search": "free" if search.grammar is None else "grammar",
+        "search": search.kind,
         "real_time_factor": round(cpu / (len(samples) / RATE), 3),
     }
     if key is not None:
