@@ -230,6 +230,8 @@ def bench_speech(quick: bool) -> dict[str, Any]:
 
 
 def table(speech: dict[str, Any]) -> list[str]:
+    if "understood" not in speech:  # the loop alone (--only speech_loop)
+        return _loop_lines(speech.get("loop"))
     lines = [
         f"speech: {speech['answers_per_condition']} answers a condition, voices "
         f"{', '.join(speech['voices'])}; understood right (restricted search)"
@@ -251,16 +253,19 @@ def table(speech: dict[str, Any]) -> list[str]:
     lines.append(
         f"  real-time factor: restricted {rtf['restricted']:.3f}, free model {rtf['free']:.3f}"
     )
-    loop = speech.get("loop")
-    if loop and "error" in loop:
-        lines.append(f"  end of speech to the answer in the DSR: {loop['error']}")
-    elif loop:
-        d = loop["end_of_speech_to_dsr_ms"]
-        lines.append(
-            f"  end of speech to the answer in the DSR ({loop['answers']} answers, --audio): "
-            f"p50 {d['p50_ms']:.0f} ms, p99 {d['p99_ms']:.0f} ms"
-        )
-    return lines
+    return lines + _loop_lines(speech.get("loop"))
+
+
+def _loop_lines(loop: dict[str, Any] | None) -> list[str]:
+    if not loop:
+        return []
+    if "error" in loop:
+        return [f"  end of speech to the answer in the DSR: {loop['error']}"]
+    d = loop["end_of_speech_to_dsr_ms"]
+    return [
+        f"  end of speech to the answer in the DSR ({loop['answers']} answers, --audio): "
+        f"p50 {d['p50_ms']:.0f} ms, p99 {d['p99_ms']:.0f} ms"
+    ]
 
 
 def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:

@@ -8,16 +8,15 @@ faster than free decoding here (../shared/docs/SPEECH.md).
   words, the other members of their word classes (a weekday brings the other weekdays, a number
   every number word), so that a wrong answer is heard as itself rather than as the right one,
   and a few short words that soak up what else is said ("and", "the", "um");
-- a ``serial`` item: a vocabulary of the number words, "minus", "take away", "is" and the same
-  short words;
-- other searches: the free English language model (``clarc hear`` without an item).
+- a ``serial`` item: a vocabulary of the cardinal numbers, "minus", "take away", "is", "um";
+- other items (touched, drawn, seen) are not answered by voice: no search; with no item, the
+  free English language model (``clarc hear`` without an item).
 
 Why vocabularies and not the free model or grammars (bench/speech.py, BENCHMARKS.md section 9):
 the free model understood none of the synthesised serial and words answers, and a JSGF grammar
 that loops over even fifty words made pocketsphinx's grammar search ten times slower than real
 time; a vocabulary goes through the n-gram search (a uniform one-word model), at about a
 twentieth of real time.
-- other items (touched, drawn, seen) are not answered by voice: no search.
 
 Nothing here names a test or an item: only the item's kind, options and parts.
 """
