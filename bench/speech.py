@@ -292,11 +292,14 @@ def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:
         return {"error": f"launch.sh exited {run.returncode}: {run.stderr[-2000:]}"}
     deltas = dsr_channels(recording)["deltas"]
     pending: list[tuple[str, float]] = []  # (the JSON of what Speech stores, end of speech)
-    delays = []
+    delays, unmatched = [], 0
     for m in messages(recording, ["/clarc/asr", deltas]):
         if m.topic == "/clarc/asr":
             said = json.loads(m.message.data)
-            pending.append((json.dumps(said["text"]), float(said["end"])))
+            # Speech takes one hypothesis at a time: one not stored before the next came was
+            # ignored (heard while no answer was awaited), and must not match a later answer
+            unmatched += len(pending)
+            pending = [(json.dumps(said["text"]), float(said["end"]))]
             continue
         for i, (stored, end) in enumerate(pending):
             if stored in m.message.data:
@@ -304,11 +307,11 @@ def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:
                 del pending[i]
                 break
     if not delays:
-        return {"error": "no hypothesis was found stored in the DSR", "heard": len(pending)}
+        return {"error": "no hypothesis was found stored in the DSR"}
     p50, p99 = np.percentile(delays, [50, 99])
     return {
         "answers": len(delays),
-        "hypotheses_not_stored": len(pending),
+        "hypotheses_not_stored": unmatched + len(pending),
         "end_of_speech_to_dsr_ms": {"p50_ms": 1000 * p50, "p99_ms": 1000 * p99},
         "delays_ms": [round(1000 * d, 1) for d in delays],
     }
