@@ -23,7 +23,7 @@ from clarc_agents.asr.audio import RATE
 from clarc_agents.asr.searches import FREE, Search, search_for
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.orientation import values
-from clarc_agents.questionnaire.spoken import words
+from clarc_agents.questionnaire.spoken import TENS, UNITS, words
 from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
 
 MIN_CONFIDENCE = 0.5  # Speech's default
@@ -40,15 +40,14 @@ ORDINAL = ("first", "second", "third", "fourth")
 
 
 def _spelt(n: int) -> str:
-    """A number under 101 in words, as people say it."""
-    units = "zero one two three four five six seven eight nine ten eleven twelve thirteen"
-    units += " fourteen fifteen sixteen seventeen eighteen nineteen"
-    tens = "twenty thirty forty fifty sixty seventy eighty ninety".split()
+    """A number under 101 in words, as people say it (spoken.py's words, the other way)."""
+    units = {v: w for w, v in UNITS.items()}
+    tens = {v: w for w, v in TENS.items()}
     if n == 100:
         return "one hundred"
     if n < 20:
-        return units.split()[n]
-    return tens[n // 10 - 2] + ("" if n % 10 == 0 else " " + units.split()[n % 10])
+        return units[n]
+    return tens[n - n % 10] + ("" if n % 10 == 0 else " " + units[n % 10])
 
 
 def serial_answers() -> list[str]:
