@@ -29,6 +29,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.orientation import MONTHS, SEASON_WORDS, SEASONS, WEEKDAYS
 from clarc_agents.questionnaire.spoken import ORDINAL_TENS, ORDINAL_UNITS, TENS, UNITS
 
 FREE = "free"  # the search with the language model
@@ -46,10 +47,11 @@ MUMBLING = ("um", "uh", "hmm", "mm", "eh", "er")
 
 # English word classes: a part's word brings its class, so that another member said is heard
 # as itself (the patient's "Monday" is not forced into the expected "Tuesday")
-WEEKDAYS = "monday tuesday wednesday thursday friday saturday sunday".split()
-MONTHS = "january february march april may june july august september october november december"
-SEASONS = ("spring", "summer", "autumn", "fall", "winter")
-CLASSES = (tuple(WEEKDAYS), tuple(MONTHS.split()), SEASONS)
+CLASSES = (
+    tuple(w.lower() for w in WEEKDAYS),
+    tuple(m.lower() for m in MONTHS),
+    tuple(dict.fromkeys(w for s in SEASONS.values() for w in SEASON_WORDS.get(s, (s,)))),
+)
 CARDINALS = (*UNITS, *TENS, "hundred")
 NUMBER_WORDS = (*CARDINALS, *ORDINAL_UNITS, *ORDINAL_TENS, "thousand", "oh")
 SUBTRACTING = ("minus", "take", "away", "is", "equals", "leaves", "makes")
