@@ -218,6 +218,48 @@ def test_a_stop_while_waiting_for_the_server_is_clean(ros, sig):
     assert proc.returncode == 0 and "Traceback" not in ros.procs.log("speech")
 
 
+INTERRUPTED = """
+import os, signal, sys
+import rclpy
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+
+class Interrupted(DsrNode):
+    NAME = "interrupted"
+
+    def setup(self):
+        # Under load, rclpy's own handler (which shuts the context down from a thread of its
+        # own) had not run when the error reached run_node: without it rclpy.ok() stays true.
+        rclpy.signals.uninstall_signal_handlers()
+        self.create_timer(0.2, self.tick)
+
+    def tick(self):
+        # What a launch's closing SIGINT did to the person and speech nodes: it landed while
+        # rclpy's C++ code took a message, and the KeyboardInterrupt raised inside the message's
+        # conversion came out of pybind as a RuntimeError.
+        try:
+            if {sig} is not None:
+                os.kill(os.getpid(), {sig})  # its Python handler runs here (SIGINT's raises)
+        except KeyboardInterrupt:
+            pass
+        raise RuntimeError("Unable to convert call argument '0' to Python object")
+
+sys.exit(main_for(Interrupted)())
+"""
+
+
+@pytest.mark.parametrize("sig", ["signal.SIGINT", "signal.SIGTERM", None])
+def test_an_error_a_stop_signal_caused_is_a_stop_and_any_other_a_crash(ros, sig):
+    program = ros.tmp / "interrupted.py"
+    program.write_text(INTERRUPTED.format(sig=sig))
+    proc = ros.procs.start("interrupted", ["python", program])
+    proc.wait(timeout=60)
+    log = ros.procs.log("interrupted")
+    if sig is None:
+        assert proc.returncode == 1 and "Unable to convert call argument" in log, log
+    else:
+        assert proc.returncode == 0 and "Traceback" not in log, log
+
+
 def test_setup_attaches_what_the_constructor_did_not(context):
     """The other half of the shape: setup() attaches the topics."""
     from clarc_sim.devices.microphone_node import MicrophoneStandIn

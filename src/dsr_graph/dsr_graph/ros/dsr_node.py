@@ -28,6 +28,7 @@ from rclpy.node import Node
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros.parameters import check_required, help_text
+from dsr_graph.ros.stop_signals import StopSignals
 
 
 class DsrNode(Node):
@@ -84,6 +85,7 @@ class DsrNode(Node):
 
 def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) -> int:
     set_private_umask()  # whatever the node writes is its user's alone
+    stops = StopSignals().install()  # before rclpy.init, which chains to it
     rclpy.init(args=args)
     node: DsrNode | None = None
     try:
@@ -93,7 +95,9 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     except (KeyboardInterrupt, ExternalShutdownException):
         return 0
     except Exception as e:
-        if not rclpy.ok():  # SIGINT or SIGTERM came (rclpy shut down) while waiting: a stop
+        # Whatever a SIGINT or SIGTERM caused (a wait cut short, a message's conversion
+        # interrupted) is a stop, also before rclpy has shut the context down.
+        if stops.arrived() or not rclpy.ok():
             return 0
         if not isinstance(e, (DsrError, ParameterException, OSError, ValueError)):
             raise
@@ -106,6 +110,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
             node.close()
             node.destroy_node()
         rclpy.try_shutdown()
+        stops.uninstall()
 
 
 def _own_arguments(args: list[str]) -> list[str]:
