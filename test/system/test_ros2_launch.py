@@ -2,9 +2,8 @@
 ROS's, or scripts/setup.sh's from ../shared/vendor/ros2-jazzy): the default Barthel scenario
 stores what scripts/launch.sh stores, recorded with ``record:=``, while ``ros2 node list`` shows
 every node of the suite; an MMSE scenario; a Get Up & Go scenario with ``start:=false`` and
-Start pressed on the clinician's dashboard, the patient's body on REP-155's topics meanwhile
-(``ros2 topic echo``). Every process of the launch finishes cleanly at
-shutdown (none dies, none is killed)."""
+Start pressed on the clinician's dashboard, the patient's body on REP-155's topics meanwhile.
+Every process of the launch finishes cleanly at shutdown (none dies, none is killed)."""
 
 import json
 import os
@@ -16,14 +15,16 @@ import urllib.request
 from http.cookiejar import CookieJar
 from pathlib import Path
 
+from hri_msgs.msg import IdsList, Skeleton2D
 from test_barthel_scenarios import EXPECTED
 from test_gug_scenarios import check as check_gug
 from test_questionnaire_scenarios import expected as expected_items
 
+from clarc_agents import humans
 from clarc_sim.console.suite_keystore import SIGNERS
 from clarc_sim.patient.scenario import load
 
-from ros_processes import fresh_domain_id, stored_tests, wait_for
+from ros_processes import fresh_domain_id, new_session, stored_tests, wait_for
 
 REPO = Path(__file__).resolve().parents[2]
 # every node scripts/launch.sh starts, as the keystore knows them (without the camera, the
@@ -170,10 +171,31 @@ class Dashboard:
         self.csrf = self.call("api/login", {"name": name, "password": PASSWORD})["csrf"]
 
 
+class BodyWatch:
+    """The first body on /humans/bodies/tracked, then the first message of its skeleton2d."""
+
+    def __init__(self, node):
+        self.node = node
+        self.skeleton = None
+        self._skeleton_sub = None
+        node.create_subscription(IdsList, humans.BODIES_TRACKED, self._on_tracked, 10)
+
+    def _on_tracked(self, msg):
+        if msg.ids and self._skeleton_sub is None:
+            topic = humans.body_topic(msg.ids[0], "skeleton2d")
+            self._skeleton_sub = self.node.create_subscription(
+                Skeleton2D, topic, self._on_skeleton, 10
+            )
+
+    def _on_skeleton(self, msg):
+        self.skeleton = self.skeleton or msg
+
+
 def test_a_get_up_and_go_through_ros2_launch_started_on_the_dashboard(tmp_path, ros2_cli):
     scenario = REPO / "scenarios" / "gug_normal.yaml"
     truth = load(str(scenario))
     launch = Launch(tmp_path, f"scenario:={scenario}", "start:=false")
+    session = None
     subprocess.run(
         ["clarc", "user", "add", "dr_ruiz", "--role", "clinician", "--db", str(launch.db)],
         input=f"{PASSWORD}\n{PASSWORD}\n",
@@ -192,20 +214,24 @@ def test_a_get_up_and_go_through_ros2_launch_started_on_the_dashboard(tmp_path, 
         dashboard.log_in("dr_ruiz")
         patient = dashboard.call("api/patients", {"name": truth.patient})
         assert not launch.stored()  # nothing ran before Start: the launch waits for it
-        dashboard.call("api/start", {"patient_id": patient["id"], "test": "get_up_and_go"})
-        # the patient as HRI tools see it (REP-155), with the README's commands
-        echo = ("topic", "echo", "--once", "--no-daemon")
-        tracked = launch.ros2(*echo, "/humans/bodies/tracked", "hri_msgs/msg/IdsList")
-        [body] = re.findall(r"^- (\w+)$", tracked, re.MULTILINE)
-        skeleton = launch.ros2(
-            *echo, f"/humans/bodies/{body}/skeleton2d", "hri_msgs/msg/Skeleton2D"
+        # the patient as HRI tools see it (REP-155), subscribed before Start: at the launch's
+        # pace (x0.1) the body is in view for a second or two of wall time
+        session = new_session(int(launch.env["ROS_DOMAIN_ID"]), "hri_reader")
+        body = BodyWatch(session.node)
+        wait_for(
+            lambda: session.node.count_publishers(humans.BODIES_TRACKED) > 0,
+            60,
+            "Person's /humans/bodies/tracked",
+            session,
         )
-        assert (
-            len(re.findall(r"^  c: ", skeleton, re.MULTILINE)) == 18
-            and "frame_id: kinect" in skeleton
-        ), skeleton
+        dashboard.call("api/start", {"patient_id": patient["id"], "test": "get_up_and_go"})
+        wait_for(lambda: body.skeleton is not None, 120, "a skeleton on REP-155's topics", session)
+        skeleton = body.skeleton
+        assert len(skeleton.skeleton) == 18 and skeleton.header.frame_id == "kinect", skeleton
         out = launch.finish()
     finally:
+        if session is not None:
+            session.close()
         launch.close()
     [stored] = launch.stored()
     assert stored["patient_id"] == patient["id"]
