@@ -20,6 +20,7 @@ from dsr_graph.exceptions import FormatError, Violation
 from dsr_graph.formats import units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import provenance, rigid
+from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
@@ -174,7 +175,8 @@ def snapshot_from_json(
         doc = units.in_metres(doc, "snapshot")
         graph = Graph(vocabulary)
         try:
-            graph.restore(doc.get("nodes", []), doc.get("edges", []))
+            with collector_paused():
+                graph.restore(doc.get("nodes", []), doc.get("edges", []))
         except (KeyError, TypeError, ValueError) as e:
             raise FormatError(f"snapshot is not a valid graph: {e!r}") from e
     else:

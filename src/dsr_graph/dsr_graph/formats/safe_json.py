@@ -22,6 +22,7 @@ from dsr_graph.exceptions import JsonRefused
 DEFAULT_MAX_BYTES = 4 * 1024 * 1024  # a request, a device message (the server's is a parameter)
 MAX_DEPTH = 64  # deepest nesting accepted: our formats need about 8
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1
+TWO_63 = float(2**63)
 
 
 def loads(data: str | bytes, max_bytes: int | None = DEFAULT_MAX_BYTES, max_depth: int = MAX_DEPTH):
@@ -47,19 +48,29 @@ def loads_object(data: str | bytes, max_bytes: int | None = DEFAULT_MAX_BYTES) -
 
 
 def _check(doc: Any, raw: bytes, max_depth: int) -> None:
-    """Depth and integer range, without recursion (an iterative walk of the containers)."""
-    suspicious_float = _out_of_range(doc)
-    stack = [(doc, 1)] if isinstance(doc, (dict, list)) else []
-    while stack:
-        value, depth = stack.pop()
+    """Depth and integer range, without recursion: a walk of the containers one level at a
+    time, with no call per value (a 14 MB snapshot has about two million of them)."""
+    suspicious = False
+    level = [doc] if type(doc) in (dict, list) else []
+    if not level:
+        suspicious = _out_of_range(doc)
+    depth = 0
+    while level:
+        depth += 1
         if depth > max_depth:
             raise JsonRefused(f"nested deeper than {max_depth} levels")
-        for item in value.values() if isinstance(value, dict) else value:
-            if isinstance(item, (dict, list)):
-                stack.append((item, depth + 1))
-            elif _out_of_range(item):
-                suspicious_float = True
-    if suspicious_float:
+        below = []
+        for value in level:
+            for item in value.values() if type(value) is dict else value:
+                kind = type(item)
+                if kind is dict or kind is list:
+                    below.append(item)
+                elif kind is int:
+                    suspicious = suspicious or not INT_MIN <= item <= INT_MAX
+                elif kind is float:
+                    suspicious = suspicious or not -TWO_63 < item < TWO_63
+        level = below
+    if suspicious:
         # orjson reads an integer literal beyond 64 bits as a float (or, up to 2**64, as an
         # int): tell it from 1e30 by reading the (depth-checked) text again, integers exact
         json.loads(raw, parse_int=_bounded_int)
@@ -70,7 +81,7 @@ def _out_of_range(value: Any) -> bool:
     kind = type(value)
     if kind is int:
         return not INT_MIN <= value <= INT_MAX
-    return kind is float and math.isfinite(value) and abs(value) >= 2**63
+    return kind is float and math.isfinite(value) and abs(value) >= TWO_63
 
 
 def _bounded_int(literal: str) -> int:

@@ -95,9 +95,9 @@ class Edge:
         return f"Edge({self.src}->{self.dst} {self.type!r}, v{self.version})"
 
 
-def _prov(item: Mapping[str, Any]) -> dict[str, tuple[float, str]]:
+def _prov(stamps: Mapping[str, Any]) -> dict[str, tuple[float, str]]:
     """A trusted snapshot element's stamps (lists in JSON) as the graph keeps them."""
-    return {name: (t, sys.intern(a)) for name, (t, a) in (item.get("provenance") or {}).items()}
+    return {name: (t, sys.intern(a)) for name, (t, a) in stamps.items()}
 
 
 def _fail(rule: str, element: str, message: str) -> None:
@@ -560,32 +560,55 @@ class Graph:
         it). The attribute dicts of the freshly parsed document are taken over, not copied; the
         indexes are built by the same primitive as every other change. Binary values, base64 in
         the document, are decoded (only where the vocabulary declares one)."""
-        ids = self._ids
+        ids, by_id = self._ids, self._nodes
         binary_names = {
             name for name, type_name in self.vocabulary.attributes.items() if type_name in BINARY
         }
         decode = self._binary_decoder(binary_names)
+        # one pass each, everything inlined: this loop runs once per element of the snapshot
         for n in nodes:
-            attrs = decode(n.get("attrs") or {})
-            node = Node(n["id"], n["name"], n["type"], attrs, n.get("version", 1), _prov(n))
-            self._nodes[node.id] = node
+            stamps = n.get("provenance")
+            node = Node(
+                n["id"],
+                n["name"],
+                n["type"],
+                decode(n.get("attrs") or {}),
+                n.get("version", 1),
+                _prov(stamps) if stamps else None,
+            )
+            by_id[node.id] = node
             ids[node.name] = node.id
-        if self._nodes:
-            self._next_id = max(self._next_id, max(self._nodes) + 1)
+        if by_id:
+            self._next_id = max(self._next_id, max(by_id) + 1)
+        edges_by_key, out, into, by_type = self._edges, self._out, self._in, self._by_type
         for e in edges:
             rt = e.get("rt")
-            matrix = np.array(rt["matrix"], dtype=float) if rt is not None else None
-            self._add_edge(
-                Edge(
-                    ids[e["from"]],
-                    ids[e["to"]],
-                    e["type"],
-                    decode(e.get("attrs") or {}),
-                    matrix,
-                    e.get("version", 1),
-                    _prov(e),
-                )
+            stamps = e.get("provenance")
+            edge = Edge(
+                ids[e["from"]],
+                ids[e["to"]],
+                e["type"],
+                decode(e.get("attrs") or {}),
+                None if rt is None else np.array(rt["matrix"], dtype=float),
+                e.get("version", 1),
+                _prov(stamps) if stamps else None,
             )
+            key = (edge.src, edge.dst, edge.type)
+            edges_by_key[key] = edge
+            if edge.src in out:
+                out[edge.src].add(key)
+            else:
+                out[edge.src] = {key}
+            if edge.dst in into:
+                into[edge.dst].add(key)
+            else:
+                into[edge.dst] = {key}
+            if edge.type in by_type:
+                by_type[edge.type].add(key)
+            else:
+                by_type[edge.type] = {key}
+            if edge.type == RT:
+                self._tree.link(edge)
 
     def _binary_decoder(self, names: set[str]):
         """attrs -> attrs with the binary values among ``names`` decoded (the same dict)."""

@@ -33,6 +33,7 @@ from std_msgs.msg import String
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.model.binary import dumps
+from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text, resolve
@@ -387,7 +388,8 @@ class DsrAgent:
             text = self._from_server(topic_names.GET_SNAPSHOT, response.snapshot_json)
             if text is None:
                 return  # not the server's: the tick asks again
-            snapshot = loads_object(text, None)
+            with collector_paused():
+                snapshot = loads_object(text, None)
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return

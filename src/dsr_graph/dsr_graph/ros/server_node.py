@@ -69,6 +69,7 @@ from dsr_graph.formats.state_store import StateStore, origin_conflict, world_ori
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model import rigid
 from dsr_graph.model.binary import dumps, to_json_value
+from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.rt_history import DEFAULT_MAX_AGE, DEFAULT_MAX_COUNT
@@ -646,8 +647,9 @@ class DsrServer(DsrNode):
         # Late joiners often come together (a launch): encode each state's snapshot once.
         if self._snapshot_cache[0] != self._version():
             # large binary values (a camera's images) by reference, their bytes on dsr/blobs
-            snapshot, blobs = extract(self.core.snapshot(), known=self.blobs.digest_of_kept)
-            text = orjson.dumps(snapshot, default=to_json_value).decode()
+            with collector_paused():
+                snapshot, blobs = extract(self.core.snapshot(), known=self.blobs.digest_of_kept)
+                text = orjson.dumps(snapshot, default=to_json_value).decode()
             signed = self.security.sign(topic_names.GET_SNAPSHOT, text)
             self._snapshot_cache = (self._version(), self.core.seq, signed, blobs)
         _, response.seq, response.snapshot_json, blobs = self._snapshot_cache
