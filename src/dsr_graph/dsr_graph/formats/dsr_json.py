@@ -164,11 +164,15 @@ def _read_provenance(builder: WorldBuilder, element, item: dict, label: str, at:
 
 
 def snapshot_from_json(
-    doc: Any, vocabulary: Vocabulary | None = None, trusted: bool = False
+    doc: Any,
+    vocabulary: Vocabulary | None = None,
+    trusted: bool = False,
+    lazy: bool = False,
+    attrs_hook=None,
 ) -> tuple[Graph, int]:
     """A snapshot must load whole: any violation is a ``FormatError`` (it came from a valid graph).
     ``trusted``: it comes straight from a DSR server (a replica's resync), so its elements are not
-    checked again, only its structure."""
+    checked again, only its structure; then ``lazy`` and ``attrs_hook`` as ``Graph.restore``."""
     if trusted:
         if _header(doc, "snapshot") != "snapshot":
             raise FormatError('snapshot: "kind" must be "snapshot"')
@@ -176,7 +180,7 @@ def snapshot_from_json(
         graph = Graph(vocabulary)
         try:
             with collector_paused():
-                graph.restore(doc.get("nodes", []), doc.get("edges", []))
+                graph.restore(doc.get("nodes", []), doc.get("edges", []), lazy, attrs_hook)
         except (KeyError, TypeError, ValueError) as e:
             raise FormatError(f"snapshot is not a valid graph: {e!r}") from e
     else:

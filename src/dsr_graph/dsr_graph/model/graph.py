@@ -22,14 +22,17 @@ to exactly the state it started from.
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from functools import partial
+from operator import itemgetter
 from typing import Any
 
 import numpy as np
 
 from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Violation
 from dsr_graph.model import rigid
+from dsr_graph.model.lazy_nodes import LazyNodes
 from dsr_graph.model.rt_history import RtHistory
 from dsr_graph.model.rt_tree import RtTree
 from dsr_graph.model.undo_log import UndoLog
@@ -98,6 +101,23 @@ class Edge:
 def _prov(stamps: Mapping[str, Any]) -> dict[str, tuple[float, str]]:
     """A trusted snapshot element's stamps (lists in JSON) as the graph keeps them."""
     return {name: (t, sys.intern(a)) for name, (t, a) in stamps.items()}
+
+
+def _node_of(decode: Callable[[dict[str, Any]], dict[str, Any]], n: Mapping[str, Any]) -> Node:
+    """A trusted snapshot's node (its attributes through ``decode``)."""
+    stamps = n.get("provenance")
+    return Node(
+        n["id"],
+        n["name"],
+        n["type"],
+        decode(n.get("attrs") or {}),
+        n.get("version", 1),
+        _prov(stamps) if stamps else None,
+    )
+
+
+# what a lazily restored graph builds when an edge is first used
+_EDGE_INDEXES = ("_edges", "_out", "_in", "_by_type", "_tree")
 
 
 def _fail(rule: str, element: str, message: str) -> None:
@@ -553,33 +573,67 @@ class Graph:
 
     # ------------------------------------------------------------------ trusted loading
     def restore(
-        self, nodes: Sequence[Mapping[str, Any]], edges: Sequence[Mapping[str, Any]]
+        self,
+        nodes: Sequence[Mapping[str, Any]],
+        edges: Sequence[Mapping[str, Any]],
+        lazy: bool = False,
+        attrs_hook: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
     ) -> None:
-        """Load a snapshot written by a DSR server, which only ever holds a valid graph, without
-        checking each element again (a late joiner of a 100k-node graph would spend seconds on
-        it). The attribute dicts of the freshly parsed document are taken over, not copied; the
-        indexes are built by the same primitive as every other change. Binary values, base64 in
-        the document, are decoded (only where the vocabulary declares one)."""
-        ids, by_id = self._ids, self._nodes
-        binary_names = {
-            name for name, type_name in self.vocabulary.attributes.items() if type_name in BINARY
-        }
-        decode = self._binary_decoder(binary_names)
-        # one pass each, everything inlined: this loop runs once per element of the snapshot
-        for n in nodes:
-            stamps = n.get("provenance")
-            node = Node(
-                n["id"],
-                n["name"],
-                n["type"],
-                decode(n.get("attrs") or {}),
-                n.get("version", 1),
-                _prov(stamps) if stamps else None,
+        """Load a snapshot written by a DSR server, which only ever holds a valid graph, into this
+        new graph without checking each element again (a late joiner of a 100k-node graph would
+        spend seconds on it). The attribute dicts of the freshly parsed document are taken over,
+        not copied. ``attrs_hook`` (a replica's: binary values by reference) rewrites each
+        element's attributes; then the binary values, base64 in the document, are decoded.
+
+        ``lazy`` (a replica): only the nodes' ids and names are indexed now and each node is
+        built when first used (``LazyNodes``); the edges, their indexes and the RT tree when any
+        edge is first used (``__getattr__``). The document's structure is checked now all the
+        same (ids, names, types, edge ends): a malformed one is refused here, not later."""
+        if self._nodes or self._ids:
+            raise ValueError("restore loads a new, empty graph")
+        decode = self._attrs_decoder(attrs_hook)
+        if not lazy:
+            for n in nodes:
+                node = _node_of(decode, n)
+                self._nodes[node.id] = node
+                self._ids[node.name] = node.id
+            self._next_id = max(self._nodes, default=0) + 1
+            self._add_edges(edges, decode)
+            return
+        ids = list(map(itemgetter("id"), nodes))
+        names = list(map(itemgetter("name"), nodes))
+        set(map(itemgetter("type"), nodes))  # KeyError now for a node without its type
+        self._ids.update(zip(names, ids, strict=True))
+        if len(self._ids) != len(nodes) or len(set(ids)) != len(nodes):
+            raise ValueError("node ids or names repeat")
+        if not all(type(i) is int for i in ids) or not all(type(n) is str for n in names):
+            raise TypeError("node ids must be integers and names strings")
+        ends = set(map(itemgetter("from"), edges)) | set(map(itemgetter("to"), edges))
+        set(map(itemgetter("type"), edges))
+        if not ends <= self._ids.keys():
+            raise KeyError(
+                f"edges join nodes not in the snapshot: {sorted(ends - self._ids.keys())[:3]}"
             )
-            by_id[node.id] = node
-            ids[node.name] = node.id
-        if by_id:
-            self._next_id = max(self._next_id, max(by_id) + 1)
+        self._nodes = LazyNodes(dict(zip(ids, nodes, strict=True)), partial(_node_of, decode))
+        self._next_id = max(ids, default=0) + 1
+        for name in _EDGE_INDEXES:  # built by __getattr__ on first use
+            delattr(self, name)
+        self._pending_edges = (edges, decode)
+
+    def __getattr__(self, name: str) -> Any:
+        # only reached for an attribute the instance lacks: a lazily restored graph's edges
+        pending = self.__dict__.get("_pending_edges")
+        if pending is None or name not in _EDGE_INDEXES:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        self._pending_edges = None
+        self._edges, self._out, self._in, self._by_type = {}, {}, {}, {}
+        self._tree = RtTree()
+        self._add_edges(*pending)
+        return getattr(self, name)
+
+    def _add_edges(self, edges: Sequence[Mapping[str, Any]], decode) -> None:
+        """A trusted snapshot's edges and their indexes (one pass, everything inlined)."""
+        ids = self._ids
         edges_by_key, out, into, by_type = self._edges, self._out, self._in, self._by_type
         for e in edges:
             rt = e.get("rt")
@@ -610,15 +664,25 @@ class Graph:
             if edge.type == RT:
                 self._tree.link(edge)
 
+    def _attrs_decoder(self, hook: Callable[[dict[str, Any]], dict[str, Any]] | None):
+        """attrs -> attrs rewritten by ``hook``, then with their binary values decoded."""
+        decode = self._binary_decoder(
+            {name for name, kind in self.vocabulary.attributes.items() if kind in BINARY}
+        )
+        if hook is None:
+            return decode
+        return lambda attrs: decode(hook(attrs))
+
     def _binary_decoder(self, names: set[str]):
         """attrs -> attrs with the binary values among ``names`` decoded (the same dict)."""
         if not names:
             return lambda attrs: attrs
+        kinds = self.vocabulary.attributes  # not self: a lazy graph keeps this, and no cycle
 
         def decode(attrs: dict[str, Any]) -> dict[str, Any]:
             if not names.isdisjoint(attrs):
                 for name in names.intersection(attrs):
-                    attrs[name] = coerce(self.vocabulary.attributes[name], attrs[name])
+                    attrs[name] = coerce(kinds[name], attrs[name])
             return attrs
 
         return decode

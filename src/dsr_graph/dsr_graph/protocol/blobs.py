@@ -157,7 +157,19 @@ def resolve(
     value (bytes or a read-only array). A reference whose bytes ``lookup`` does not have:
     ``MissingBlob``, or with ``lazy`` a ``BlobRef`` (a replica fetches it when it is read). A
     malformed reference: ``ValueTypeError``."""
+    return _rewrite(doc, _resolver(lookup, lazy))
 
+
+def attrs_resolver(
+    lookup: Callable[[str], Blob | None],
+) -> Callable[[dict[str, Any]], dict[str, Any]]:
+    """``resolve(..., lazy=True)`` for one element's ``attrs`` (the same dict when it holds no
+    reference): a replica's snapshot resolves each element's as it builds it."""
+    resolved = _resolver(lookup, lazy=True)
+    return lambda attrs: resolved(attrs) or attrs
+
+
+def _resolver(lookup: Callable[[str], Blob | None], lazy: bool):
     def resolved(attrs: dict[str, Any]) -> dict[str, Any] | None:
         if not any(isinstance(v, dict) and REF in v for v in attrs.values()):
             return None
@@ -175,7 +187,7 @@ def resolve(
                 new_attrs[name] = _value(ref, data)
         return new_attrs
 
-    return _rewrite(doc, resolved)
+    return resolved
 
 
 class BlobCache:

@@ -77,9 +77,13 @@ class Replica:
         """The server says it has reached ``seq`` (heartbeat): a silent gap becomes visible."""
         self.server_seq = max(self.server_seq, seq)
 
-    def load_snapshot(self, doc: dict[str, Any]) -> list[dict[str, Any]]:
-        """Replace the state with a snapshot, then apply the kept deltas newer than it."""
-        graph, seq = dsr_json.snapshot_from_json(doc, self.vocabulary, trusted=True)
+    def load_snapshot(self, doc: dict[str, Any], attrs_hook=None) -> list[dict[str, Any]]:
+        """Replace the state with a snapshot, then apply the kept deltas newer than it. Its nodes
+        are built as they are first used (``Graph.restore``'s ``lazy``), each element's
+        attributes through ``attrs_hook`` then."""
+        graph, seq = dsr_json.snapshot_from_json(
+            doc, self.vocabulary, trusted=True, lazy=True, attrs_hook=attrs_hook
+        )
         graph.trusted_rt = True
         self.graph = graph
         self.claims = ClaimTable.from_json(doc.get("claims", []))

@@ -33,10 +33,10 @@ from std_msgs.msg import String
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.model.binary import dumps
-from dsr_graph.model.collector import collector_paused
+from dsr_graph.model.collector import collector_paused, settle
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
-from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text, resolve
+from dsr_graph.protocol.blobs import BlobCache, attrs_resolver, extract, refs_in_text, resolve
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.security import Security
@@ -388,8 +388,8 @@ class DsrAgent:
             text = self._from_server(topic_names.GET_SNAPSHOT, response.snapshot_json)
             if text is None:
                 return  # not the server's: the tick asks again
-            with collector_paused():
-                snapshot = loads_object(text, None)
+            with collector_paused():  # restored as trusted: not walked (safe_json.loads)
+                snapshot = loads_object(text, None, walk=False)
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
@@ -399,10 +399,11 @@ class DsrAgent:
     def _load(self, snapshot: dict[str, Any]) -> None:
         self._loading = False
         try:
-            applied = self.replica.load_snapshot(resolve(snapshot, self.blobs.get, lazy=True))
+            applied = self.replica.load_snapshot(snapshot, attrs_resolver(self.blobs.get))
         except Exception as e:  # a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
+        settle()  # the replica is most of this process now (model/collector.py)
         self.resyncs += 1
         self._gap_since = None
         if self.resyncs > 1:  # the first is the start; later ones mean deltas were missed
