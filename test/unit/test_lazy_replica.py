@@ -59,6 +59,7 @@ def test_nothing_is_built_until_used_and_then_it_is_the_eager_graph():
     eager, _ = dsr_json.snapshot_from_json(wire(core), trusted=True)
     assert np.allclose(graph.transform("n3", "n28"), eager.transform("n3", "n28"))
     assert "_edges" in vars(graph) and graph.edge_count() == eager.edge_count() == 30
+    assert type(graph) is Graph  # a plain graph again once its edges are built
     assert [e.type for e in graph.out_edges("flag")] == ["has"]
     assert sorted(n.name for n in graph.nodes()) == sorted(n.name for n in eager.nodes())
     assert graph._nodes.built() == 31

@@ -390,6 +390,7 @@ class DsrAgent:
                 return  # not the server's: the tick asks again
             with collector_paused():  # restored as trusted: not walked (safe_json.loads)
                 snapshot = loads_object(text, None, walk=False)
+                settle()  # its dicts become the replica's (model/collector.py)
         except Exception as e:  # a failed call or a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
