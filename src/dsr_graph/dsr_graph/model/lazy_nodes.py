@@ -11,6 +11,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
+from dsr_graph.model.collector import collector_paused
+
 
 class LazyNodes(dict):
     """Built nodes are the dict's own items; the others wait in ``_raw`` (id -> JSON object)."""
@@ -48,8 +50,11 @@ class LazyNodes(dict):
         return dict.__len__(self)
 
     def _build_all(self) -> None:
-        for node_id in list(self._raw):
-            self[node_id]
+        if self._raw:  # in one go: a walk of every node is how most of them get built
+            build = self._build
+            with collector_paused():
+                dict.update(self, {node_id: build(raw) for node_id, raw in self._raw.items()})
+            self._raw.clear()
 
     def __iter__(self) -> Iterator[int]:
         self._build_all()

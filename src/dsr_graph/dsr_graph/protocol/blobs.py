@@ -171,7 +171,10 @@ def attrs_resolver(
 
 def _resolver(lookup: Callable[[str], Blob | None], lazy: bool):
     def resolved(attrs: dict[str, Any]) -> dict[str, Any] | None:
-        if not any(isinstance(v, dict) and REF in v for v in attrs.values()):
+        for value in attrs.values():  # (a loop: this runs for every element of a snapshot)
+            if type(value) is dict and REF in value:
+                break
+        else:
             return None
         new_attrs = dict(attrs)
         for name, value in attrs.items():

@@ -36,7 +36,14 @@ from dsr_graph.model.binary import dumps
 from dsr_graph.model.collector import collector_paused, settle
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
-from dsr_graph.protocol.blobs import BlobCache, attrs_resolver, extract, refs_in_text, resolve
+from dsr_graph.protocol.blobs import (
+    REF,
+    BlobCache,
+    attrs_resolver,
+    extract,
+    refs_in_text,
+    resolve,
+)
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.security import Security
@@ -395,12 +402,14 @@ class DsrAgent:
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
         self._loading = True  # not asked again while it waits for its binary values' bytes
-        self._take(text, snapshot, self._load)
+        # each element's attributes are looked at for references only when there are some
+        hook = attrs_resolver(self.blobs.get) if REF in text else None
+        self._take(text, snapshot, lambda doc: self._load(doc, hook))
 
-    def _load(self, snapshot: dict[str, Any]) -> None:
+    def _load(self, snapshot: dict[str, Any], hook) -> None:
         self._loading = False
         try:
-            applied = self.replica.load_snapshot(snapshot, attrs_resolver(self.blobs.get))
+            applied = self.replica.load_snapshot(snapshot, hook)
         except Exception as e:  # a bad snapshot: the tick asks again
             self.node.get_logger().warning(f"snapshot failed, will retry: {e!r}")
             return
