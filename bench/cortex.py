@@ -23,7 +23,7 @@ def _attribute_count(g) -> int:
     )
 
 
-def _stamp_everything(g) -> None:
+def stamp_everything(g) -> None:
     """The worst case: every element last written by a delta of its own (a stamp each)."""
     for i, element in enumerate([*g.nodes(), *g.edges()]):
         mark = (1.7e9 + i * 0.01, AGENTS[i % len(AGENTS)])
@@ -41,7 +41,7 @@ def bench_provenance(build_world, sizes: list[int], ops: int) -> dict[str, Any]:
         plain = len(json.dumps(dsr_json.to_json(g, "snapshot", seq=0), separators=(",", ":")))
         gc.collect()
         tracemalloc.start()
-        _stamp_everything(g)
+        stamp_everything(g)
         stamped_bytes, _ = tracemalloc.get_traced_memory()
         tracemalloc.stop()
         stamped = len(json.dumps(dsr_json.to_json(g, "snapshot", seq=0), separators=(",", ":")))

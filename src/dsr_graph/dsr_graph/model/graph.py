@@ -22,6 +22,7 @@ to exactly the state it started from.
 from __future__ import annotations
 
 import sys
+from collections import deque
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from functools import partial
@@ -603,13 +604,13 @@ class Graph:
             return
         ids = list(map(itemgetter("id"), nodes))
         names = list(map(itemgetter("name"), nodes))
-        set(map(itemgetter("type"), nodes))  # KeyError now for a node without its type
+        deque(map(itemgetter("type"), nodes), maxlen=0)  # KeyError now for a node without one
         self._ids.update(zip(names, ids, strict=True))
         if len(self._ids) != len(nodes) or len(set(ids)) != len(nodes):
             raise ValueError("node ids or names repeat")
         if not set(map(type, ids)) <= {int} or not set(map(type, names)) <= {str}:
             raise TypeError("node ids must be integers and names strings")
-        set(map(itemgetter("type"), edges))  # the same for an edge
+        deque(map(itemgetter("type"), edges), maxlen=0)  # the same for an edge
         unknown = set(map(itemgetter("from"), edges)).difference(self._ids)
         unknown |= set(map(itemgetter("to"), edges)).difference(self._ids)
         if unknown:
