@@ -38,6 +38,11 @@ def points(item_key: str, text: str, test=MMSE):
         ("nineteen ninety-nine", ["1999"]),
         ("twenty oh five", ["2005"]),
         ("twenty, twenty five", ["20", "25"]),  # a pause: two numbers
+        ("two thousand um twenty six", ["2026"]),  # a hesitation inside a number: still one
+        ("twenty uh uh twenty five", ["2025"]),
+        ("ninety three um eighty six", ["93", "86"]),
+        ("um twenty six um", ["um", "26", "um"]),  # around a number: left to the scoring
+        ("two thousand, um, twenty six", ["2000", "um", "26"]),  # a pause still ends it
         ("ninety three eighty six", ["93", "86"]),  # not a year
         ("the first of December", ["the", "1st", "of", "december"]),
         ("the twenty-first", ["the", "21st"]),

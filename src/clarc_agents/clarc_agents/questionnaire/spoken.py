@@ -37,8 +37,23 @@ def words(text: str) -> list[str]:
     """The tokens of ``text`` (see the module's docstring)."""
     text = text.lower().replace("\u2019", "'").replace("-", " ")
     tokens = [PAUSE if t in ",.;:!?" else t.strip("'") for t in _TOKEN.findall(text)]
-    out = [t for t in _numbers(t for t in tokens if t) if t != PAUSE]
+    out = [t for t in _numbers(_hesitations_in_numbers_out([t for t in tokens if t])) if t != PAUSE]
     return out
+
+
+# a sound of hesitation between two words of a number does not end it ("two thousand um twenty
+# six" is 2026, as a recogniser writes what the patient said); a pause (a comma) still does
+VOCAL_HESITATIONS = frozenset("um uh er erm hmm mm ah eh".split())
+_NUMBER_WORDS = frozenset([*UNITS, *TENS, *ORDINAL_UNITS, *ORDINAL_TENS, "hundred", "thousand"])
+
+
+def _hesitations_in_numbers_out(tokens: list[str]) -> list[str]:
+    def in_number(k: int) -> bool:
+        before = next((t for t in reversed(tokens[:k]) if t not in VOCAL_HESITATIONS), "")
+        after = next((t for t in tokens[k + 1 :] if t not in VOCAL_HESITATIONS), "")
+        return before in _NUMBER_WORDS and (after in _NUMBER_WORDS or after == "and")
+
+    return [t for k, t in enumerate(tokens) if t not in VOCAL_HESITATIONS or not in_number(k)]
 
 
 def _small(tokens: list[str], k: int) -> tuple[int | None, int, bool]:
