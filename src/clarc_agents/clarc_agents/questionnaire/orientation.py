@@ -8,6 +8,7 @@ from __future__ import annotations
 from datetime import date
 
 from clarc_agents.exceptions import DefinitionError
+from clarc_agents.questionnaire.spoken import suffixed
 
 PLACE_PARTS = ("country", "province", "city", "building", "floor")
 # Where CLARC runs the tests (the paper's hospital); "|" between the ways of saying one part.
@@ -26,11 +27,6 @@ SEASON_WORDS = {"autumn": ("autumn", "fall")}
 WEEKDAYS = ("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday", "Sunday")
 MONTHS = ("January", "February", "March", "April", "May", "June", "July", "August")
 MONTHS += ("September", "October", "November", "December")
-
-
-def ordinal(n: int) -> str:
-    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
-    return f"{n}{suffix}"
 
 
 def place_values(place: tuple[str, ...] | list[str]) -> dict[str, tuple[str, ...]]:
@@ -53,7 +49,7 @@ def date_values(today: date) -> dict[str, tuple[str, ...]]:
     return {
         "year": (str(today.year),),
         "season": SEASON_WORDS.get(season, (season,)),
-        "date": (str(today.day), ordinal(today.day)),
+        "date": (str(today.day), suffixed(today.day)),
         "weekday": (WEEKDAYS[today.weekday()],),
         "month": (MONTHS[today.month - 1],),
     }
