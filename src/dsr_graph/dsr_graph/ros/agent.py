@@ -61,6 +61,7 @@ GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (delt
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
 RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (same id: no double)
+DUPLICATE_PATIENCE = 0.5  # seconds the delta of a request the server calls a duplicate may take
 # seconds without the server's heartbeat (one a second): out of its reach (agents, the monitor)
 SERVER_SILENCE = 2.5
 
@@ -84,7 +85,8 @@ class DsrAgent:
         self._listeners: list[Listener] = []
         self._pending: dict[str, Callable[[Result], None] | None] = {}
         self._unanswered: dict[str, tuple[str, float]] = {}  # id -> (request text, last sent)
-        self._accepted_before: dict[str, int] = {}  # id -> seq, for requests sent again
+        # id -> (seq, when the server said so), for requests sent again it had accepted
+        self._accepted_before: dict[str, tuple[int, float]] = {}
         self._boot = ""  # the server's start, from its heartbeat
         self._heard: float | None = None
         # the last silence of the server's heartbeat: (last beat before it, first beat after)
@@ -272,12 +274,18 @@ class DsrAgent:
                 listener(applied, resynced)
         for delta in applied:
             self._accepted(delta)
-        for ident, seq in list(self._accepted_before.items()):
-            if seq <= self.replica.seq:  # accepted by an earlier send; the replica has it now
-                del self._accepted_before[ident]
-                callback = self._pending.pop(ident, None)
-                if callback is not None:
-                    callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
+        now = time.monotonic()
+        for ident, (seq, told) in list(self._accepted_before.items()):
+            if seq > self.replica.seq:
+                continue  # accepted by an earlier send; the replica has not got there yet
+            # The delta of that earlier send may still be on its way (deltas and rejections are
+            # two topics; a volatile one is never in a snapshot): it answers, if it comes soon.
+            if ident in self._pending and now - told < DUPLICATE_PATIENCE:
+                continue
+            del self._accepted_before[ident]
+            callback = self._pending.pop(ident, None)
+            if callback is not None:
+                callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
 
     def _accepted(self, delta: dict[str, Any]) -> None:
         """The request that made ``delta`` (if it is ours) hears it was accepted."""
@@ -299,7 +307,7 @@ class DsrAgent:
             return
         self._unanswered.pop(ident, None)
         if isinstance(doc.get("duplicate_of"), int):  # an earlier send of it was accepted
-            self._accepted_before[ident] = doc["duplicate_of"]
+            self._accepted_before[ident] = (doc["duplicate_of"], time.monotonic())
             self._deliver([], resynced=False)
             return
         callback = self._pending.pop(ident)
@@ -353,6 +361,8 @@ class DsrAgent:
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
         self._apply_held()
+        if self._accepted_before:
+            self._deliver([], resynced=False)
         self._send_again(older_than=RESEND_AFTER)
         self._flush_outbox()
         now = time.monotonic()
