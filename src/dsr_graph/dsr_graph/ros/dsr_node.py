@@ -73,10 +73,9 @@ class DsrNode(Node):
 
     # rclpy gives every publisher and subscription two QoS-event handlers of its own (a warning
     # on an incompatible QoS or type), and its executor puts them all in the wait set on every
-    # spin: left out, the server took 30.6% of a core under the camera stream instead of 35.9%,
-    # and a quiet change's p50 went from 1.40 to 0.97 ms (bench camera, same hour). A mismatch is
-    # still reported: by the other end (ros2 topic echo, any rclpy or rclcpp node keeps its own)
-    # and by `ros2 topic info -v`.
+    # spin: left out, the server took 30.6% of a core under the camera stream instead of 35.9%
+    # (bench camera, same hour). A mismatch is still reported: by the other end (ros2 topic
+    # echo, any rclpy or rclcpp node keeps its own) and by `ros2 topic info -v`.
     def create_publisher(self, msg_type, topic, qos_profile, **kwargs):
         kwargs.setdefault("event_callbacks", PublisherEventCallbacks(**NO_DEFAULT_EVENTS))
         return super().create_publisher(msg_type, topic, qos_profile, **kwargs)
