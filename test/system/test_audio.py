@@ -6,7 +6,7 @@ each answer window end to end with audio, the mumbled first try of dressing not 
 silences, the touches and the patient walking away. A real recogniser may not understand an
 answer at once (then the item is asked again): more tries than in text mode are allowed, never
 a wrong answer. Faster than real time where sound allows: --scale 0.7 and the robot speaking at
-300 words a minute (the patient at its own pace)."""
+450 words a minute, espeak-ng's fastest (the patient at its own pace)."""
 
 import re
 import wave
@@ -27,7 +27,7 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
     sound = "voice: {name: en-gb, rate: 160, pitch: 40}\nroom: {noise: white, snr_db: 25}\n"
     scenario.write_text(text.replace("items:", sound + "items:", 1))
     run, [stored] = launch_scenario(
-        scenario, tmp_path, "--audio", "--scale", "0.7", "--voice-rate", "300", "--timeout", "480"
+        scenario, tmp_path, "--audio", "--scale", "0.7", "--voice-rate", "450", "--timeout", "480"
     )
     expected = EXPECTED["default.yaml"]
     for key in ("patient", "total", "band", "unanswered", "person_lost"):
