@@ -470,7 +470,8 @@ def late_join(work: Path, domain: int, tag: str, text: str) -> tuple[float, floa
         from dsr_msgs.srv import GetSnapshot
 
         client = ros.node.create_client(GetSnapshot, "dsr/get_snapshot")
-        ros.call(client, GetSnapshot.Request(), 300, "the server to load")  # the server is up
+        # the server is up, and has encoded the snapshot as joiners ask for it (DsrAgent)
+        ros.call(client, GetSnapshot.Request(layout="columns"), 300, "the server to load")
         server_rss = rss_kib(server.pid)
         joins = []
         for _ in range(3):  # the median of three joiners, one after the other

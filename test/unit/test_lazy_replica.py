@@ -1,6 +1,8 @@
 """A replica restores a snapshot lazily (``Graph.restore(lazy=True)``): nothing is built until
 used, and once used it is the graph an eager restore gives; a malformed snapshot is still refused
-when it is loaded; the snapshot's JSON is read without the walk every other message gets."""
+when it is loaded; the snapshot's JSON is read without the walk every other message gets. Each
+in both layouts of dsr/get_snapshot: the document of FORMAT.md, and column by column (what
+DsrAgent asks for: each element's fields past its identity parsed only when it is built)."""
 
 import gc
 import json
@@ -39,15 +41,22 @@ def server(n=30):
     return core
 
 
-def wire(core):
-    """The snapshot as a joiner reads it off the wire."""
-    return loads_object(json.dumps(core.snapshot()), None, walk=False)
+def wire(core, layout=""):
+    """The snapshot as a joiner reads it off the wire, in ``layout`` ("" or "columns")."""
+    doc = core.snapshot()
+    if layout == dsr_json.COLUMNS:
+        doc = dsr_json.to_columns(doc, json.dumps)
+    return loads_object(json.dumps(doc), None, walk=False)
 
 
-def test_nothing_is_built_until_used_and_then_it_is_the_eager_graph():
+LAYOUTS = pytest.mark.parametrize("layout", ["", dsr_json.COLUMNS])
+
+
+@LAYOUTS
+def test_nothing_is_built_until_used_and_then_it_is_the_eager_graph(layout):
     core = server()
     replica = Replica()
-    replica.load_snapshot(wire(core))
+    replica.load_snapshot(wire(core, layout))
     graph = replica.graph
     assert isinstance(graph._nodes, LazyNodes) and graph._nodes.built() == 0
     assert "_edges" not in vars(graph)  # the edges' indexes wait for an edge to be used
@@ -66,10 +75,11 @@ def test_nothing_is_built_until_used_and_then_it_is_the_eager_graph():
     assert dsr_json.to_json(graph, "snapshot", seq=1) == dsr_json.to_json(eager, "snapshot", seq=1)
 
 
-def test_deltas_apply_to_a_lazy_replica_as_to_an_eager_one():
+@LAYOUTS
+def test_deltas_apply_to_a_lazy_replica_as_to_an_eager_one(layout):
     core = server()
     replica = Replica()
-    replica.load_snapshot(wire(core))
+    replica.load_snapshot(wire(core, layout))
     ops = [
         {"op": "set_node_attrs", "node": "n9", "attrs": {"level": 99}},
         {"op": "delete_node", "node": "flag"},
@@ -115,6 +125,58 @@ def test_a_malformed_snapshot_is_refused_when_loaded_and_the_replica_kept(break_
     assert replica.graph is before and replica.graph.node("n3").attrs == {"level": 3}
 
 
+def rest(item):
+    return json.dumps({k: v for k, v in item.items() if k not in ("id", "name", "type")})
+
+
+@pytest.mark.parametrize(
+    ("break_it", "fragment"),
+    [
+        (lambda doc: doc["edges"]["to"].__setitem__(0, "ghost"), "ghost"),
+        (lambda doc: doc["nodes"]["name"].__setitem__(2, doc["nodes"]["name"][1]), "repeat"),
+        (lambda doc: doc["nodes"]["type"].pop(), "one length"),
+        (lambda doc: doc["edges"].pop("rest"), "rest"),
+        (lambda doc: doc["nodes"]["id"].__setitem__(0, "1"), "integers"),
+        (lambda doc: doc["edges"]["type"].__setitem__(0, 5), "strings"),
+        (lambda doc: doc.__setitem__("nodes", [1, 2]), "nodes"),
+        (lambda doc: doc.__setitem__("units", {"length": "mm"}), "metres"),
+    ],
+)
+def test_a_malformed_columnar_snapshot_is_refused_when_loaded_and_the_replica_kept(
+    break_it, fragment
+):
+    replica = Replica()
+    replica.load_snapshot(wire(server(), dsr_json.COLUMNS))
+    before = replica.graph
+    doc = wire(server(), dsr_json.COLUMNS)
+    break_it(doc)
+    with pytest.raises(FormatError, match=fragment):
+        replica.load_snapshot(doc)
+    assert replica.graph is before and replica.graph.node("n3").attrs == {"level": 3}
+
+
+def test_columns_hold_the_snapshot_whole_and_read_back_as_its_rows():
+    snapshot = json.loads(json.dumps(server().snapshot()))
+    columns = dsr_json.to_columns(snapshot, json.dumps)
+    assert columns["layout"] == "columns" and columns["claims"] == snapshot["claims"]
+    assert columns["nodes"]["name"][:2] == ["world", "n1"] and len(columns["edges"]["rest"]) == 30
+    assert json.loads(columns["edges"]["rest"][0]).keys() == {
+        "attrs",
+        "rt",
+        "version",
+        "provenance",
+    }
+    assert dsr_json.rows_of_columns(json.loads(json.dumps(columns))) == snapshot
+    # read without trust (as rows, every element checked) it is the same graph
+    checked, _ = dsr_json.snapshot_from_json(json.loads(json.dumps(columns)))
+    assert as_json(checked) == as_json(dsr_json.snapshot_from_json(snapshot)[0])
+    for bad_rest, fragment in (("[1]", "object"), ("{", "rest"), (7, "object")):
+        broken = json.loads(json.dumps(columns))
+        broken["nodes"]["rest"][3] = bad_rest
+        with pytest.raises(FormatError, match=fragment):
+            dsr_json.snapshot_from_json(broken)
+
+
 def test_a_snapshot_is_read_without_the_walk_but_within_orjsons_limits():
     deep = '{"a": ' + "[" * 100 + "]" * 100 + "}"
     with pytest.raises(JsonRefused, match="deeper"):
@@ -145,7 +207,8 @@ def test_lazy_nodes_behave_as_the_dict_they_stand_for():
     assert max(nodes) == 5 and len(nodes) == 2 and nodes.built() == 2
 
 
-def test_a_replaced_replica_graph_is_freed_without_the_collector():
+@LAYOUTS
+def test_a_replaced_replica_graph_is_freed_without_the_collector(layout):
     """The agent moves a loaded snapshot out of the collector's reach (collector.settle): its
     graph must hold no reference cycle, or a resync would leak the old one (the default
     vocabulary declares binary attributes: the decoder a lazy graph keeps is built)."""
@@ -153,11 +216,11 @@ def test_a_replaced_replica_graph_is_freed_without_the_collector():
     replica = Replica()
     gc.disable()
     try:
-        replica.load_snapshot(wire(core))
+        replica.load_snapshot(wire(core, layout))
         replica.graph.node("n3")
         replica.graph.transform("world", "n9")
         old = weakref.ref(replica.graph)
-        replica.load_snapshot(wire(core))
+        replica.load_snapshot(wire(core, layout))
         assert old() is None
     finally:
         gc.enable()

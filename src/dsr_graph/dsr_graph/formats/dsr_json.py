@@ -13,20 +13,22 @@ Transactions share the header; see ``transaction.py``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from operator import attrgetter
 from typing import Any
 
 from dsr_graph.exceptions import FormatError, Violation
-from dsr_graph.formats import units
+from dsr_graph.formats import safe_json, units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import provenance, rigid
 from dsr_graph.model.collector import collector_paused
-from dsr_graph.model.graph import Graph
+from dsr_graph.model.graph import SNAPSHOT_COLUMNS, Graph
 from dsr_graph.model.vocabulary import Vocabulary
 
 FORMAT = "dsr-graph"
 VERSION = 1
 KINDS = ("world", "snapshot")
+COLUMNS = "columns"  # a snapshot's "layout" column by column (to_columns)
 
 
 def is_dsr_document(doc: Any) -> bool:
@@ -76,6 +78,52 @@ def to_json(graph: Graph, kind: str = "world", seq: int | None = None) -> dict[s
     return doc
 
 
+def to_columns(doc: dict[str, Any], encode: Callable[[dict[str, Any]], str]) -> dict[str, Any]:
+    """A snapshot document (``to_json``'s) column by column, as a replica joining late asks
+    for it (``dsr/get_snapshot``'s ``layout``; docs/FORMAT.md, "Columnar snapshots"): the same
+    header with ``"layout": "columns"``, and "nodes" and "edges" each an object of lists of one
+    length: ``id``, ``name``, ``type`` and ``rest`` for nodes, ``from``, ``to``, ``type`` and
+    ``rest`` for edges, ``rest`` the JSON text (``encode``) of the element's other fields."""
+    out = {key: value for key, value in doc.items() if key not in SNAPSHOT_COLUMNS}
+    out["layout"] = COLUMNS
+    for group, keys in SNAPSHOT_COLUMNS.items():
+        items = doc.get(group, [])
+        identity = keys[:3]
+        columns = {key: [item[key] for item in items] for key in identity}
+        columns["rest"] = [
+            encode({key: value for key, value in item.items() if key not in identity})
+            for item in items
+        ]
+        out[group] = columns
+    return out
+
+
+def rows_of_columns(doc: dict[str, Any], parse=safe_json.loads) -> dict[str, Any]:
+    """A columnar snapshot as ``to_json`` writes it (one object per element), or FormatError."""
+    out = {key: value for key, value in doc.items() if key not in SNAPSHOT_COLUMNS}
+    out.pop("layout")
+    for group, keys in SNAPSHOT_COLUMNS.items():
+        columns = doc.get(group, {})
+        if not isinstance(columns, dict) or not all(
+            isinstance(columns.get(key), list) for key in keys
+        ):
+            raise FormatError(f"snapshot: columnar {group!r} must hold the lists {list(keys)}")
+        if len({len(columns[key]) for key in keys}) != 1:
+            raise FormatError(f"snapshot: the {group} columns are not of one length")
+        rows = []
+        for i, values in enumerate(zip(*(columns[key] for key in keys), strict=True)):
+            try:
+                item = parse(values[3]) if isinstance(values[3], str) else None
+            except ValueError as e:
+                raise FormatError(f"snapshot: {group}[{i}] rest: {e}") from None
+            if not isinstance(item, dict):
+                raise FormatError(f"snapshot: {group}[{i}] rest must be a JSON object's text")
+            item.update(zip(keys[:3], values[:3], strict=True))
+            rows.append(item)
+        out[group] = rows
+    return out
+
+
 def _header(doc: Any, source: str) -> str:
     if not isinstance(doc, dict):
         raise FormatError(f"{source}: top level must be a JSON object")
@@ -88,8 +136,13 @@ def _header(doc: Any, source: str) -> str:
     kind = doc.get("kind")
     if kind not in KINDS:
         raise FormatError(f'{source}: "kind" must be one of {list(KINDS)}, got {kind!r}')
+    layout = doc.get("layout", "")
+    if layout not in ("", COLUMNS):
+        raise FormatError(f'{source}: "layout" must be "{COLUMNS}" when given, got {layout!r}')
     for key in ("nodes", "edges"):
-        if not isinstance(doc.get(key, []), list):
+        if layout and not isinstance(doc.get(key), dict):
+            raise FormatError(f'{source}: columnar "{key}" must be an object of lists')
+        if not layout and not isinstance(doc.get(key, []), list):
             raise FormatError(f'{source}: "{key}" must be a list')
     return kind
 
@@ -163,6 +216,14 @@ def _read_provenance(builder: WorldBuilder, element, item: dict, label: str, at:
         builder.report("malformed", label, str(e).removeprefix(f"{label}: "), at)
 
 
+def _trusted_json(text: str) -> Any:
+    return safe_json.loads(text, max_bytes=None, walk=False)
+
+
+def _element_json(text: str) -> Any:
+    return safe_json.loads(text, max_bytes=None)
+
+
 def snapshot_from_json(
     doc: Any,
     vocabulary: Vocabulary | None = None,
@@ -172,7 +233,16 @@ def snapshot_from_json(
 ) -> tuple[Graph, int]:
     """A snapshot must load whole: any violation is a ``FormatError`` (it came from a valid graph).
     ``trusted``: it comes straight from a DSR server (a replica's resync), so its elements are not
-    checked again, only its structure; then ``lazy`` and ``attrs_hook`` as ``Graph.restore``."""
+    checked again, only its structure; then ``lazy`` and ``attrs_hook`` as ``Graph.restore``.
+    A columnar one (``to_columns``) is read as it is when trusted and lazy, else as rows."""
+    columnar = isinstance(doc, dict) and doc.get("layout") == COLUMNS
+    if columnar and _header(doc, "snapshot") != "snapshot":
+        raise FormatError('snapshot: "kind" must be "snapshot"')
+    if columnar and units.length_unit(doc, "snapshot") != units.METRES:
+        raise FormatError('snapshot: a columnar snapshot is in metres ("units")')
+    if columnar and not (trusted and lazy):
+        doc = rows_of_columns(doc, _trusted_json if trusted else _element_json)
+        columnar = False
     if trusted:
         if _header(doc, "snapshot") != "snapshot":
             raise FormatError('snapshot: "kind" must be "snapshot"')
@@ -180,7 +250,10 @@ def snapshot_from_json(
         graph = Graph(vocabulary)
         try:
             with collector_paused():
-                graph.restore(doc.get("nodes", []), doc.get("edges", []), lazy, attrs_hook)
+                if columnar:
+                    graph.restore_columns(doc["nodes"], doc["edges"], _trusted_json, attrs_hook)
+                else:
+                    graph.restore(doc.get("nodes", []), doc.get("edges", []), lazy, attrs_hook)
         except (KeyError, TypeError, ValueError) as e:
             raise FormatError(f"snapshot is not a valid graph: {e!r}") from e
     else:

@@ -31,6 +31,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from dsr_graph.exceptions import TimedOutError
+from dsr_graph.formats.dsr_json import COLUMNS
 from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.collector import collector_paused, settle
@@ -392,7 +393,8 @@ class DsrAgent:
 
     def _request_snapshot(self) -> None:
         self._snapshot_asked = time.monotonic()
-        future = self._snapshot_client.call_async(GetSnapshot.Request())
+        # column by column: the elements it does not use are never parsed (dsr_json.to_columns)
+        future = self._snapshot_client.call_async(GetSnapshot.Request(layout=COLUMNS))
         self._snapshot_future = future
         future.add_done_callback(self._on_snapshot)
 

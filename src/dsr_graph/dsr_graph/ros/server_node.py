@@ -64,6 +64,7 @@ from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
 from dsr_graph.exceptions import KeystoreError, LookupFailed, StateMismatch, Violation
+from dsr_graph.formats import dsr_json
 from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
@@ -246,7 +247,8 @@ class DsrServer(DsrNode):
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
         self._pose_pubs: dict[str, Any] = {}
-        self._snapshot_cache = ((-1, -1), -1, "", {})  # (version, seq, signed text, blobs)
+        # layout -> (version, seq, signed text, blobs)
+        self._snapshot_cache: dict[str, tuple[Any, int, str, dict]] = {}
         self._missing_since: dict[str, float] = {}
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
@@ -644,15 +646,27 @@ class DsrServer(DsrNode):
         return response
 
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
-        # Late joiners often come together (a launch): encode each state's snapshot once.
-        if self._snapshot_cache[0] != self._version():
+        layout = request.layout
+        if layout not in ("", dsr_json.COLUMNS):
+            # the srv has no error field: an empty snapshot_json says nothing was given
+            self.get_logger().warning(
+                f"dsr/get_snapshot: unknown layout {layout!r} ('' or {dsr_json.COLUMNS!r})",
+                throttle_duration_sec=10.0,
+            )
+            response.seq = self.core.seq
+            return response
+        # Late joiners often come together (a launch): encode each state's snapshot once a layout.
+        version = self._version()
+        if self._snapshot_cache.get(layout, (None,))[0] != version:
             # large binary values (a camera's images) by reference, their bytes on dsr/blobs
             with collector_paused():
                 snapshot, blobs = extract(self.core.snapshot(), known=self.blobs.digest_of_kept)
+                if layout == dsr_json.COLUMNS:
+                    snapshot = dsr_json.to_columns(snapshot, _element_text)
                 text = orjson.dumps(snapshot, default=to_json_value).decode()
             signed = self.security.sign(topic_names.GET_SNAPSHOT, text)
-            self._snapshot_cache = (self._version(), self.core.seq, signed, blobs)
-        _, response.seq, response.snapshot_json, blobs = self._snapshot_cache
+            self._snapshot_cache[layout] = (version, self.core.seq, signed, blobs)
+        _, response.seq, response.snapshot_json, blobs = self._snapshot_cache[layout]
         for digest, data in blobs.items():  # for the joiner, which holds the snapshot for them
             self.blobs.put(digest, data, verified=True)
             self._blob_pub.publish(blob_message(digest, data))
@@ -662,6 +676,10 @@ class DsrServer(DsrNode):
         """What the graph holds now: its seq, and the volatile changes since it started (they
         change it without a seq of their own)."""
         return self.core.seq, self.core.volatile_count
+
+
+def _element_text(item: dict[str, Any]) -> str:
+    return orjson.dumps(item, default=to_json_value).decode()
 
 
 main = main_for(DsrServer)
