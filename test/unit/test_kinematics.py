@@ -113,6 +113,24 @@ def test_the_cache_follows_moves():
     assert np.allclose(g.transform("robot", "camera")[:3, 3], [-5, 7, 0])
 
 
+angle = st.floats(-math.pi, math.pi, allow_nan=False)
+
+
+@settings(max_examples=300, deadline=None)
+@given(a=angle, b=angle, c=angle, lock=st.sampled_from([None, math.pi / 2, -math.pi / 2]))
+def test_the_quaternion_is_the_rotation_gimbal_lock_and_half_turns_included(a, b, c, lock):
+    """rigid.quaternion_wxyz goes through the Euler angles (cheaper than an eigendecomposition):
+    the rotation it gives back is the matrix's, with w >= 0, also where b = +-pi/2."""
+    m = rigid.from_translation_euler([0, 0, 0], [a, b if lock is None else lock, c])
+    q = rigid.quaternion_wxyz(m)
+    assert q[0] >= 0 and math.isclose(sum(v * v for v in q), 1.0, abs_tol=1e-12)
+    assert np.allclose(rigid.from_translation_quaternion([0, 0, 0], q), m, atol=1e-12)
+    for half_turn in ([math.pi, 0, 0], [0, math.pi, 0], [0, 0, math.pi]):
+        m = rigid.from_translation_euler([0, 0, 0], half_turn)
+        q = rigid.quaternion_wxyz(m)
+        assert np.allclose(rigid.from_translation_quaternion([0, 0, 0], q), m, atol=1e-12)
+
+
 def test_describe_gives_matrix_translation_and_a_unit_quaternion():
     m = rigid.from_translation_euler([1, 2, 3], [0, 0, math.pi])
     d = rigid.pose_json(m)

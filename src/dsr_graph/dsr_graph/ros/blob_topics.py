@@ -48,18 +48,14 @@ class BlobInbox:
                 Blob, topic, self._on_blob, qos_blobs()
             )
 
-    def listen_to_agents(self, period: float = 0.2) -> None:
-        """Subscribe to every agent's ``dsr/blobs/<node name>``, now and as they appear."""
+    def listen_to_agents(self, topics: list[tuple[str, list[str]]]) -> None:
+        """Subscribe to every agent's ``dsr/blobs/<node name>`` among ``topics`` (the ROS graph's
+        names and types: the server looks once for these and its request topics)."""
         prefix = self.node.resolve_topic_name(BLOBS) + "/"
-
-        def discover() -> None:
-            for topic, types in self.node.get_topic_names_and_types():
-                owner = topic[len(prefix) :]
-                if topic.startswith(prefix) and "/" not in owner and types == [BLOB_TYPE]:
-                    self.listen(topic)
-
-        discover()
-        self.node.create_timer(period, discover)
+        for topic, types in topics:
+            owner = topic[len(prefix) :]
+            if topic.startswith(prefix) and "/" not in owner and types == [BLOB_TYPE]:
+                self.listen(topic)
 
     def _on_blob(self, msg: Blob) -> None:
         size = len(msg.data)

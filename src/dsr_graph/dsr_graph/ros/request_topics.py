@@ -34,7 +34,7 @@ class RequestTopics:
         self,
         node,
         on_batch: Batch,
-        discovery_period: float = 0.2,
+        discovery_period: float | None = 0.2,
         on_presence: Callable[[], None] = lambda: None,
         trust_graph: bool = True,
         ready: Callable[[str], bool] = lambda text: True,
@@ -54,15 +54,22 @@ class RequestTopics:
         self._held: dict[str, tuple[float, list[str]]] = {}  # topic -> (since, texts)
         self._subscribe(self.shared, None)
         self.discover()
-        node.create_timer(discovery_period, self.discover)
-        node.create_timer(0.05, self.release_held)
+        if discovery_period is not None:  # None: the owner calls discover (server_node)
+            node.create_timer(discovery_period, self.discover)
+        # armed only while requests are held: no wake-up 20 times a second for nothing
+        self._release_timer = node.create_timer(0.05, self.release_held)
+        self._release_timer.cancel()
 
     @property
     def topics(self) -> list[str]:
         return sorted(self._subs)
 
-    def discover(self) -> None:
-        for topic, types in self.node.get_topic_names_and_types():
+    def discover(self, topics: list[tuple[str, list[str]]] | None = None) -> None:
+        """Subscribe to the request topics of agents that appeared, among ``topics`` (the ROS
+        graph's names and types; None: asked now)."""
+        if topics is None:
+            topics = self.node.get_topic_names_and_types()
+        for topic, types in topics:
             if not topic.startswith(self.prefix) or topic in self._subs or topic in self._ignored:
                 continue
             owner = topic[len(self.prefix) :]
@@ -86,11 +93,13 @@ class RequestTopics:
                 topic,
                 lambda msg: None,  # the requests come through the stream subscription
                 qos_presence(),
+                # Its liveliness only: a foreign publisher offering no lease does not match the
+                # watch, and needs not (its requests come through the stream), so no warning of
+                # an incompatible QoS; and rclpy's default handlers would be two more entities
+                # in every wait of the executor, per agent (DsrNode.create_publisher).
                 event_callbacks=SubscriptionEventCallbacks(
                     liveliness=lambda info, t=topic: self._on_liveliness(t, info),
-                    # a foreign publisher offering no lease does not match the watch, and
-                    # needs not (its requests come through the stream): no warning for it
-                    incompatible_qos=lambda info: None,
+                    use_default_callbacks=False,
                 ),
             )
 
@@ -118,19 +127,27 @@ class RequestTopics:
     def _deliver(self, topic: str, texts: list[str], since: float) -> None:
         waited = time.monotonic() - since
         if waited < HOLD and not all(self.ready(text) for text in texts):
-            self._held[topic] = (since, texts)
+            self._hold(topic, since, texts)
             return
         verdict = self.sender(topic) if self.trust_graph else NO_VERDICT
         if waited < verdict.pending:
-            self._held[topic] = (since, texts)
+            self._hold(topic, since, texts)
             return
         self._held.pop(topic, None)
         self.on_batch(texts, verdict, topic)
 
+    def _hold(self, topic: str, since: float, texts: list[str]) -> None:
+        self._held[topic] = (since, texts)
+        if self._release_timer.is_canceled():
+            self._release_timer.reset()
+
     def release_held(self) -> None:
-        """Held requests whose wait is over go on (called as what they wait for arrives)."""
+        """Held requests whose wait is over go on (called as what they wait for arrives, and
+        every 50 ms while some are held)."""
         for topic, (since, texts) in list(self._held.items()):
             self._deliver(topic, texts, since)
+        if not self._held:
+            self._release_timer.cancel()
 
     def owner_of(self, topic: str) -> str | None:
         """The node name a per-agent request topic belongs to (None: the shared topic)."""

@@ -105,6 +105,7 @@ from dsr_msgs.srv import GetAttribute, GetBlob, GetNode, GetSnapshot, GetTransfo
 ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same topic
 BLOB_CACHE_BYTES = 256 * 1024 * 1024  # binary values' bytes the server keeps, newest first
 MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable, and costly)
+DISCOVERY_PERIOD = 0.2  # seconds between looks at the ROS graph for agents that appeared
 
 
 class DsrServer(DsrNode):
@@ -346,6 +347,7 @@ class DsrServer(DsrNode):
             trust_graph=self.security.mode != ENFORCE,
             # a request is held (a few seconds at most) until the bytes it references came
             ready=lambda text: all(d in self.blobs for d in refs_in_text(text)),
+            discovery_period=None,  # on_discover
         )
         self.blob_inbox = BlobInbox(
             self,
@@ -353,7 +355,8 @@ class DsrServer(DsrNode):
             on_blob=lambda digest: self.requests.release_held(),
             max_bytes=self.core.max_value_bytes,
         )
-        self.blob_inbox.listen_to_agents()
+        self.on_discover()
+        self.create_timer(DISCOVERY_PERIOD, self.on_discover)
         self._publish_poses = bool(param(self, "publish_poses"))
         self._tf = TfPublisher(self, self.core.graph)
         self._markers = self.create_publisher(MarkerArray, topic_names.MARKERS, qos_latched())
@@ -507,6 +510,12 @@ class DsrServer(DsrNode):
                     self._publish_pose(name)
         if self.store.needs_compaction():
             self.store.write_snapshot(self.core.durable_snapshot())
+
+    def on_discover(self) -> None:
+        """Agents that appeared: their request and blob topics, from one look at the ROS graph."""
+        topics = self.get_topic_names_and_types()
+        self.requests.discover(topics)
+        self.blob_inbox.listen_to_agents(topics)
 
     # ------------------------------------------------------------------ poses
     def _publish_pose(self, name: str) -> None:
