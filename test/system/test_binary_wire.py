@@ -1,6 +1,7 @@
 """Large binary values through a running server (protocol/blobs.py): a camera frame written by
-one agent reaches a replica that asks for the bytes as equal arrays, while the JSON on
-dsr/deltas names them by digest (a few hundred bytes, not megabytes of base64); a replica that
+one agent reaches a replica that asks for the bytes as equal arrays, from the agent's own
+dsr/blobs/<name> (the server does not send them again), while the JSON on dsr/deltas names
+them by digest (a few hundred bytes, not megabytes of base64); a replica that
 does not ask holds a BlobRef; a request whose bytes never come, or come forged, is refused by
 name and changes nothing."""
 
@@ -42,7 +43,16 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     raw = ros.session.node.create_subscription(
         String, topic_names.DELTAS, lambda m: texts.append(m.data), qos_stream()
     )
-    wait_for(lambda: raw.get_publisher_count() > 0, 10, "dsr/deltas matched", ros.session)
+    resent = []
+    server_blobs = ros.session.node.create_subscription(
+        Blob, topic_names.BLOBS, lambda m: resent.append(m.digest), qos_blobs()
+    )
+    wait_for(
+        lambda: raw.get_publisher_count() > 0 and server_blobs.get_publisher_count() > 0,
+        10,
+        "dsr/deltas and dsr/blobs matched",
+        ros.session,
+    )
     insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
     assert send_and_wait(ros, writer, {"ops": [insert]}).accepted
     for k in range(3):  # a few frames, each told apart by its first pixel
@@ -70,6 +80,7 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     wait_for(lambda: sum("cam_rgb" in t for t in texts) == 3, 10, "3 deltas", ros.session)
     frames = [t for t in texts if "cam_rgb" in t]
     assert len(frames) == 3 and max(len(t) for t in frames) < 4000  # no base64 megabytes
+    assert resent == []  # the agent's bytes went out once, on its own topic
 
 
 def test_a_request_whose_bytes_never_come_or_come_forged_is_refused_by_name(ros):

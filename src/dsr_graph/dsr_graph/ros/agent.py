@@ -9,7 +9,9 @@ to send transactions and hear whether they were accepted.
 Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a node and fails
 with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
 
-Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, and dsr/blobs with ``blobs=True``.
+Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, and with ``blobs=True`` dsr/blobs and
+every agent's dsr/blobs/<node name> (found as they appear, every 0.2 s): the bytes of a value
+an agent sent come from the agent itself, the server's own (a snapshot's) on dsr/blobs.
 Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/blobs/<node name> (the
 bytes of the large binary values its requests reference, protocol/blobs.py), dsr/alarms (a
 message the server did not sign, at most one per topic every 5 s).
@@ -58,6 +60,7 @@ from dsr_msgs.srv import GetSnapshot
 
 AGENT_BLOB_BYTES = 64 * 1024 * 1024  # binary values' bytes an agent keeps, newest first
 BLOB_PATIENCE = 0.5  # seconds a delta waits for its binary values' bytes (then: a BlobRef)
+BLOB_DISCOVERY_PERIOD = 0.2  # seconds between looks for agents' dsr/blobs/<node name> (blobs=True)
 GAP_PATIENCE = 0.3  # seconds a hole may last before a snapshot is fetched (deltas may be in flight)
 SNAPSHOT_RETRY = 1.0  # seconds before an unanswered snapshot request is sent again (server restart)
 LOUD_RULES = ("policy", "identity")  # refusals logged even when the sender asked no verdict
@@ -128,6 +131,8 @@ class DsrAgent:
         if self.wants_blobs:  # subscribed before the deltas: a blob is taken before its delta
             self._blob_inbox = BlobInbox(node, self.blobs, on_blob=lambda d: self._apply_held())
             self._blob_inbox.listen(topic_names.BLOBS)
+            self._listen_to_agents()
+            node.create_timer(BLOB_DISCOVERY_PERIOD, self._listen_to_agents)
         self._delta_sub = node.create_subscription(
             String, topic_names.DELTAS, self._on_delta, qos_stream()
         )
@@ -141,6 +146,9 @@ class DsrAgent:
             )
         node.create_timer(0.05, self._tick)
         self._request_snapshot()
+
+    def _listen_to_agents(self) -> None:
+        self._blob_inbox.listen_to_agents(self.node.get_topic_names_and_types())
 
     def add_listener(self, listener: Listener) -> None:
         self._listeners.append(listener)

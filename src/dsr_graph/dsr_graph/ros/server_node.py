@@ -29,7 +29,11 @@ Subscriptions:
         (protocol/identity.py); the delta's "agent" is that node's fully qualified name.
     dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
         while exactly one node publishes on it; otherwise each request gets a rejection.
+    dsr/blobs/<node name> (dsr_msgs/Blob): the bytes of the binary values an agent's requests
+        reference (protocol/blobs.py).
 Publishers:
+    dsr/blobs (dsr_msgs/Blob): bytes no agent sent, before the delta or snapshot that needs them
+        (a snapshot's; the bytes of an agent's values went out on its dsr/blobs/<node name>).
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order (a
         volatile one, sensor data, carries the seq it follows: protocol/volatility.py).
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
@@ -46,7 +50,8 @@ Publishers:
         RT parent's frame (header.frame_id = the parent's name), again on every change.
 Services:
     dsr/get_attribute (dsr_msgs/GetAttribute), dsr/get_node (dsr_msgs/GetNode),
-    dsr/get_snapshot (dsr_msgs/GetSnapshot), dsr/get_transform (dsr_msgs/GetTransform: now, or
+    dsr/get_snapshot (dsr_msgs/GetSnapshot: the document, or column by column for a replica),
+    dsr/get_transform (dsr_msgs/GetTransform: now, or
     at a past time from the RT history), dsr/get_blob (dsr_msgs/GetBlob: a binary value's
     bytes, for a replica that holds only its digest).
 """
@@ -501,8 +506,13 @@ class DsrServer(DsrNode):
         for delta in deltas:
             doc, blobs = extract(delta, known=self.blobs.digest_of_kept)
             for digest, data in blobs.items():  # the bytes first: a reader holds the delta
+                # Bytes an agent sent went to every reader that wants them on the agent's own
+                # dsr/blobs/<name>: sent again here they cost the server a 2 MB copy a camera
+                # frame (bench camera). Only bytes the wire has not carried yet go out.
+                carried = digest in self.blobs
                 self.blobs.put(digest, data, verified=True)
-                self._blob_pub.publish(blob_message(digest, data))
+                if not carried:
+                    self._blob_pub.publish(blob_message(digest, data))
             self._publish(self._deltas, topic_names.DELTAS, doc)
             self._tf.on_delta(self.core.graph, delta)
             if self._publish_poses:
