@@ -1,7 +1,8 @@
 """Answers understood as people say them (questionnaire/spoken.py, questionnaire/answers.py;
 docs/FORMAT.md "How answers are understood"): case and punctuation never matter; numbers in
 words or digits, ordinals and years; an option chosen by number or position; a hedged answer
-gets no credit for that part, nor does a value said among rivals of its kind; the narrated
+gets no credit for that part, nor does a value said among rivals of its kind, but a value taken
+back ("Tuesday, no, Monday") is replaced by the one after it; the narrated
 serial sevens are scored on the numbers given as answers; the three-stage command scores each
 stage done in order; "I don't know" and fillers are never an option."""
 
@@ -91,6 +92,24 @@ def test_repetition_ignores_case_and_punctuation(said):
 )
 def test_orientation_in_time_as_people_say_the_date(said, expected):
     assert points("orientation_time", said) == expected
+
+
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("orientation_time", "Tuesday, no, Monday, the first of December, 2025, winter", 5),
+        ("orientation_time", "Monday, sorry, Tuesday, the first of December, 2025, winter", 4),
+        ("orientation_time", "the second, I mean the first, December, 2025, winter, Monday", 5),
+        ("orientation_time", "twenty twenty four, no wait, twenty twenty five, winter", 2),
+        ("orientation_time", "autumn, no, I mean, winter, December", 2),
+        ("orientation_time", "Monday, no, December", 2),  # not a value of the same kind
+        ("attention", "93, 86, 78, no, 79, 72, 65", 5),
+        ("attention", "ninety three, eighty six, seventy nine, sorry, eighty, 73", 3),
+        ("repetition", "No ifs, ands, or buts", 1),  # a "no" that takes nothing back
+    ],
+)
+def test_a_value_taken_back_is_replaced_by_the_one_said_after_it(item, said, expected):
+    assert points(item, said) == expected
 
 
 def test_what_a_hedge_costs_is_named():

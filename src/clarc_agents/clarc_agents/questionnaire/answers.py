@@ -7,7 +7,8 @@ Said, to a ``choose`` item: an utterance chooses an option by number or position
 with the most hits wins, a tie is not understood). "I don't know" and its like are never an
 option. Said, to a ``words`` item: a point for each part said, unless it was hedged ("Monday or
 Tuesday": no point for the weekday) or said among rival values of its kind (every weekday
-recited); any words but hesitations are an answer ("I don't know" is one, worth 0). Said, to a
+recited); any words but hesitations are an answer ("I don't know" is one, worth 0). A value
+taken back ("Tuesday, no, Thursday") is replaced by the one after it, to any item. Said, to a
 ``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of "minus
 seven"), a point for each that is the one said before it, or the start, minus the step (93, 85,
 78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
@@ -52,6 +53,11 @@ KINDS_OF_VALUE = (
     frozenset(set(SEASONS.values()) | {w for ws in SEASON_WORDS.values() for w in ws}),
 )
 _DAYS = frozenset(suffixed(d) for d in range(1, 32))
+# what a speaker says between a value and the one that replaces it: "Tuesday, no, Thursday"
+CORRECTIONS = tuple(
+    tuple(words(p))
+    for p in ("no", "sorry", "I mean", "I meant", "no I mean", "sorry I mean", "no wait", "rather")
+)
 
 
 @dataclass(frozen=True)
@@ -78,7 +84,8 @@ def _strip(said: list[str], phrases) -> list[str]:
 
 
 def understand(item: Item, text: str) -> Understanding:
-    said = words(text)
+    taken_back: list[str] = []
+    said = self_corrected(words(text), taken_back)
     if not said:
         return Understanding("not_understood", why=("nothing was said",))
     if any(_find(s, said) for s in SKIP):
@@ -86,10 +93,13 @@ def understand(item: Item, text: str) -> Understanding:
     if item.kind in ("words", "serial"):
         if set(said) <= HESITATIONS:
             return Understanding("not_understood", why=("only hesitations",))
-        if item.kind == "serial":
-            return _serial(item, said)
-        return _words(item, said)
-    return _choose(item, said)
+        meaning = _serial(item, said) if item.kind == "serial" else _words(item, said)
+    else:
+        meaning = _choose(item, said)
+    if not taken_back:
+        return meaning
+    why = tuple(f"{value}: taken back" for value in taken_back)
+    return Understanding(meaning.kind, meaning.points, meaning.matched, meaning.why + why)
 
 
 def _choose(item: Item, said: list[str]) -> Understanding:
@@ -146,6 +156,47 @@ def _words(item: Item, said: list[str]) -> Understanding:
         points += 1
         matched.append(name)
     return Understanding("answer", points, tuple(matched), tuple(why))
+
+
+def _kind(token: str) -> object | None:
+    """The kind of value ``token`` is (a weekday, a month, a season, a year, a day of the month,
+    a number), or None."""
+    for kind in KINDS_OF_VALUE:
+        if token in kind:
+            return kind
+    if _is_year(token):
+        return "year"
+    if token in _DAYS:
+        return "day"
+    return "number" if token.isdigit() else None
+
+
+def self_corrected(said: list[str], taken_back: list[str] | None = None) -> list[str]:
+    """``said`` with each value the speaker took back left out, and the words that took it back:
+    a value, a correction ("no", "sorry", "I mean", ...) and another value of its kind ("Tuesday,
+    no, Thursday": Thursday; "78, I mean 79": 79), each appended to ``taken_back``. Articles
+    may stand on either side."""
+    out = list(said)
+    i = 0
+    while i < len(out):
+        marker = max(
+            (c for c in CORRECTIONS if out[i : i + len(c)] == list(c)), key=len, default=()
+        )
+        if not marker:
+            i += 1
+            continue
+        before = i - 1 - (i >= 2 and out[i - 1] in ARTICLES)
+        after = i + len(marker)
+        after += after < len(out) and out[after] in ARTICLES
+        kind = _kind(out[before]) if before >= 0 else None
+        if kind is None or after >= len(out) or _kind(out[after]) is not kind:
+            i += 1
+            continue
+        if taken_back is not None:
+            taken_back.append(out[before])
+        del out[before:after]
+        i = before
+    return out
 
 
 def _hedged(said: list[str], i: int, n: int) -> bool:
