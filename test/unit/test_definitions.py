@@ -52,7 +52,7 @@ def test_the_barthel_test_is_its_definition_file():
         "independent",
     ]
     assert sentences.greet(DEFINITION, "Carlos").text.startswith("Hello Carlos, I am CLARC.")
-    assert BY_KEY["bowels"].option(10).keywords == ("yes", "always", "i control")
+    assert BY_KEY["bowels"].option(10).keywords[:3] == ("yes", "always", "i control")
 
 
 def test_a_small_definition_reads():

@@ -178,6 +178,33 @@ def test_an_option_chosen_by_number_or_position(said, position):
     assert understand(item, said).points == item.options[position - 1].points
 
 
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("bowels", "no problems", 10),  # "no problems" is one keyword, not the "no" of 0
+        ("bowels", "I never have accidents", 10),
+        ("bowels", "I have accidents now and then", 5),
+        ("bladder", "no, I do not control it", 0),
+        ("feeding", "I feed myself", 10),
+        ("feeding", "someone has to cut my meat", 5),
+        ("feeding", "they have to feed me", 0),
+        ("bathing", "I can wash myself in the shower", 5),
+        ("bathing", "my daughter helps me bathe", 0),
+        ("dressing", "I need help with buttons but do the rest", 5),
+        ("dressing", "I can dress myself", 10),
+        ("transfers", "I need a lot of help", 5),
+        ("mobility", "I walk with a stick on my own", 15),
+        ("mobility", "I need someone to walk with me", 10),
+        ("stairs", "I need someone to help me on the stairs", 5),
+        # what the instrument leaves to the examiner stays not understood: asked again
+        ("bladder", "I wear a catheter", None),
+        ("mobility", "I walk with a stick and someone helps me", None),
+    ],
+)
+def test_the_barthel_answered_as_people_say_it(item, said, expected):
+    assert points(item, said, BARTHEL) == expected
+
+
 def test_an_option_number_that_does_not_exist_is_not_understood():
     meaning = understand(LAWTON.item("telephone"), "option four")
     assert meaning.kind == "not_understood" and "no option 4" in meaning.why[0]

@@ -112,7 +112,7 @@ def _choose(item: Item, said: list[str]) -> Understanding:
             option = item.options[n - 1]
             return Understanding("answer", option.points, (f"option {n}: {option.text}",))
         return Understanding("not_understood", why=(f"there is no option {n}",))
-    hits = [(sum(bool(_find(tuple(words(k)), said)) for k in o.keywords), o) for o in item.options]
+    hits = [(h, o) for h, o in zip(_keyword_hits(item, said), item.options, strict=True)]
     best = max(h for h, _ in hits)
     winners = [o for h, o in hits if h == best]
     if best == 0:
@@ -121,6 +121,26 @@ def _choose(item: Item, said: list[str]) -> Understanding:
         tied = ", ".join(repr(o.text) for o in winners)
         return Understanding("not_understood", why=(f"as many words of {tied}",))
     return Understanding("answer", winners[0].points, (winners[0].text,))
+
+
+def _keyword_hits(item: Item, said: list[str]) -> list[int]:
+    """For each option, how many of its keywords were said, the longest taken first and each
+    word counted for one keyword only: "no problems" is that keyword, not also the "no" of "I do
+    not control them"."""
+    found = [
+        (len(phrase), i, n, k)
+        for n, option in enumerate(item.options)
+        for k, phrase in enumerate(tuple(words(kw)) for kw in option.keywords)
+        for i in _find(phrase, said)
+    ]
+    used: set[int] = set()
+    hit: set[tuple[int, int]] = set()
+    for length, i, n, k in sorted(found, key=lambda f: -f[0]):
+        span = set(range(i, i + length))
+        if not span & used:
+            used |= span
+            hit.add((n, k))
+    return [sum(n == m for m, _ in hit) for n in range(len(item.options))]
 
 
 def _position(said: list[str]) -> int | None:
