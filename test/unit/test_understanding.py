@@ -205,6 +205,29 @@ def test_the_barthel_answered_as_people_say_it(item, said, expected):
     assert points(item, said, BARTHEL) == expected
 
 
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("telephone", "I call my daughter every day", 1),
+        ("telephone", "I can answer it but not dial", 1),  # Lawton & Brody: answers, 1
+        ("shopping", "I go shopping on my own", 1),
+        ("shopping", "my son does my shopping", 0),
+        ("shopping", "I only buy small things on my own", None),  # small purchases: 0, or 1?
+        ("food_preparation", "I don't cook, my wife does", 0),
+        ("transportation", "I drive", 1),
+        ("transportation", "no, my son drives me", 0),
+        ("medication", "I take my pills myself", 1),
+        ("medication", "my wife gives me my pills", 0),
+        ("medication", "I take them myself if someone prepares them", None),
+        ("finances", "my son handles my money", 0),
+        ("finances", "I don't handle money", 0),
+        ("finances", "I manage my own money", 1),
+    ],
+)
+def test_the_lawton_answered_as_people_say_it(item, said, expected):
+    assert points(item, said, LAWTON) == expected
+
+
 def test_an_option_number_that_does_not_exist_is_not_understood():
     meaning = understand(LAWTON.item("telephone"), "option four")
     assert meaning.kind == "not_understood" and "no option 4" in meaning.why[0]
