@@ -179,7 +179,11 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
         "max_points": 10,
         "options": ["I cannot use stairs", "I need help on stairs", "I use stairs by myself"],
         "option_points": [0.0, 5.0, 10.0],
-        "option_words": ["cannot|can't|unable", "need help", "by myself|on my own|independent"],
+        "option_words": [
+            "cannot|can't|unable",
+            "need help|help me|someone to help",
+            "by myself|on my own|independent",
+        ],
     }
     assert graph.node("item_feeding").attrs["answer"] == 10
 
