@@ -138,6 +138,7 @@ def rest(item):
         (lambda doc: doc["edges"].pop("rest"), "rest"),
         (lambda doc: doc["nodes"]["id"].__setitem__(0, "1"), "integers"),
         (lambda doc: doc["edges"]["type"].__setitem__(0, 5), "strings"),
+        (lambda doc: doc["nodes"]["rest"].__setitem__(4, {"attrs": {}}), "JSON text"),
         (lambda doc: doc.__setitem__("nodes", [1, 2]), "nodes"),
         (lambda doc: doc.__setitem__("units", {"length": "mm"}), "metres"),
     ],

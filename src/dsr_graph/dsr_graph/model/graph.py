@@ -648,6 +648,8 @@ class Graph:
                 raise ValueError(f"the {group} columns must be lists of one length")
         if not set(map(type, types)) | set(map(type, edge_types)) <= {str}:
             raise TypeError("element types must be strings")
+        if not set(map(type, rests)) | set(map(type, edge_rests)) <= {str}:
+            raise TypeError("each element's rest must be a JSON text (a string)")
 
         def node_of(row: tuple[int, str, str, str]) -> Node:
             item = parse(row[3])
