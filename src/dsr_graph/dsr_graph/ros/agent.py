@@ -129,7 +129,11 @@ class DsrAgent:
             Blob, f"{topic_names.BLOBS}/{node.get_name()}", qos_blobs()
         )
         if self.wants_blobs:  # subscribed before the deltas: a blob is taken before its delta
-            self._blob_inbox = BlobInbox(node, self.blobs, on_blob=lambda d: self._apply_held())
+            # any node may publish on a dsr/blobs/<name>: bytes count only under their digest,
+            # and no blob larger than all this replica keeps is taken
+            self._blob_inbox = BlobInbox(
+                node, self.blobs, on_blob=lambda d: self._apply_held(), max_bytes=AGENT_BLOB_BYTES
+            )
             self._blob_inbox.listen(topic_names.BLOBS)
             self._listen_to_agents()
             node.create_timer(BLOB_DISCOVERY_PERIOD, self._listen_to_agents)
