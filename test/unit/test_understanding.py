@@ -104,6 +104,8 @@ def test_orientation_in_time_as_people_say_the_date(said, expected):
         ("orientation_time", "autumn, no, I mean, winter, December", 2),
         ("orientation_time", "Monday, no, December", 2),  # not a value of the same kind
         ("attention", "93, 86, 78, no, 79, 72, 65", 5),
+        ("attention", "93, 86, 79, 72, no, 65", 5),  # a "no" of hesitation: 65 is the next
+        ("attention", "93, 86, 79, no, 72, 65", 5),
         ("attention", "ninety three, eighty six, seventy nine, sorry, eighty, 73", 3),
         ("repetition", "No ifs, ands, or buts", 1),  # a "no" that takes nothing back
     ],

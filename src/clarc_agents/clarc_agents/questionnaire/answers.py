@@ -17,6 +17,7 @@ seven"), a point for each that is the one said before it, or the start, minus th
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from clarc_agents.definitions import Item, serial_numbers
@@ -85,7 +86,7 @@ def _strip(said: list[str], phrases) -> list[str]:
 
 def understand(item: Item, text: str) -> Understanding:
     taken_back: list[str] = []
-    said = self_corrected(words(text), taken_back)
+    said = self_corrected(words(text), taken_back, _replaces(item))
     if not said:
         return Understanding("not_understood", why=("nothing was said",))
     if any(_find(s, said) for s in SKIP):
@@ -191,11 +192,26 @@ def _kind(token: str) -> object | None:
     return "number" if token.isdigit() else None
 
 
-def self_corrected(said: list[str], taken_back: list[str] | None = None) -> list[str]:
+def _replaces(item: Item) -> Callable[[int, int], bool]:
+    """Whether a number said after a correction replaces the one before it: in the serial
+    sevens only when it is nearer to it than a step ("78, no, 79"), since "72, no, 65" is the
+    next answer after a "no" of hesitation; elsewhere always ("2, no, 3" chooses option 3)."""
+    if item.kind != "serial":
+        return lambda before, after: True
+    expected = serial_numbers(item)
+    step = abs(expected[1] - expected[0])
+    return lambda before, after: abs(before - after) < step
+
+
+def self_corrected(
+    said: list[str],
+    taken_back: list[str] | None = None,
+    replaces: Callable[[int, int], bool] = lambda before, after: True,
+) -> list[str]:
     """``said`` with each value the speaker took back left out, and the words that took it back:
     a value, a correction ("no", "sorry", "I mean", ...) and another value of its kind ("Tuesday,
-    no, Thursday": Thursday; "78, I mean 79": 79), each appended to ``taken_back``. Articles
-    may stand on either side."""
+    no, Thursday": Thursday; "78, I mean 79": 79; two numbers only if ``replaces`` them), each
+    appended to ``taken_back``. Articles may stand on either side."""
     out = list(said)
     i = 0
     while i < len(out):
@@ -209,7 +225,12 @@ def self_corrected(said: list[str], taken_back: list[str] | None = None) -> list
         after = i + len(marker)
         after += after < len(out) and out[after] in ARTICLES
         kind = _kind(out[before]) if before >= 0 else None
-        if kind is None or after >= len(out) or _kind(out[after]) is not kind:
+        if (
+            kind is None
+            or after >= len(out)
+            or _kind(out[after]) != kind
+            or (kind == "number" and not replaces(int(out[before]), int(out[after])))
+        ):
             i += 1
             continue
         if taken_back is not None:
