@@ -93,8 +93,10 @@ def check_humans(recording: Path) -> None:
                         frames[t.child_frame_id] = t.header.frame_id
             elif topic.startswith("/humans/persons/") and topic != "/humans/persons/tracked":
                 latched[topic] = m.data
+    # tracked, left (lost: no body), back as another body; before the first sight the lists
+    # are empty (Kinect frames may come before the patient is in them)
     bodies = tracked["/humans/bodies/tracked"]
-    # tracked, left (lost: no body), back as another body
+    bodies = bodies[next((i for i, listed in enumerate(bodies) if listed), len(bodies)) :]
     assert len(bodies) >= 3 and bodies[0] and [] in bodies and bodies[-1], bodies
     assert bodies[0] != bodies[-1], bodies
     ids = {i for listed in bodies for i in listed}
