@@ -100,7 +100,7 @@ def quaternion_wxyz(matrix: np.ndarray) -> list:
     """Unit quaternion [w, x, y, z] of the rotation, with w >= 0 so the answer is unique.
     Through the Euler angles: the matrix is rigid (checked when it entered the graph), and this
     is 4x cheaper than ``mat2quat``'s eigendecomposition (7 vs 29 us; /tf turns every joint of a
-    30 Hz skeleton into one), equal to 1e-15 (gimbal lock included: test_rigid)."""
+    30 Hz skeleton into one), equal to 1e-15 (gimbal lock included: test_kinematics)."""
     q = euler.euler2quat(*euler.mat2euler(matrix[:3, :3], axes=EULER_AXES), axes=EULER_AXES)
     if q[0] < 0:
         q = -q
