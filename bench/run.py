@@ -142,11 +142,8 @@ def extra_agent(ros, name: str) -> DsrAgent:
 
 def timed_reader(ros):
     """A second node in ``ros`` with a DSR replica: (node, agent, {delta id: when it arrived})."""
-    reader_node = __import__("rclpy").create_node("bench_reader", context=ros.context)
-    ros.executor.add_node(reader_node)
-    reader = DsrAgent()
-    reader.setup(reader_node, timeout_sec=30)
-    ros.spin_until(lambda: reader.ready, 30, "the reader")
+    reader = extra_agent(ros, "bench_reader")
+    reader_node = reader.node
     arrived: dict[str, float] = {}
     reader.add_listener(
         lambda deltas, _: arrived.update({d["id"]: time.perf_counter() for d in deltas})

@@ -252,15 +252,8 @@ def _hedged(said: list[str], i: int, n: int) -> bool:
 def _rivals(right: set[str], said: list[str]) -> list[str]:
     """Other values of the kind of ``right`` (a weekday, a month, a season, a year, a day of
     the month) that were said too."""
-    out = []
-    for kind in KINDS_OF_VALUE:
-        if right & kind:
-            out += [t for t in said if t in kind and t not in right]
-    if any(_is_year(t) for t in right):
-        out += [t for t in said if _is_year(t) and t not in right]
-    if right & _DAYS:
-        out += [t for t in said if t in _DAYS and t not in right]
-    return list(dict.fromkeys(out))
+    kinds = {_kind(t) for t in right} - {None, "number"}
+    return list(dict.fromkeys(t for t in said if t not in right and _kind(t) in kinds))
 
 
 def _is_year(token: str) -> bool:

@@ -34,7 +34,6 @@ class RequestTopics:
         self,
         node,
         on_batch: Batch,
-        discovery_period: float | None = 0.2,
         on_presence: Callable[[], None] = lambda: None,
         trust_graph: bool = True,
         ready: Callable[[str], bool] = lambda text: True,
@@ -52,10 +51,7 @@ class RequestTopics:
         self._verdicts: dict[str, tuple[int, float, Sender]] = {}
         self._ignored: set[str] = set()
         self._held: dict[str, tuple[float, list[str]]] = {}  # topic -> (since, texts)
-        self._subscribe(self.shared, None)
-        self.discover()
-        if discovery_period is not None:  # None: the owner calls discover (server_node)
-            node.create_timer(discovery_period, self.discover)
+        self._subscribe(self.shared, None)  # the agents' own topics: discover, as they appear
         # armed only while requests are held: no wake-up 20 times a second for nothing
         self._release_timer = node.create_timer(0.05, self.release_held)
         self._release_timer.cancel()
@@ -64,11 +60,9 @@ class RequestTopics:
     def topics(self) -> list[str]:
         return sorted(self._subs)
 
-    def discover(self, topics: list[tuple[str, list[str]]] | None = None) -> None:
+    def discover(self, topics: list[tuple[str, list[str]]]) -> None:
         """Subscribe to the request topics of agents that appeared, among ``topics`` (the ROS
-        graph's names and types; None: asked now)."""
-        if topics is None:
-            topics = self.node.get_topic_names_and_types()
+        graph's names and types; the server looks once for these and its blob topics)."""
         for topic, types in topics:
             if not topic.startswith(self.prefix) or topic in self._subs or topic in self._ignored:
                 continue

@@ -352,7 +352,6 @@ class DsrServer(DsrNode):
             trust_graph=self.security.mode != ENFORCE,
             # a request is held (a few seconds at most) until the bytes it references came
             ready=lambda text: all(d in self.blobs for d in refs_in_text(text)),
-            discovery_period=None,  # on_discover
         )
         self.blob_inbox = BlobInbox(
             self,
