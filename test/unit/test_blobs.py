@@ -234,3 +234,49 @@ def test_the_viewer_s_past_holds_an_image_by_reference_its_present_whole():
     history.add(json.loads(dumps(core.submit(dumps({"ops": [mark]}), sender="/x"))))
     before = history.graph_at(history.seq - 1).node("kinect").attrs["cam_rgb"]
     assert isinstance(before, BlobRef) and before.shape == (480, 640, 3)
+
+
+def test_the_viewer_asks_the_server_for_bytes_it_missed_and_serves_only_that_seq_s():
+    import asyncio
+
+    from aiohttp.test_utils import TestClient, TestServer
+
+    from dsr_graph.protocol.history import History
+    from dsr_graph.web.events import Broadcaster
+    from dsr_graph.web.viewer_app import make_app
+
+    core = camera_core()
+    core.submit(dumps(frame()), sender="/camera")
+    snapshot, _ = extract(core.snapshot())
+    history = History(Vocabulary.default())  # joined after the frame's bytes went by
+    history.reset(resolve(json.loads(dumps(snapshot)), lambda d: None, lazy=True))
+    ref = history.graph.node("kinect").attrs["cam_rgb"]
+    assert isinstance(ref, BlobRef)
+    server = {"cam_rgb": RGB.tobytes()}  # what dsr/get_blob answers now
+    asked = []
+
+    async def fetch_blob(node, attribute, digest):
+        asked.append((node, attribute))
+        if server.get(attribute) is None:
+            raise TimeoutError
+        data = server[attribute]
+        return data if digest_of(data) == digest else None
+
+    async def main(fetch):
+        app = make_app(history, Broadcaster(), fetch_blob=fetch)
+        async with TestClient(TestServer(app)) as client:
+            r = await client.get("/api/image?node=kinect&attr=cam_rgb")
+            body = await r.read()
+            return r.status, body, r.headers, body.decode(errors="replace")
+
+    status, body, headers, _ = asyncio.run(main(fetch_blob))
+    assert status == 200 and body == RGB.tobytes() and asked == [("kinect", "cam_rgb")]
+    assert headers["X-DSR-Dtype"] == "uint8" and headers["X-DSR-Shape"] == "480,640,3"
+    server["cam_rgb"] = bytes(RGB.nbytes)  # a newer frame: not this seq's image
+    status, _, _, text = asyncio.run(main(fetch_blob))
+    assert status == 404 and "no longer holds" in text
+    server["cam_rgb"] = None
+    status, _, _, text = asyncio.run(main(fetch_blob))
+    assert status == 503 and "did not answer" in text
+    status, _, _, text = asyncio.run(main(None))  # a replay: nobody to ask
+    assert status == 404 and "not reached the viewer" in text

@@ -20,9 +20,8 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.exceptions import TimedOutError
-from dsr_graph.model.binary import BYTES, BlobRef
+from dsr_graph.model.binary import BlobRef
 from dsr_graph.model.graph import Graph
-from dsr_graph.protocol.blobs import binary_value
 from dsr_graph.protocol.local_bus import LocalBus
 from dsr_graph.protocol.server_core import Result
 
@@ -123,6 +122,7 @@ class RosLink:
             value = None if found is None else found.attrs.get(attribute)
         if not isinstance(value, BlobRef):
             return value
+        from dsr_graph.ros.blob_service import value_of
         from dsr_msgs.srv import GetBlob
 
         done = threading.Event()
@@ -131,11 +131,7 @@ class RosLink:
         future.add_done_callback(lambda f: done.set())
         if not done.wait(timeout):
             raise TimedOutError(f"no answer from dsr/get_blob within {timeout} s")
-        answer = future.result()
-        if not answer.found:
-            return None
-        shape = tuple(answer.shape) if answer.dtype != BYTES else None
-        return binary_value(answer.dtype, shape, bytes(answer.data))
+        return value_of(future.result())
 
     def _spin(self) -> None:
         from rclpy.executors import (

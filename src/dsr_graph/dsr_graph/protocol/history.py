@@ -32,11 +32,11 @@ class History:
     def reset(self, snapshot: dict[str, Any]) -> None:
         """A snapshot arrived (start, or a resync after a gap): it becomes a checkpoint. The
         document may share its attribute dicts with a live graph (``to_json`` of a replica):
-        the history's graph is built from its text, so the two never share anything."""
-        text = dumps(snapshot)
-        self.graph, self.seq = dsr_json.snapshot_from_json(
-            json.loads(text), self.vocabulary, trusted=True
-        )
+        the history's graph is built from its text, so the two share nothing but the bytes of
+        binary values (read-only). A value the replica holds by digest only stays a reference."""
+        doc, blobs = extract(snapshot)  # large values beside the text, not as base64 in it
+        parsed = resolve(json.loads(dumps(doc)), blobs.get, lazy=True)
+        self.graph, self.seq = dsr_json.snapshot_from_json(parsed, self.vocabulary, trusted=True)
         self._checkpoint(dsr_json.to_json(self.graph, "snapshot", seq=self.seq))
 
     def add(self, delta: dict[str, Any]) -> None:

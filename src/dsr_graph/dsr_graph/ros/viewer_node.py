@@ -6,7 +6,8 @@ any past seq, and an inspector (attributes, version, pose in any other node's fr
 ROS Parameters: host (127.0.0.1), port (8080), setup_timeout (20 s), token (the access token
 every request needs; empty: a new one at each start, printed in the address it logs),
 allowed_hosts (Host names served besides the loopback ones, comma-separated).
-Subscriptions and clients: those of DsrAgent.
+Subscriptions and clients: those of DsrAgent, and dsr/get_blob (a camera image whose bytes went
+by before the viewer listened to their topic).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from dsr_graph.formats import dsr_json
 from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.blob_service import AsyncBlobClient
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.parameters import (
     allowed_hosts_of,
@@ -31,6 +33,8 @@ from dsr_graph.ros.web_bridge import Bridge
 from dsr_graph.web.events import Broadcaster
 from dsr_graph.web.guard import new_token
 from dsr_graph.web.viewer_app import make_app
+
+BLOB_WAIT = 5.0  # seconds for the server's answer to dsr/get_blob
 
 
 class Viewer(DsrNode):
@@ -64,10 +68,12 @@ class Viewer(DsrNode):
         self.history = History()
         self.events = Broadcaster()
         self.bridge: Bridge | None = None
+        self.blobs: AsyncBlobClient | None = None
 
     def setup(self) -> None:
         self.agent.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.agent.add_listener(self._on_change)
+        self.blobs = AsyncBlobClient(self, timeout=BLOB_WAIT)
         self.bridge = Bridge(self)
 
     def _on_change(self, deltas: list[dict[str, Any]], resynced: bool) -> None:
@@ -93,7 +99,9 @@ class Viewer(DsrNode):
         token = param(self, "token") or new_token()
         hosts = allowed_hosts_of(self)
         served = self.bridge.serve(
-            make_app(self.history, self.events, token=token, hosts=hosts),
+            make_app(
+                self.history, self.events, token=token, hosts=hosts, fetch_blob=self.blobs.fetch
+            ),
             param(self, "host"),
             param(self, "port"),
             on_ready=lambda url: self.get_logger().info(f"DSR viewer on {url}?token={token}"),

@@ -14,7 +14,9 @@
                                         element type and shape in X-DSR-Dtype and X-DSR-Shape
 
 A binary value appears in the JSON by what it is, without its bytes (``binary.summary``):
-``{"$binary": "uint8", "shape": [480, 640, 3], "size": 921600}``.
+``{"$binary": "uint8", "shape": [480, 640, 3], "size": 921600}``. Bytes that went by before the
+viewer listened to their topic are asked of the server (``fetch_blob``), and served only if they
+are still that seq's value (the same digest).
 
 Protected as web/guard.py says: an allowed Host, the access token (printed at start), a CSP;
 it serves its page, its two files and the one library file it uses, nothing else.
@@ -22,6 +24,7 @@ it serves its page, its two files and the one library file it uses, nothing else
 
 from __future__ import annotations
 
+from collections.abc import Awaitable, Callable
 from importlib import resources
 from pathlib import Path
 
@@ -31,6 +34,7 @@ from dsr_graph.exceptions import LookupFailed, SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model import rigid
 from dsr_graph.model.binary import ELEMENT_OF, BlobRef
+from dsr_graph.protocol.blobs import binary_value
 from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.web.events import Broadcaster, dumps
@@ -67,10 +71,25 @@ def make_app(
     replay: str | None = None,
     token: str | None = None,
     hosts: frozenset[str] = LOOPBACK,
+    fetch_blob: Callable[[str, str, str], Awaitable[bytes | None]] | None = None,
 ) -> web.Application:
     """The viewer over ``history``: live (fed as the DSR changes) or a ``replay`` (the name of
     the recording it was read from). ``token``: the access token every request needs (None:
-    none, for tests of the API alone); ``hosts``: the Host names served."""
+    none, for tests of the API alone); ``hosts``: the Host names served; ``fetch_blob(node,
+    attribute, digest)``: the bytes of a value the history holds by digest only (None: gone)."""
+
+    async def fetched(node: str, attr: str, ref: BlobRef, seq: int):
+        if fetch_blob is None:
+            raise web.HTTPNotFound(text=f"{node}.{attr}: its bytes have not reached the viewer")
+        try:
+            data = await fetch_blob(node, attr, ref.digest)
+        except TimeoutError:
+            raise web.HTTPServiceUnavailable(
+                text=f"{node}.{attr}: the DSR server did not answer dsr/get_blob"
+            ) from None
+        if data is None:
+            raise web.HTTPNotFound(text=f"{node}.{attr}: the server no longer holds seq {seq}'s")
+        return binary_value(ref.dtype, ref.shape, data)
 
     async def index(request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "viewer.html")
@@ -101,7 +120,7 @@ def make_app(
             raise web.HTTPNotFound(text=f"no attribute {attr!r} on node {node!r} at seq {seq}")
         value = found.attrs[attr]
         if isinstance(value, BlobRef):
-            raise web.HTTPNotFound(text=f"{node}.{attr}: its bytes have not reached the viewer")
+            value = await fetched(node, attr, value, seq)
         if isinstance(value, bytes):
             body, dtype, shape = value, "bytes", [len(value)]
         elif hasattr(value, "dtype") and value.dtype in ELEMENT_OF:

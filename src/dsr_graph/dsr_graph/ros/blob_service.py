@@ -1,0 +1,56 @@
+"""dsr/get_blob from a replica's side: the bytes of a binary value that the replica holds only
+by its digest (``BlobRef``: the bytes went by before it listened to their topic), asked of the
+server. The request is sent from any thread (rclpy's client is thread-safe); its answer comes on
+the thread that spins the node."""
+
+from __future__ import annotations
+
+import asyncio
+from typing import Any
+
+from dsr_graph.model.binary import BYTES
+from dsr_graph.protocol.blobs import binary_value, digest_of
+from dsr_graph.protocol.topic_names import GET_BLOB
+from dsr_msgs.srv import GetBlob
+
+
+def value_of(answer: GetBlob.Response) -> Any | None:
+    """The binary value (bytes or a read-only array) in the server's answer; None if not found."""
+    if not answer.found:
+        return None
+    shape = tuple(answer.shape) if answer.dtype != BYTES else None
+    return binary_value(answer.dtype, shape, bytes(answer.data))
+
+
+class AsyncBlobClient:
+    """dsr/get_blob for an asyncio loop (a web app) beside a node spun in another thread."""
+
+    def __init__(self, node, timeout: float):
+        self.client = node.create_client(GetBlob, GET_BLOB)
+        self.timeout = timeout
+
+    async def fetch(self, node: str, attribute: str, digest: str) -> bytes | None:
+        """The bytes of ``node.attribute`` if the server holds the value of that ``digest`` still
+        (None: missing, or changed since); ``TimeoutError`` when it does not answer in time."""
+        loop = asyncio.get_running_loop()
+        answered: asyncio.Future = loop.create_future()
+
+        def hand_over(future) -> None:  # the ROS thread
+            loop.call_soon_threadsafe(_settle, answered, future)
+
+        request = GetBlob.Request(node=node, attribute=attribute)
+        self.client.call_async(request).add_done_callback(hand_over)
+        answer = await asyncio.wait_for(answered, self.timeout)
+        if not answer.found:
+            return None
+        data = bytes(answer.data)
+        return data if digest_of(data) == digest else None
+
+
+def _settle(answered: asyncio.Future, future) -> None:
+    if answered.done():  # timed out meanwhile
+        return
+    if future.exception() is not None:
+        answered.set_exception(future.exception())
+    else:
+        answered.set_result(future.result())
