@@ -102,6 +102,9 @@ if [ "$audio" = true ]; then
 fi
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
+# Fast DDS's shared-memory files of processes killed outright (a robot that lost power): their
+# stale locks can hang a new node at start; those of living processes are kept.
+fastdds shm clean > /dev/null 2>&1 || true
 
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2

@@ -12,5 +12,8 @@ echo "[test] ruff check . && ruff format --check ."
 ruff check .
 ruff format --check . > /dev/null || { ruff format --check . >&2; echo "[test] run: ruff format ." >&2; exit 1; }
 mkdir -p test-results
+# Fast DDS's shared-memory files of processes killed outright (an earlier run's crash tests):
+# their stale locks can hang a new participant at start; living processes' files are kept.
+fastdds shm clean > /dev/null 2>&1 || true
 # CI runs hypothesis derandomised so a run is reproducible; locally it explores new examples.
 exec python -m pytest --junitxml=test-results/junit.xml "$@"
