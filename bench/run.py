@@ -157,7 +157,7 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
     try:
         procs.server(work / "lat_state")
         ros, writer = session_with_agent(domain, "bench_writer")
-        reader_node, _, arrived = timed_reader(ros)
+        reader_node, reader, arrived = timed_reader(ros)
         done = []
         writer.send(
             {
@@ -181,8 +181,17 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
         payload = json.dumps(dict(change(0), id=writer.next_id(), agent=writer.name))
         dsr = percentiles(latency_samples(ros, writer, arrived, n, change))
         volatile = percentiles(latency_samples(ros, writer, arrived, n, reading))
+        # where the time goes: the same changes again, each step timed (a profile of one run)
+        stages = {
+            "symbolic": latency_stages(ros, writer, reader, arrived, n, change),
+            "volatile": latency_stages(ros, writer, reader, arrived, n, reading),
+        }
         procs.stop_all()
         fdatasync = percentiles(fdatasync_samples(work / "fdatasync_probe", payload, n))
+        # as the server meets it: after a wait for the next request, not back to back
+        fdatasync_paced = percentiles(
+            fdatasync_samples(work / "fdatasync_probe", payload, n, pause=0.001)
+        )
 
         # baseline: the same payload through a raw rclpy relay, same hops, same QoS
         procs.start("relay", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"])
@@ -199,14 +208,21 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
             "the relay",
         )
         ros.spin_for(0.5)
-        samples = []
+        samples, publish = [], []
         for _ in range(n):
             before = len(got)
             sent = time.perf_counter()
             pub.publish(String(data=payload))
+            publish.append(time.perf_counter() - sent)
             ros.spin_until(lambda before=before: len(got) > before, 10, "the relayed message")
             samples.append(got[-1] - sent)
         raw = percentiles(samples[n // 10 :])
+        stages["raw"] = {
+            "publish_ms": median_ms(publish[n // 10 :]),
+            "relay_and_wire_ms": median_ms(
+                [t - p for t, p in zip(samples[n // 10 :], publish[n // 10 :], strict=True)]
+            ),
+        }
         ros.close()
     finally:
         procs.stop_all()
@@ -216,6 +232,8 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
         "volatile": volatile,
         "raw": raw,
         "fdatasync": fdatasync,
+        "fdatasync_paced": fdatasync_paced,
+        "stages": stages,
         "payload_bytes": len(payload),
         "ratio_p50": dsr["p50_ms"] / raw["p50_ms"],
         "ratio_p99": dsr["p99_ms"] / raw["p99_ms"],
@@ -229,13 +247,15 @@ def bench_latency(work: Path, domain: int, n: int) -> dict[str, Any]:
     }
 
 
-def fdatasync_samples(path: Path, payload: str, n: int) -> list[float]:
+def fdatasync_samples(path: Path, payload: str, n: int, pause: float = 0.0) -> list[float]:
     """Seconds to append ``payload`` as a line and fdatasync it, as the journal does, n times
-    (on the bench's own disk, in this run)."""
+    (on the bench's own disk, in this run), back to back or ``pause`` s apart."""
     samples = []
     line = (payload + "\n").encode()
     with open(path, "ab") as f:
         for _ in range(n):
+            if pause:
+                time.sleep(pause)
             t = time.perf_counter()
             f.write(line)
             f.flush()
@@ -243,6 +263,56 @@ def fdatasync_samples(path: Path, payload: str, n: int) -> list[float]:
             samples.append(time.perf_counter() - t)
     path.unlink()
     return samples[n // 10 :]
+
+
+def median_ms(xs: list[float]) -> float:
+    return statistics.median(xs) * 1e3
+
+
+def latency_stages(ros, writer, reader, arrived, n: int, change) -> dict[str, float]:
+    """Medians (ms) of each step of a change, n changes: the writer's send (encode, publish);
+    from its end to the first delta callback in this process (both hops and the server); the
+    writer's replica's callback and the reader's (parse, apply, listeners); from the writer's
+    callback's end to the reader's start (the executor's turn: both replicas share this
+    process's executor, as the latency figures have them); send to the reader's replica."""
+    calls: dict[str, list[tuple[float, float]]] = {"writer": [], "reader": []}
+
+    def timed(agent, who: str) -> None:
+        inner = agent._delta_sub.callback
+
+        def callback(msg) -> None:
+            start = time.perf_counter()
+            inner(msg)
+            calls[who].append((start, time.perf_counter()))
+
+        agent._delta_sub.callback = callback
+
+    timed(writer, "writer")
+    timed(reader, "reader")
+    rows = []
+    for i in range(n):
+        for kept in calls.values():
+            kept.clear()
+        sent = time.perf_counter()
+        ident = writer.send(change(10**6 + i))
+        published = time.perf_counter()
+        while ident not in arrived or not calls["writer"]:  # as latency_samples waits
+            ros.executor.spin_once(timeout_sec=0.0005)
+            if time.perf_counter() - sent > 10:
+                raise RuntimeError("a change was not seen within 10 s")
+        (w_start, w_end), (r_start, r_end) = calls["writer"][-1], calls["reader"][-1]
+        rows.append(
+            {
+                "send_ms": published - sent,
+                "server_and_wire_ms": min(w_start, r_start) - published,
+                "writer_replica_ms": w_end - w_start,
+                "between_ms": r_start - w_end,
+                "reader_replica_ms": r_end - r_start,
+                "total_ms": arrived[ident] - sent,
+            }
+        )
+    rows = rows[n // 10 :]
+    return {key: median_ms([r[key] for r in rows]) for key in rows[0]}
 
 
 # ---------------------------------------------------------------------------- 2. throughput
@@ -1099,6 +1169,12 @@ def table(report: dict[str, Any]) -> str:
             lines.append(
                 f"  {k:<35} {v['p50_ms']:6.3f} ms  {v['p90_ms']:6.3f} ms  {v['p99_ms']:6.3f} ms"
             )
+        paced = lat.get("fdatasync_paced")
+        if paced:
+            lines.append(f"  {'fdatasync, 1 ms apart':<35} {paced['p50_ms']:6.3f} ms")
+        for kind, steps in lat.get("stages", {}).items():
+            shown = ", ".join(f"{k[:-3]} {v:.3f}" for k, v in steps.items())
+            lines.append(f"  {kind} steps (p50 ms): {shown}")
         lines.append(
             f"  symbolic/raw p50 {lat['ratio_p50']:.2f}x, p99 {lat['ratio_p99']:.2f}x; symbolic/"
             f"(raw + fdatasync) p50 {lat['ratio_p50_durable_floor']:.2f}x; volatile/raw p50 "
