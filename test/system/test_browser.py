@@ -37,6 +37,27 @@ def http_json(url, token=VIEWER_TOKEN):
     return json.loads(body)
 
 
+def spun_while(ros, coroutine):
+    """Run ``coroutine`` in an asyncio loop while the test's ROS session spins in a thread (as
+    the viewer serves its web app beside its node)."""
+    import asyncio
+    import threading
+
+    stop = threading.Event()
+
+    def spin():
+        while not stop.is_set():
+            ros.session.executor.spin_once(timeout_sec=0.05)
+
+    spinner = threading.Thread(target=spin)
+    spinner.start()
+    try:
+        return asyncio.run(coroutine)
+    finally:
+        stop.set()
+        spinner.join(10)
+
+
 @pytest.fixture
 def viewer(ros):
     ros.procs.start_server(ros.tmp / "state", world=WORLD)
@@ -111,6 +132,18 @@ def test_the_inspector_draws_a_camera_image_the_json_never_carries(ros, viewer):
     )
     status, body = http_get(viewer + "api/image?node=kinect&attr=cam_rgb", VIEWER_TOKEN)
     assert status == 200 and len(body) == rgb.nbytes
+    # bytes the viewer missed (sent before it listened to the agent's topic) come from the
+    # server, and only as they are under the digest the viewer holds
+    from dsr_graph.protocol.blobs import digest_of
+    from dsr_graph.ros.blob_service import AsyncBlobClient
+
+    client = AsyncBlobClient(ros.session.node, timeout=10)
+    assert spun_while(ros, client.fetch("kinect", "cam_rgb", digest_of(rgb))) == rgb.tobytes()
+    assert spun_while(ros, client.fetch("kinect", "cam_rgb", "sha256:" + "0" * 64)) is None
+    missing = AsyncBlobClient(ros.session.node, timeout=10)  # its own, empty, cache
+    assert spun_while(ros, missing.fetch("kinect", "no_such", digest_of(rgb))) is None
+    # kept by digest: the same digest is the same bytes, asked once
+    assert spun_while(ros, client.fetch("kinect", "no_such", digest_of(rgb))) == rgb.tobytes()
     assert http_get(viewer + "api/image?node=kinect&attr=color", VIEWER_TOKEN)[0] == 400
     with chromium_page(csp=True) as page:
         page.goto(viewer + "?token=" + VIEWER_TOKEN)

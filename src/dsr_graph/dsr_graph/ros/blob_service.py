@@ -6,6 +6,7 @@ the thread that spins the node."""
 from __future__ import annotations
 
 import asyncio
+from collections import OrderedDict
 from typing import Any
 
 from dsr_graph.model.binary import BYTES
@@ -23,15 +24,21 @@ def value_of(answer: GetBlob.Response) -> Any | None:
 
 
 class AsyncBlobClient:
-    """dsr/get_blob for an asyncio loop (a web app) beside a node spun in another thread."""
+    """dsr/get_blob for an asyncio loop (a web app) beside a node spun in another thread. The
+    last few values fetched are kept (an inspector that shows the same image again asks once)."""
+
+    KEPT = 4
 
     def __init__(self, node, timeout: float):
         self.client = node.create_client(GetBlob, GET_BLOB)
         self.timeout = timeout
+        self._kept: OrderedDict[str, bytes] = OrderedDict()  # digest -> bytes, newest last
 
     async def fetch(self, node: str, attribute: str, digest: str) -> bytes | None:
         """The bytes of ``node.attribute`` if the server holds the value of that ``digest`` still
         (None: missing, or changed since); ``TimeoutError`` when it does not answer in time."""
+        if digest in self._kept:
+            return self._kept[digest]
         loop = asyncio.get_running_loop()
         answered: asyncio.Future = loop.create_future()
 
@@ -39,12 +46,22 @@ class AsyncBlobClient:
             loop.call_soon_threadsafe(_settle, answered, future)
 
         request = GetBlob.Request(node=node, attribute=attribute)
-        self.client.call_async(request).add_done_callback(hand_over)
-        answer = await asyncio.wait_for(answered, self.timeout)
+        sent = self.client.call_async(request)
+        sent.add_done_callback(hand_over)
+        try:
+            answer = await asyncio.wait_for(answered, self.timeout)
+        except TimeoutError:
+            self.client.remove_pending_request(sent)  # an answer that comes later is dropped
+            raise
         if not answer.found:
             return None
         data = bytes(answer.data)
-        return data if digest_of(data) == digest else None
+        if digest_of(data) != digest:
+            return None
+        self._kept[digest] = data
+        while len(self._kept) > self.KEPT:
+            self._kept.popitem(last=False)
+        return data
 
 
 def _settle(answered: asyncio.Future, future) -> None:
