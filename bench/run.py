@@ -276,19 +276,27 @@ def latency_stages(ros, writer, reader, arrived, n: int, change) -> dict[str, fl
     callback's end to the reader's start (the executor's turn: both replicas share this
     process's executor, as the latency figures have them); send to the reader's replica."""
     calls: dict[str, list[tuple[float, float]]] = {"writer": [], "reader": []}
+    plain = {"writer": writer._delta_sub.callback, "reader": reader._delta_sub.callback}
 
     def timed(agent, who: str) -> None:
-        inner = agent._delta_sub.callback
-
         def callback(msg) -> None:
             start = time.perf_counter()
-            inner(msg)
+            plain[who](msg)
             calls[who].append((start, time.perf_counter()))
 
         agent._delta_sub.callback = callback
 
     timed(writer, "writer")
     timed(reader, "reader")
+    try:
+        rows = _stage_rows(ros, writer, arrived, n, change, calls)
+    finally:  # the agents' own callbacks back
+        writer._delta_sub.callback, reader._delta_sub.callback = plain["writer"], plain["reader"]
+    rows = rows[n // 10 :]
+    return {key: median_ms([r[key] for r in rows]) for key in rows[0]}
+
+
+def _stage_rows(ros, writer, arrived, n: int, change, calls) -> list[dict[str, float]]:
     rows = []
     for i in range(n):
         for kept in calls.values():
@@ -311,8 +319,7 @@ def latency_stages(ros, writer, reader, arrived, n: int, change) -> dict[str, fl
                 "total_ms": arrived[ident] - sent,
             }
         )
-    rows = rows[n // 10 :]
-    return {key: median_ms([r[key] for r in rows]) for key in rows[0]}
+    return rows
 
 
 # ---------------------------------------------------------------------------- 2. throughput
