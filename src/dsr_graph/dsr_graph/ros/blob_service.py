@@ -43,7 +43,8 @@ class AsyncBlobClient:
         answered: asyncio.Future = loop.create_future()
 
         def hand_over(future) -> None:  # the ROS thread
-            loop.call_soon_threadsafe(_settle, answered, future)
+            if not loop.is_closed():  # the web side may have stopped meanwhile
+                loop.call_soon_threadsafe(_settle, answered, future)
 
         request = GetBlob.Request(node=node, attribute=attribute)
         sent = self.client.call_async(request)
