@@ -1,6 +1,7 @@
 """Shared test helpers. The suite runs inside `source scripts/env.sh` (scripts/test.sh does it)."""
 
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -17,6 +18,7 @@ SHARED = Path(os.environ.get("DSR_SHARED", REPO.parent / "shared"))
 CORTEX_WORLDS = SHARED / "data" / "cortex_worlds"
 MOTION = SHARED / "data" / "motion"
 SPEECH = SHARED / "data" / "speech"
+_watch_fd = pytest.StashKey[int]()
 
 
 def unavailable(why: str) -> None:
@@ -32,6 +34,63 @@ def shared_folder(path: Path, what: str) -> Path:
     if not path.is_dir():
         unavailable(f"{what} not found at {path} (../shared is absent; set DSR_SHARED)")
     return path
+
+
+# pytest-timeout's signal reaches a test only between Python bytecodes: one stuck inside C (a
+# DDS deadlock in a teardown: Fast-DDS issue 6502) would hang the run until CI's limit. Each
+# phase of a test is also watched by faulthandler's C thread, which prints every thread's stack
+# and ends the run MARGIN seconds after the test's timeout.
+MARGIN = 120.0
+
+
+def pytest_configure(config):
+    config.stash[_watch_fd] = os.dup(sys.stderr.fileno())  # pytest's own stderr, not a test's
+
+
+def pytest_unconfigure(config):
+    import faulthandler
+
+    faulthandler.cancel_dump_traceback_later()
+    os.close(config.stash[_watch_fd])
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_protocol(item):
+    import faulthandler
+
+    try:
+        return (yield)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+
+
+def _watch(item) -> None:
+    """(Re)arm the watch for a phase: pytest's faulthandler plugin cancels it when a test fails,
+    before the teardown that may be the one to hang."""
+    import faulthandler
+
+    marker = item.get_closest_marker("timeout")
+    limit = item.config.getini("timeout")
+    if marker is not None:
+        limit = marker.args[0] if marker.args else marker.kwargs.get("timeout", limit)
+    faulthandler.dump_traceback_later(
+        float(limit) + MARGIN, exit=True, file=item.config.stash[_watch_fd]
+    )
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item):
+    _watch(item)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_call(item):
+    _watch(item)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_teardown(item):
+    _watch(item)
 
 
 @pytest.fixture
@@ -86,10 +145,13 @@ class RosWorld:
         self.tmp = tmp_path
 
     def close(self):
+        # the session leaves DDS first, while the processes it talks to are alive: destroying
+        # an entity while a remote participant's lease runs out (the processes just stopped)
+        # can deadlock Fast DDS 2.14 for good (Fast-DDS issue 6502)
         try:
-            self.procs.stop_all()
-        finally:
             self.session.close()
+        finally:
+            self.procs.stop_all()
 
 
 @pytest.fixture

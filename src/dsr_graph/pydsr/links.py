@@ -125,11 +125,17 @@ class RosLink:
         from dsr_graph.ros.blob_service import value_of
         from dsr_msgs.srv import GetBlob
 
+        deadline = time.monotonic() + timeout
+        # a request sent before the server's service is matched is lost: on a busy machine a
+        # program's first request can come before discovery has matched it
+        self._wait(self._blob_client.service_is_ready, timeout, "the DSR server's dsr/get_blob")
         done = threading.Event()
         with self.lock:
             future = self._blob_client.call_async(GetBlob.Request(node=node, attribute=attribute))
         future.add_done_callback(lambda f: done.set())
-        if not done.wait(timeout):
+        if not done.wait(max(0.0, deadline - time.monotonic())):
+            with self.lock:
+                self._blob_client.remove_pending_request(future)
             raise TimedOutError(f"no answer from dsr/get_blob within {timeout} s")
         return value_of(future.result())
 

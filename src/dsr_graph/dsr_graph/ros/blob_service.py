@@ -40,6 +40,12 @@ class AsyncBlobClient:
         if digest in self._kept:
             return self._kept[digest]
         loop = asyncio.get_running_loop()
+        deadline = loop.time() + self.timeout
+        # a request sent before the server's service is matched is lost, never answered
+        while not self.client.service_is_ready():
+            if loop.time() >= deadline:
+                raise TimeoutError("dsr/get_blob is not offered (no DSR server)")
+            await asyncio.sleep(0.02)
         answered: asyncio.Future = loop.create_future()
 
         def hand_over(future) -> None:  # the ROS thread
@@ -50,7 +56,7 @@ class AsyncBlobClient:
         sent = self.client.call_async(request)
         sent.add_done_callback(hand_over)
         try:
-            answer = await asyncio.wait_for(answered, self.timeout)
+            answer = await asyncio.wait_for(answered, max(0.0, deadline - loop.time()))
         except TimeoutError:
             self.client.remove_pending_request(sent)  # an answer that comes later is dropped
             raise
