@@ -142,6 +142,15 @@ def test_naming_gives_no_credit_for_a_hedged_name(said, expected):
             5,
         ),
         ("100 take away 7 is 93, take away 7 is 86, 79, 72, 65", 5),
+        # each subtraction said whole: the number it starts from restates the last answer
+        (
+            "100 minus 7 is 93, 93 minus 7 is 86, 86 minus 7 is 79, 79 minus 7 is 72, "
+            "72 minus 7 is 65",
+            5,
+        ),
+        ("93 minus 7 is 85, 85 minus 7 is 78", 2),
+        ("93, 85 minus 7 is 78", 2),  # 85 was not said before: it is an answer
+        ("93, 86, 86, 79", 3),  # 86 said again is an answer (wrong), 79 then right
         ("a hundred less seven, ninety-three; less seven, eighty-five", 1),
         ("ninety three eighty six seventy nine seventy two sixty five", 5),
         ("93. 86. 79. 72. 65.", 5),
@@ -173,6 +182,8 @@ def test_not_knowing_is_never_an_option(said):
         ("the second", 2),
         ("The first one, please", 1),
         ("one", 1),
+        ("the last one", 3),
+        ("The last option.", 3),
     ],
 )
 def test_an_option_chosen_by_number_or_position(said, position):
@@ -198,6 +209,16 @@ def test_an_option_chosen_by_number_or_position(said, position):
         ("mobility", "I walk with a stick on my own", 15),
         ("mobility", "I need someone to walk with me", 10),
         ("stairs", "I need someone to help me on the stairs", 5),
+        # a keyword denied where it is said is no hit (negation within the clause)
+        ("feeding", "I can't eat by myself", 0),
+        ("feeding", "I cannot eat on my own", 0),
+        ("bathing", "I can't bathe by myself", 0),
+        ("bathing", "No, I need help", 0),  # the "no" answers; "need help" is not denied
+        ("grooming", "no I can't", 0),
+        ("mobility", "I am not independent", None),
+        ("bowels", "not always", None),  # not "always" (10): asked again
+        ("bowels", "I don't have accidents", None),  # not "accidents" (5): asked again
+        ("grooming", "I don't need help", None),  # not "need help" (0): asked again
         # what the instrument leaves to the examiner stays not understood: asked again
         ("bladder", "I wear a catheter", None),
         ("mobility", "I walk with a stick and someone helps me", None),

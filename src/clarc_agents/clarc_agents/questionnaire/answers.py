@@ -3,14 +3,15 @@ docs/FORMAT.md ("How answers are understood"); what was said is first made words
 (``spoken.words``: case, punctuation and how a number was said never matter).
 
 Said, to a ``choose`` item: an utterance chooses an option by number or position ("two",
-"option two", "number 2", "the second one"), or by the option's keywords (phrases; the option
-with the most hits wins, a tie is not understood). "I don't know" and its like are never an
+"option two", "number 2", "the second one", "the last one"), or by the option's keywords
+(phrases, not where a word before denies them: "I can't eat by myself" is no "by myself"; the
+option with the most hits wins, a tie is not understood). "I don't know" and its like are never an
 option. Said, to a ``words`` item: a point for each part said, unless it was hedged ("Monday or
 Tuesday": no point for the weekday) or said among rival values of its kind (every weekday
 recited); any words but hesitations are an answer ("I don't know" is one, worth 0). A value
 taken back ("Tuesday, no, Thursday") is replaced by the one after it, to any item. Said, to a
 ``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of "minus
-seven"), a point for each that is the one said before it, or the start, minus the step (93, 85,
+seven", nor the 93 of "93 minus 7 is 86" after 93 was given), a point for each that is the one said before it, or the start, minus the step (93, 85,
 78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
 "next question" asks to skip the item. Anything else is not understood.
 """
@@ -44,6 +45,10 @@ UNKNOWING = tuple(
     )
 )
 POSITION_WORDS = ("option", "number")
+# words that deny what follows them in the clause ("I can't eat by myself", "I don't need help",
+# "not always"): within NEGATION_REACH words before a keyword, or "no" right before it
+NEGATORS = frozenset("not never without nobody nothing none neither nor cannot".split())
+NEGATION_REACH = 3
 ARTICLES = ("a", "an", "the")
 # the operand of a subtraction said aloud ("minus seven"), not an answer
 OPERATORS = ("minus", "less", "subtract", "subtracting", "away", "take")
@@ -107,7 +112,7 @@ def _choose(item: Item, said: list[str]) -> Understanding:
     said = _strip(said, UNKNOWING)  # "I don't know" is never an option ("don't" might be)
     if not said or set(said) <= HESITATIONS:
         return Understanding("not_understood", why=("no option was said",))
-    n = _position(said)
+    n = _position(said, len(item.options))
     if n is not None:
         if 1 <= n <= len(item.options):
             option = item.options[n - 1]
@@ -127,12 +132,14 @@ def _choose(item: Item, said: list[str]) -> Understanding:
 def _keyword_hits(item: Item, said: list[str]) -> list[int]:
     """For each option, how many of its keywords were said, the longest taken first and each
     word counted for one keyword only: "no problems" is that keyword, not also the "no" of "I do
-    not control them"."""
+    not control them". A keyword denied where it is said ("I can't eat by myself": not "by
+    myself") is no hit; one that is itself a denial ("can't", "no accidents") is one."""
     found = [
         (len(phrase), i, n, k)
         for n, option in enumerate(item.options)
         for k, phrase in enumerate(tuple(words(kw)) for kw in option.keywords)
         for i in _find(phrase, said)
+        if _negating(phrase[0]) or not _denied(said, i)
     ]
     used: set[int] = set()
     hit: set[tuple[int, int]] = set()
@@ -144,11 +151,25 @@ def _keyword_hits(item: Item, said: list[str]) -> list[int]:
     return [sum(n == m for m, _ in hit) for n in range(len(item.options))]
 
 
-def _position(said: list[str]) -> int | None:
-    """The option chosen by number or position: "2", "option 2", "number 2", "the 2nd (one)"
-    (the words already made digits)."""
+def _negating(token: str) -> bool:
+    return token in NEGATORS or token == "no" or token.endswith("n't")
+
+
+def _denied(said: list[str], i: int) -> bool:
+    """Whether what is said from ``said[i]`` on is denied by a word before it: "not", "never",
+    "can't", ... up to NEGATION_REACH words before; "no" only right before ("no help"), since
+    "No, I need help" answers the question and then says what is so."""
+    before = said[max(0, i - NEGATION_REACH) : i]
+    return said[i - 1 : i] == ["no"] or any(_negating(t) and t != "no" for t in before)
+
+
+def _position(said: list[str], options: int) -> int | None:
+    """The option chosen by number or position: "2", "option 2", "number 2", "the 2nd (one)",
+    "the last one" (the words already made digits)."""
     if len(said) == 1 and said[0].isdigit():
         return int(said[0])
+    if said == ["last"] or (said[:2] == ["the", "last"] and said[2:] in ([], ["1"], ["option"])):
+        return options
     for i, token in enumerate(said):
         if token in POSITION_WORDS and i + 1 < len(said) and said[i + 1].isdigit():
             return int(said[i + 1])
@@ -261,11 +282,13 @@ def _is_year(token: str) -> bool:
 
 
 def _serial(item: Item, said: list[str]) -> Understanding:
-    given = [
-        int(t)
-        for k, t in enumerate(said)
-        if t.isdigit() and not (k > 0 and said[k - 1] in OPERATORS)
-    ]
+    given: list[int] = []
+    for k, t in enumerate(said):
+        if not t.isdigit() or (k > 0 and said[k - 1] in OPERATORS):
+            continue  # a word, or the "seven" of "minus seven"
+        restated = k + 1 < len(said) and said[k + 1] in OPERATORS and given[-1:] == [int(t)]
+        if not restated:  # "93 minus 7 is 86": that 93 restates the answer before, once
+            given.append(int(t))
     return Understanding("answer", serial_points(item, given), tuple(map(str, given)))
 
 
