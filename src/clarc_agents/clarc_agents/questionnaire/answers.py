@@ -5,14 +5,14 @@ docs/FORMAT.md ("How answers are understood"); what was said is first made words
 Said, to a ``choose`` item: an utterance chooses an option by number or position ("two",
 "option two", "number 2", "the second one", "the last one"), or by the option's keywords
 (phrases, not where a word before denies them: "I can't eat by myself" is no "by myself"; the
-option with the most hits wins, a tie is not understood). "I don't know" and its like are never an
-option. Said, to a ``words`` item: a point for each part said, unless it was hedged ("Monday or
-Tuesday": no point for the weekday) or said among rival values of its kind (every weekday
-recited); any words but hesitations are an answer ("I don't know" is one, worth 0). A value
-taken back ("Tuesday, no, Thursday") is replaced by the one after it, to any item. Said, to a
-``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of "minus
-seven", nor the 93 of "93 minus 7 is 86" after 93 was given), a point for each that is the one said before it, or the start, minus the step (93, 85,
-78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
+option with the most hits wins, a tie is not understood). "I don't know" and its like are
+never an option. Said, to a ``words`` item: a point for each part said, unless it was hedged
+("Monday or Tuesday": no point for the weekday) or said among rival values of its kind (every
+weekday recited); any words but hesitations are an answer ("I don't know" is one, worth 0). A
+value taken back ("Tuesday, no, Thursday") is replaced by the one after it, to any item. Said,
+to a ``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of
+"minus seven", nor the 93 of "93 minus 7 is 86" after 93 was given), a point for each that is
+the one said before it, or the start, minus the step (93, 85, 78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
 "next question" asks to skip the item. Anything else is not understood.
 """
 
