@@ -12,8 +12,9 @@ weekday recited); any words but hesitations are an answer ("I don't know" is one
 value taken back ("Tuesday, no, Thursday") is replaced by the one after it, to any item. Said,
 to a ``serial`` item (the serial sevens): the numbers given as answers (not the "seven" of
 "minus seven", nor the 93 of "93 minus 7 is 86" after 93 was given), a point for each that is
-the one said before it, or the start, minus the step (93, 85, 78: 2 points). Touched, on a ``touches`` item: a point for each stage done in order. "skip" /
-"next question" asks to skip the item. Anything else is not understood.
+the one said before it, or the start, minus the step (93, 85, 78: 2 points). Touched, on a
+``touches`` item: a point for each stage done in order. "skip" / "next question" asks to skip
+the item. Anything else is not understood.
 """
 
 from __future__ import annotations
