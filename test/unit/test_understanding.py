@@ -171,6 +171,22 @@ def test_not_knowing_is_never_an_option(said):
 
 
 @pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("laundry", "No, someone else does it", 0),  # "no" answers, denies nothing
+        ("laundry", "I can't, someone else does it", 0),
+        ("telephone", "I can't do it myself", None),  # not "myself" (1)
+        ("telephone", "No, I never use it", 0),
+        ("medication", "I take them myself, no problem", 1),
+        ("housekeeping", "I do not do any housework", 0),
+        ("food_preparation", "I don't cook, my daughter cooks for me", 0),
+    ],
+)
+def test_the_lawton_answered_with_denials(item, said, expected):
+    assert understand(LAWTON.item(item), said).points == expected
+
+
+@pytest.mark.parametrize(
     "said, position",
     [
         ("two", 2),
@@ -214,6 +230,7 @@ def test_an_option_chosen_by_number_or_position(said, position):
         ("feeding", "I cannot eat on my own", 0),
         ("bathing", "I can't bathe by myself", 0),
         ("bathing", "No, I need help", 0),  # the "no" answers; "need help" is not denied
+        ("bathing", "Nobody helps me, I wash myself", 5),  # denied: "helps me"
         ("grooming", "no I can't", 0),
         ("mobility", "I am not independent", None),
         ("bowels", "not always", None),  # not "always" (10): asked again

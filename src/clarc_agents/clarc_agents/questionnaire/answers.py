@@ -47,7 +47,8 @@ UNKNOWING = tuple(
 )
 POSITION_WORDS = ("option", "number")
 # words that deny what follows them in the clause ("I can't eat by myself", "I don't need help",
-# "not always"): within NEGATION_REACH words before a keyword, or "no" right before it
+# "not always"), within NEGATION_REACH words before a keyword. Not "no": it mostly answers the
+# question ("No, someone else does it"), and "no accidents" is a keyword of its own.
 NEGATORS = frozenset("not never without nobody nothing none neither nor cannot".split())
 NEGATION_REACH = 3
 ARTICLES = ("a", "an", "the")
@@ -158,10 +159,8 @@ def _negating(token: str) -> bool:
 
 def _denied(said: list[str], i: int) -> bool:
     """Whether what is said from ``said[i]`` on is denied by a word before it: "not", "never",
-    "can't", ... up to NEGATION_REACH words before; "no" only right before ("no help"), since
-    "No, I need help" answers the question and then says what is so."""
-    before = said[max(0, i - NEGATION_REACH) : i]
-    return said[i - 1 : i] == ["no"] or any(_negating(t) and t != "no" for t in before)
+    "can't", ... up to NEGATION_REACH words before."""
+    return any(_negating(t) and t != "no" for t in said[max(0, i - NEGATION_REACH) : i])
 
 
 def _position(said: list[str], options: int) -> int | None:
