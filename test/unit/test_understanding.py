@@ -342,3 +342,16 @@ def test_clarc_understand_reads_a_definition_file_and_names_what_is_wrong(capsys
     assert code == 1 and "answered by the camera" in err
     code, _, err = run_understand(capsys, "nosuch", "x", "y")
     assert code == 1 and "neither a shipped test" in err
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("Spain, Andalusia, Seville, the Virgen del Rocío hospital, the first floor", 5),
+        ("Spain? Andalusia, Seville, Virgen del Rocío, floor one", 5),  # accents never matter
+        ("spain andalusia seville virgen del rocio the first", 5),  # the floor's ordinal alone
+        ("Spain, Andalusia, Seville, Virgen del Rocio, the second floor", 4),
+    ],
+)
+def test_the_place_said_with_accents_or_the_floor_as_a_number(said, expected):
+    assert points("orientation_place", said) == expected

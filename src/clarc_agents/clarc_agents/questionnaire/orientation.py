@@ -5,11 +5,13 @@ counts as right."""
 
 from __future__ import annotations
 
+import re
 from datetime import date
 
 from clarc_agents.exceptions import DefinitionError
-from clarc_agents.questionnaire.spoken import suffixed
+from clarc_agents.questionnaire.spoken import suffixed, words
 
+_ORDINAL = re.compile(r"^(\d+)(?:st|nd|rd|th)$")
 PLACE_PARTS = ("country", "province", "city", "building", "floor")
 # Where CLARC runs the tests (the paper's hospital); "|" between the ways of saying one part.
 DEFAULT_PLACE = (
@@ -40,8 +42,19 @@ def place_values(place: tuple[str, ...] | list[str]) -> dict[str, tuple[str, ...
         ways = tuple(w.strip() for w in str(text).split("|") if w.strip())
         if not ways:
             raise DefinitionError(f"the place's {name} is empty")
-        values[name] = ways
+        values[name] = ways + (_floor_variants(ways) if name == "floor" else ())
     return values
+
+
+def _floor_variants(ways: tuple[str, ...]) -> tuple[str, ...]:
+    """A floor said as an ordinal ("first floor") is right said as "floor one" or, in answer to
+    "which floor", as the ordinal alone ("the first")."""
+    variants = []
+    for way in ways:
+        said = words(way)
+        if len(said) == 2 and said[1] == "floor" and (n := _ORDINAL.match(said[0])):
+            variants += [f"floor {n[1]}", said[0]]
+    return tuple(v for v in dict.fromkeys(variants) if v not in ways)
 
 
 def date_values(today: date) -> dict[str, tuple[str, ...]]:

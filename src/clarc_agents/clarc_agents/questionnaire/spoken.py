@@ -3,14 +3,16 @@ numbers are digits however they were said ("ninety-three", "93"; "twenty twenty 
 "two thousand and twenty five", "2025"; "the first", "1st"). docs/FORMAT.md, "How answers are
 understood", gives each rule and its source.
 
-``words(text)`` gives the tokens: lowercase words (apostrophes kept: "don't"), numbers as digits,
-ordinals as digits with their suffix ("1st", "24th"). A pause in the text (a comma, a full stop)
-ends a number: "twenty, twenty five" is 20 and 25, "twenty twenty five" is the year 2025.
+``words(text)`` gives the tokens: lowercase words without accents (apostrophes kept: "don't"),
+numbers as digits, ordinals as digits with their suffix ("1st", "24th"). A pause in the text
+(a comma, a full stop) ends a number: "twenty, twenty five" is 20 and 25, "twenty twenty five"
+is the year 2025.
 """
 
 from __future__ import annotations
 
 import re
+import unicodedata
 
 _UNITS = "zero one two three four five six seven eight nine ten eleven twelve thirteen fourteen"
 _UNITS += " fifteen sixteen seventeen eighteen nineteen"
@@ -35,10 +37,17 @@ def suffixed(n: int) -> str:
 
 def words(text: str) -> list[str]:
     """The tokens of ``text`` (see the module's docstring)."""
-    text = text.lower().replace("\u2019", "'").replace("-", " ")
+    text = _unaccented(text.lower()).replace("\u2019", "'").replace("-", " ")
     tokens = [PAUSE if t in ",.;:!?" else t.strip("'") for t in _TOKEN.findall(text)]
     out = [t for t in _numbers(_hesitations_in_numbers_out([t for t in tokens if t])) if t != PAUSE]
     return out
+
+
+def _unaccented(text: str) -> str:
+    """Letters without their accents ("Rocío", "Málaga", "España": "rocio", "malaga", "espana"):
+    a recogniser or a typist may write them either way, and a letter the tokens do not know
+    would otherwise split the word."""
+    return "".join(c for c in unicodedata.normalize("NFKD", text) if not unicodedata.combining(c))
 
 
 # a sound of hesitation between two words of a number does not end it ("two thousand um twenty
