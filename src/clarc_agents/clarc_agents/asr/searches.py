@@ -3,7 +3,7 @@ the DSR says is expected, since a restricted search is both more accurate and tw
 faster than free decoding here (../shared/docs/SPEECH.md).
 
 - a ``choose`` item: a JSGF grammar of its options' phrases, an option by number or position
-  ("option two", "the second one"), plus what is said to any item ("skip", "I don't know");
+  ("option two", "the second one", "the last one"), plus what is said to any item ("skip", "I don't know");
 - a ``words`` item: a vocabulary (any sequence of its words, each as likely) of its parts'
   words, the other members of their word classes (a weekday brings the other weekdays, a number
   every number word), so that a wrong answer is heard as itself rather than as the right one,
@@ -148,7 +148,7 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
         "option": options,
         "position": [
             f"(option | number) ({' | '.join(count)})",
-            f"the ({' | '.join(ORDINALS[: len(item.options)])}) [one]",
+            f"the ({' | '.join(ORDINALS[: len(item.options)])} | last) [one]",
             *count,
         ],
         "filler": fillers,
