@@ -3,7 +3,8 @@ the DSR says is expected, since a restricted search is both more accurate and tw
 faster than free decoding here (../shared/docs/SPEECH.md).
 
 - a ``choose`` item: a JSGF grammar of its options' phrases, an option by number or position
-  ("option two", "the second one", "the last one"), plus what is said to any item ("skip", "I don't know");
+  ("option two", "the second one", "the last one"), plus what is said to any item ("skip", "I
+  don't know");
 - a ``words`` item: a vocabulary (any sequence of its words, each as likely) of its parts'
   words, the other members of their word classes (a weekday brings the other weekdays, a number
   every number word), so that a wrong answer is heard as itself rather than as the right one,
