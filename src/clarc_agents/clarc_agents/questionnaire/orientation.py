@@ -5,13 +5,11 @@ counts as right."""
 
 from __future__ import annotations
 
-import re
 from datetime import date
 
 from clarc_agents.exceptions import DefinitionError
-from clarc_agents.questionnaire.spoken import suffixed, words
+from clarc_agents.questionnaire.spoken import ORDINAL_DIGITS, suffixed, words
 
-_ORDINAL = re.compile(r"^(\d+)(?:st|nd|rd|th)$")
 PLACE_PARTS = ("country", "province", "city", "building", "floor")
 # Where CLARC runs the tests (the paper's hospital); "|" between the ways of saying one part.
 DEFAULT_PLACE = (
@@ -52,7 +50,7 @@ def _floor_variants(ways: tuple[str, ...]) -> tuple[str, ...]:
     variants = []
     for way in ways:
         said = words(way)
-        if len(said) == 2 and said[1] == "floor" and (n := _ORDINAL.match(said[0])):
+        if len(said) == 2 and said[1] == "floor" and (n := ORDINAL_DIGITS.match(said[0])):
             variants += [f"floor {n[1]}", said[0]]
     return tuple(v for v in dict.fromkeys(variants) if v not in ways)
 

@@ -26,7 +26,7 @@ ORDINAL_UNITS = {w: n for n, w in enumerate(_ORDINAL_UNITS.split())}
 ORDINAL_TENS = {w[:-1] + "ieth": n for w, n in TENS.items()}  # twentieth, thirtieth...
 PAUSE = ","  # a token that ends a number (removed from what ``words`` returns)
 _TOKEN = re.compile(r"[a-z0-9']+|[,.;:!?]")
-_ORDINAL_DIGITS = re.compile(r"^(\d+)(?:st|nd|rd|th)$")
+ORDINAL_DIGITS = re.compile(r"^(\d+)(?:st|nd|rd|th)$")
 
 
 def suffixed(n: int) -> str:
@@ -112,7 +112,7 @@ def _number(tokens: list[str], k: int) -> tuple[str | None, int]:
     """The number said from ``tokens[k]`` as a digit token, and the tokens it used."""
     if tokens[k].isdigit():
         return tokens[k], 1
-    if (m := _ORDINAL_DIGITS.match(tokens[k])) is not None:
+    if (m := ORDINAL_DIGITS.match(tokens[k])) is not None:
         return suffixed(int(m[1])), 1
     one = tokens[k] == "a" and k + 1 < len(tokens) and tokens[k + 1] == "thousand"
     value, used, ordinal = (1, 1, False) if one else _below_thousand(tokens, k)
