@@ -2,9 +2,9 @@
 the DSR says is expected, since a restricted search is both more accurate and twenty times
 faster than free decoding here (../shared/docs/SPEECH.md).
 
-- a ``choose`` item: a JSGF grammar of its options' phrases, an option by number or position
-  ("option two", "the second one", "the last one"), plus what is said to any item ("skip", "I
-  don't know");
+- a ``choose`` item: a JSGF grammar of its options' phrases (a denial may come before one: "I
+  can't" ... "by myself"), an option by number or position ("option two", "the second one",
+  "the last one"), plus what is said to any item ("skip", "I don't know");
 - a ``words`` item: a vocabulary (any sequence of its words, each as likely) of its parts'
   words, the other members of their word classes (a weekday brings the other weekdays, a number
   every number word), so that a wrong answer is heard as itself rather than as the right one,
@@ -41,6 +41,9 @@ ANY_ITEM = ("skip", "next question", "i don't know", "i do not know", "not sure"
 # said before an answer; none after it: a filler at the end soaks up the noise after the
 # answer and the search ends inside it ("one it")
 FILLERS = ("well", "i think", "it's", "it is")
+# a denial before an option's words ("I can't ... by myself"): heard, so that the answer is
+# understood as denied (questionnaire/answers.py) rather than forced into the option it denies
+DENIALS = ("not", "never", "i can't", "i cannot", "i don't", "i do not", "i never")
 # mumbling: heard as itself rather than forced into an option (then it is not understood);
 # short words ("a", "oh", "the") would be heard in place of short answers ("three")
 MUMBLING = ("um", "uh", "hmm", "mm", "eh", "er")
@@ -153,9 +156,10 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
             *count,
         ],
         "filler": fillers,
+        "denial": _alternatives(DENIALS, known),
         "mumbling": _alternatives(MUMBLING, known),
         "answer": [
-            "[<filler>] (<option> | <position>)",
+            "[<filler>] ([<denial>] <option> | <position>)",
             "<mumbling> [<mumbling>] [<mumbling>]",
             *anything,
         ],

@@ -171,6 +171,8 @@ def _position(said: list[str], options: int) -> int | None:
     if said == ["last"] or (said[:2] == ["the", "last"] and said[2:] in ([], ["1"], ["option"])):
         return options
     for i, token in enumerate(said):
+        if _denied(said, i):  # "not the second one", "not option two": no choice made
+            continue
         if token in POSITION_WORDS and i + 1 < len(said) and said[i + 1].isdigit():
             return int(said[i + 1])
         if token[:1].isdigit() and not token.isdigit():  # an ordinal: "the 2nd", "2nd 1"
