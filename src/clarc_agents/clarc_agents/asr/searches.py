@@ -147,21 +147,23 @@ def search_for(item: Item, known: Callable[[str], bool]) -> Search | None:
     if item.kind != "choose":
         return None
     options = _alternatives((k for o in item.options for k in (o.text, *o.keywords)), known)
+    denials = _alternatives(DENIALS, known)
+    mumbling = _alternatives(MUMBLING, known)
     count = ONES[1 : len(item.options) + 1]
     rules = {
-        "option": options,
         "position": [
             f"(option | number) ({' | '.join(count)})",
             f"the ({' | '.join(ORDINALS[: len(item.options)])} | last) [one]",
             *count,
         ],
-        "filler": fillers,
-        "denial": _alternatives(DENIALS, known),
-        "mumbling": _alternatives(MUMBLING, known),
-        "answer": [
-            "[<filler>] ([<denial>] <option> | <position>)",
-            "<mumbling> [<mumbling>] [<mumbling>]",
-            *anything,
-        ],
     }
+    # a rule with no alternative is no JSGF: one whose words the dictionary lacks is left out
+    rules |= {name: alts for name, alts in [("option", options), ("filler", fillers)] if alts}
+    rules |= {name: alts for name, alts in [("denial", denials), ("mumbling", mumbling)] if alts}
+    chosen = f"{'[<denial>] ' if denials else ''}<option> | <position>" if options else "<position>"
+    rules["answer"] = [
+        f"{'[<filler>] ' if fillers else ''}({chosen})",
+        *(["<mumbling> [<mumbling>] [<mumbling>]"] if mumbling else []),
+        *anything,
+    ]
     return _grammar(rules)
