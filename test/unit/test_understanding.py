@@ -177,6 +177,8 @@ def test_not_knowing_is_never_an_option(said):
         ("laundry", "I can't, someone else does it", 0),
         ("telephone", "I can't do it myself", None),  # not "myself" (1)
         ("telephone", "No, I never use it", 0),
+        ("telephone", "I can't use the phone myself", None),  # four words back: still denied
+        ("transportation", "I don't drive but I take the bus", 1),  # "but" ends the denial
         ("medication", "I take them myself, no problem", 1),
         ("housekeeping", "I do not do any housework", 0),
         ("food_preparation", "I don't cook, my daughter cooks for me", 0),
@@ -230,7 +232,10 @@ def test_an_option_chosen_by_number_or_position(said, position):
         ("feeding", "I cannot eat on my own", 0),
         ("bathing", "I can't bathe by myself", 0),
         ("bathing", "No, I need help", 0),  # the "no" answers; "need help" is not denied
-        ("bathing", "Nobody helps me, I wash myself", 5),  # denied: "helps me"
+        ("bathing", "Nobody helps me so I wash myself", 5),  # denied: "helps me" only
+        # no comma reaches the rules (a recogniser writes none): "nobody" reaches "wash myself"
+        # too, and the answer is asked again rather than scored
+        ("bathing", "Nobody helps me, I wash myself", None),
         ("grooming", "no I can't", 0),
         ("mobility", "I am not independent", None),
         ("bowels", "not always", None),  # not "always" (10): asked again

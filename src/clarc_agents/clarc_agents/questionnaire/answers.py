@@ -47,10 +47,12 @@ UNKNOWING = tuple(
 )
 POSITION_WORDS = ("option", "number")
 # words that deny what follows them in the clause ("I can't eat by myself", "I don't need help",
-# "not always"), within NEGATION_REACH words before a keyword. Not "no": it mostly answers the
-# question ("No, someone else does it"), and "no accidents" is a keyword of its own.
+# "not always"), within NEGATION_REACH words before a keyword and no clause's end between (a
+# recogniser writes no commas). Not "no": it mostly answers the question ("No, someone else
+# does it"), and "no accidents" is a keyword of its own.
 NEGATORS = frozenset("not never without nobody nothing none neither nor cannot".split())
-NEGATION_REACH = 3
+NEGATION_REACH = 4
+CLAUSE_ENDS = frozenset("but and or so because though although except yes no".split())
 ARTICLES = ("a", "an", "the")
 # the operand of a subtraction said aloud ("minus seven"), not an answer
 OPERATORS = ("minus", "less", "subtract", "subtracting", "away", "take")
@@ -158,9 +160,15 @@ def _negating(token: str) -> bool:
 
 
 def _denied(said: list[str], i: int) -> bool:
-    """Whether what is said from ``said[i]`` on is denied by a word before it: "not", "never",
-    "can't", ... up to NEGATION_REACH words before."""
-    return any(_negating(t) and t != "no" for t in said[max(0, i - NEGATION_REACH) : i])
+    """Whether what is said from ``said[i]`` on is denied by a word before it in its clause:
+    "not", "never", "can't", ... up to NEGATION_REACH words before ("I don't drive but I take
+    the bus": the bus is not denied)."""
+    for t in reversed(said[max(0, i - NEGATION_REACH) : i]):
+        if t in CLAUSE_ENDS:
+            return False
+        if _negating(t):
+            return True
+    return False
 
 
 def _position(said: list[str], options: int) -> int | None:
