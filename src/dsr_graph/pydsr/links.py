@@ -182,6 +182,8 @@ class RosLink:
             executor.shutdown(timeout_sec=1.0)
         node = getattr(self, "node", None)
         if node is not None:
-            node.destroy_node()
+            from dsr_graph.ros import dds_teardown
+
+            dds_teardown.destroy_node(node)
         if self.context.ok():
             self.context.try_shutdown()

@@ -28,6 +28,7 @@ from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
+from dsr_graph.ros import dds_teardown
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals
 
@@ -121,7 +122,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     finally:
         if node is not None:
             node.close()
-            node.destroy_node()
+            dds_teardown.destroy_node(node)
         rclpy.try_shutdown()
         stops.uninstall()
 

@@ -13,6 +13,7 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
 from dsr_graph.exceptions import TimedOutError
+from dsr_graph.ros import dds_teardown
 
 
 class RosSession:
@@ -38,7 +39,7 @@ class RosSession:
 
     def close(self) -> None:
         self.executor.shutdown(timeout_sec=1.0)
-        self.node.destroy_node()
+        dds_teardown.destroy_node(self.node)
         rclpy.try_shutdown(context=self.context)
 
     def spin_for(self, seconds: float) -> None:
