@@ -3,11 +3,11 @@
 Deleting a participant (rclpy's destroy_node of the context's last node) first clears its
 listener, waiting for a discovery callback in flight to end. In Fast DDS 2.14 that wait
 busy-spins (Fast-DDS issue 6513: an infinite deadline that the condition variable turns into
-one in the past), re-taking the very mutex the callback needs to finish. Seen here with gdb at
-launches' shutdown, when every peer leaves at once and each of their endpoints is a callback:
-the node's main thread spinning in DomainParticipant::set_listener, the callback's thread
-waiting for that mutex, the node ignoring SIGINT and SIGTERM (rclpy holds the GIL there) until
-launch killed it. On two CPUs the spinner takes the mutex back before the woken thread runs.
+one in the past), releasing and re-taking its mutex. Seen here with gdb at launches' shutdown,
+when every peer leaves at once and each of their endpoints is a callback: the node's main thread
+spinning in DomainParticipant::set_listener, a discovery callback's thread blocked on a mutex
+(which one was not captured; the spinner's, by issue 6513's account), the node ignoring SIGINT
+and SIGTERM (rclpy holds the GIL there) until launch killed it.
 
 While the node is destroyed every thread of the process runs on one CPU: a thread woken when
 the spinner releases the mutex then preempts it on that CPU and takes the mutex first, so the
