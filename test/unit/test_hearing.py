@@ -111,15 +111,17 @@ def test_the_sphinx_recordings_are_heard_by_the_free_model(recogniser, speech_di
     assert said.text == "seven of clubs"
 
 
-def test_clarc_hear_prints_the_text_its_confidence_and_the_points(capsys, speech_dir):
+def test_clarc_hear_with_pocketsphinx_prints_the_text_its_confidence_and_points(capsys, speech_dir):
     from clarc_sim.console.clarc_cli import main
 
     wav = speech_dir / "fsdd" / "3_jackson_0.wav"
-    assert main(["hear", str(wav), "--test", "barthel", "--item", "feeding", "--json"]) == 0
+    sphinx = ["--recogniser", "pocketsphinx", "--json"]
+    assert main(["hear", str(wav), "--test", "barthel", "--item", "feeding", *sphinx]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["text"] == "three" and doc["points"] == 10 and doc["search"] == "grammar"
     assert 0.5 <= doc["confidence"] <= 1.0 and doc["understood"] == "answer"
-    assert main(["hear", str(speech_dir / "sphinx" / "goforward.raw"), "--json"]) == 0
+    assert doc["recogniser"] == "pocketsphinx"
+    assert main(["hear", str(speech_dir / "sphinx" / "goforward.raw"), *sphinx]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["text"] == "go forward ten meters" and doc["search"] == "free"
     assert "points" not in doc

@@ -20,6 +20,11 @@ class AudioError(DsrError, ValueError):
     file and what is wrong."""
 
 
+class ModelError(DsrError):
+    """A recogniser's model files are missing or not the ones pinned (their SHA-256 differs);
+    the message names the package and the file."""
+
+
 class DefinitionError(DsrError, ValueError):
     """A test definition file is not usable; the message names the file, the line and what is
     wrong."""

@@ -1,6 +1,7 @@
-"""The recogniser (pocketsphinx, its wheel's en-US model: no download at run time): an
+"""The pocketsphinx recogniser (its wheel's en-US model: no download at run time): an
 utterance's samples and a search (``searches.py``) in, what was heard out, with a confidence
-(the lowest posterior probability of its words, 0 to 1) and its times within the samples."""
+(the lowest posterior probability of its words, 0 to 1) and its times within the samples.
+``hearing.py`` chooses between it and Whisper (``whisper.py``); both give a ``Heard``."""
 
 from __future__ import annotations
 
@@ -14,7 +15,15 @@ import numpy as np
 from pocketsphinx import Config, Decoder
 
 from clarc_agents.asr.audio import RATE, dithered
-from clarc_agents.asr.searches import ABSORBERS, FREE, MUMBLING, SERIAL_SOAKING, Search
+from clarc_agents.asr.searches import (
+    ABSORBERS,
+    FREE,
+    MUMBLING,
+    SERIAL_SOAKING,
+    Search,
+    search_for,
+)
+from clarc_agents.definitions import Item
 
 FRAMES_PER_SECOND = 100  # pocketsphinx's frame rate (10 ms frames)
 # quiet before and after the utterance: a recording cut tight at the speech (or an endpointer
@@ -29,9 +38,12 @@ class Heard:
     confidence: float  # 0 to 1
     start: float  # seconds into the utterance's samples
     end: float
+    transcript: str = ""  # what free decoding wrote, when ``text`` is a candidate rescored
 
 
 class Recogniser:
+    name = "pocketsphinx"
+
     def __init__(self):
         # the language model is loaded once (about 0.3 s); grammars are added as needed
         self.decoder = Decoder(Config(loglevel="FATAL"))
@@ -86,6 +98,12 @@ class Recogniser:
         if len(self._vocabularies) > VOCABULARIES_KEPT:
             self._vocabularies.popitem(last=False)
         return decoder
+
+    def hear_item(self, samples: np.ndarray, item: Item | None) -> tuple[Heard, str]:
+        """What ``samples`` say while ``item``'s answer is awaited (None: nothing is), and the
+        kind of search that heard it."""
+        search = (search_for(item, self.known) if item is not None else None) or Search(FREE, None)
+        return self.hear(samples, search), search.kind
 
     def hear(self, samples: np.ndarray, search: Search) -> Heard:
         """What ``samples`` (16 kHz mono int16, one utterance) say, within ``search``."""

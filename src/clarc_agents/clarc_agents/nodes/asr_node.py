@@ -1,15 +1,19 @@
 """The asr agent (``--audio``): hears the patient in the microphone's stream. It cuts the stream
-into utterances (voice activity detection, asr/utterances.py), recognises each with pocketsphinx
-restricted to what the DSR says is expected now (the awaited item's options, numbers for the
-serial sevens, the free language model for a words item; the item on the screen just before its
-window opens; asr/searches.py), and publishes what it heard, with its confidence and when it was
-said, on clarc/asr: Speech understands it and writes the answer, as from any recogniser. What
-the robot said itself (its speaker's start and end) is never published. It writes nothing in
-the DSR: it reads it. Recognition runs on a thread of its own, so the stream is never held up.
+into utterances (voice activity detection, asr/utterances.py), recognises each biased by what
+the DSR says is expected now (the awaited item, else the one on the screen just before its
+window opens): with Whisper, the item's sentences as the decoder's previous text and a choose
+item's options rescored (asr/whisper.py, asr/expectations.py); with pocketsphinx, a search
+restricted to them (asr/searches.py). It publishes what it heard, with its confidence and when
+it was said, on clarc/asr: Speech understands it and writes the answer, as from any recogniser.
+What the robot said itself (its speaker's start and end) is never published, nor what the
+recogniser's guards call no speech. It writes nothing in the DSR: it reads it. Recognition runs
+on a thread of its own, so the stream is never held up.
 
-ROS Parameters: setup_timeout (20). Subscriptions: clarc/microphone/audio
-(audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE), clarc/speaker/events, the DSR.
-Publishers: clarc/asr ({"text", "confidence", "start", "end"}).
+ROS Parameters: setup_timeout (20), recogniser ("whisper" or "pocketsphinx", read-only).
+Subscriptions: clarc/microphone/audio (audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE),
+clarc/speaker/events, the DSR. Publishers: clarc/asr ({"text", "confidence", "start", "end",
+"recogniser", and "transcript" when a choose item's options were rescored: what free decoding
+wrote}).
 """
 
 from __future__ import annotations
@@ -23,14 +27,14 @@ from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.asr.audio_topics import qos_audio, samples_of
-from clarc_agents.asr.searches import FREE, Search, search_for
+from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
 from clarc_agents.asr.utterances import RobotSpeech, Utterance, Utterances
 from clarc_agents.behaviours.item_options import awaited_item, item_in
 from clarc_agents.definitions import Item
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
-from dsr_graph.ros.parameters import declare_setup_timeout, float_param
+from dsr_graph.ros.parameters import declare, declare_setup_timeout, float_param, param
 from dsr_graph.ros.qos import qos_stream
 
 STOP = None  # what the recognition thread is given to end
@@ -42,6 +46,13 @@ class AsrAgent(DsrNode):
     @classmethod
     def declare_node_parameters(cls, node) -> None:
         declare_setup_timeout(node, 20.0)
+        declare(
+            node,
+            "recogniser",
+            DEFAULT,
+            f"the speech recogniser: {' or '.join(RECOGNISERS)}",
+            read_only=True,
+        )
 
     def __init__(self):
         super().__init__()
@@ -52,10 +63,8 @@ class AsrAgent(DsrNode):
         self._thread: threading.Thread | None = None
 
     def setup(self) -> None:
-        from clarc_agents.asr.recogniser import Recogniser  # the model: a second to load
-
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
-        self._recogniser = Recogniser()
+        self._recogniser = open_recogniser(str(param(self, "recogniser")))  # a second or two
         self._asr = self.create_publisher(String, topics.ASR, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self.create_subscription(
@@ -103,9 +112,7 @@ class AsrAgent(DsrNode):
                 self.get_logger().error(f"recognition failed: {e!r}")
 
     def _hear(self, utterance: Utterance, item: Item | None) -> None:
-        search = search_for(item, self._recogniser.known) if item is not None else None
-        search = search or Search(FREE, None)
-        heard = self._recogniser.hear(utterance.samples, search)
+        heard, how = self._recogniser.hear_item(utterance.samples, item)
         if not heard.text:
             self.get_logger().info("speech, but no words recognised in it")
             return
@@ -114,8 +121,11 @@ class AsrAgent(DsrNode):
             "confidence": round(heard.confidence, 3),
             "start": round(utterance.start + heard.start, 3),
             "end": round(utterance.start + heard.end, 3),
+            "recogniser": self._recogniser.name,
         }
-        what = "free" if search.kind == "free" else f"{item.key}'s {search.kind}"
+        if heard.transcript:
+            said["transcript"] = heard.transcript
+        what = "free" if how == "free" else f"{item.key}'s {how}"
         self.get_logger().info(f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search)")
         publish_json(self._asr, said)
 

@@ -111,6 +111,12 @@ def _below_thousand(tokens: list[str], k: int) -> tuple[int | None, int, bool]:
 def _number(tokens: list[str], k: int) -> tuple[str | None, int]:
     """The number said from ``tokens[k]`` as a digit token, and the tokens it used."""
     if tokens[k].isdigit():
+        # tens in digits and a unit in words, with no pause between: one number as a
+        # recogniser writes it ("80 seven" for "eighty seven")
+        nxt = tokens[k + 1] if k + 1 < len(tokens) else ""
+        tens = int(tokens[k])
+        if 20 <= tens <= 90 and tens % 10 == 0 and 0 < UNITS.get(nxt, 0) < 10:
+            return str(tens + UNITS[nxt]), 2
         return tokens[k], 1
     if (m := ORDINAL_DIGITS.match(tokens[k])) is not None:
         return suffixed(int(m[1])), 1

@@ -1,10 +1,15 @@
-"""``clarc hear FILE [--test TEST --item ITEM] [--json]``: the recogniser the ``asr`` node runs,
-on a recording (WAV, PCM 16 bit, at 8, 16, 22.05 or 44.1 kHz or any other rate, resampled with
-soxr; or raw 16 kHz PCM 16 bit, ``.raw``), with the search the node would use while that item's
-answer is awaited (the free language model without ``--item``), and how the text is understood
-for the item (``clarc understand``). With ``--json``: one object with ``text``, ``confidence``,
-``start`` and ``end`` (seconds into the file), ``search`` (``grammar`` or ``free``), and with an
-item ``understood`` and ``points`` (null when nothing in it is an answer).
+"""``clarc hear FILE [--test TEST --item ITEM] [--recogniser R] [--json]``: the recogniser the
+``asr`` node runs (Whisper unless ``--recogniser pocketsphinx``), on a recording (WAV, PCM 16
+bit, at 8, 16, 22.05 or 44.1 kHz or any other rate, resampled with soxr; or raw 16 kHz PCM 16
+bit, ``.raw``), biased as the node biases it while that item's answer is awaited (nothing
+expected without ``--item``), and how the text is understood for the item (``clarc
+understand``). With ``--json``: one object with ``text``, ``confidence``, ``start`` and ``end``
+(seconds into the file), ``recogniser``, ``search`` (how it was heard: Whisper's ``prompted``,
+``rescored`` or ``free``; pocketsphinx's ``grammar``, ``vocabulary`` or ``free``),
+``transcript`` when rescored (what free decoding wrote), and with an item ``understood`` and
+``points`` (null when nothing in it is an answer). What is heard with a confidence under
+Speech's ``min_confidence`` (0.5) is not understood by the robot: ``points`` is then null too,
+and ``sure`` false.
 """
 
 from __future__ import annotations
@@ -16,8 +21,9 @@ import time
 from datetime import date
 
 from clarc_agents.asr.audio import RATE, read_audio
-from clarc_agents.asr.searches import FREE, Search, search_for
-from clarc_agents.exceptions import AudioError, DefinitionError
+from clarc_agents.asr.expectations import expectation_for
+from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
+from clarc_agents.exceptions import AudioError, DefinitionError, ModelError
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 from clarc_sim.console.understand_cli import definition_of, explain
 
@@ -27,57 +33,72 @@ def add_parser(sub) -> None:
     p.add_argument("file", help="a WAV file (16-bit PCM, any rate) or raw 16 kHz PCM (.raw)")
     p.add_argument("--test", help="a shipped test or a definition file (with --item)")
     p.add_argument("--item", help="the item whose answer is awaited: restricts the search")
+    p.add_argument(
+        "--recogniser", choices=RECOGNISERS, default=DEFAULT, help="default: %(default)s"
+    )
     p.add_argument("--json", action="store_true", help="one JSON object")
     p.add_argument("--date", type=date.fromisoformat, default=None, help="orientation's date")
     p.set_defaults(run=run)
 
 
-def hear(path: str, test: str | None, key: str | None, today: date) -> dict:
-    """What ``clarc hear`` prints, as a dict."""
-    from clarc_agents.asr.recogniser import Recogniser  # loads the model: only when hearing
+MIN_CONFIDENCE = 0.5  # Speech's default min_confidence
 
+
+def hear(
+    path: str, test: str | None, key: str | None, today: date, recogniser: str = DEFAULT
+) -> dict:
+    """What ``clarc hear`` prints, as a dict."""
     if (test is None) != (key is None):
         raise DefinitionError("--test and --item go together")
     samples = read_audio(path)
-    recogniser = Recogniser()
-    search = Search(FREE, None)
+    item = None
     if key is not None:
         definition = definition_of(test).filled(values(today, DEFAULT_PLACE))
         keys = [i.key for i in definition.items]
         if key not in keys:
             raise DefinitionError(f"{definition.test} has no item {key!r}; its items: {keys}")
-        search = search_for(definition.item(key), recogniser.known)
-        if search is None:
+        item = definition.item(key)
+        if expectation_for(item) is None:
             raise DefinitionError(f"{definition.test}'s {key} is not answered by voice")
+    hearing = open_recogniser(recogniser)  # loads the model: only when hearing
     started = time.process_time()
-    heard = recogniser.hear(samples, search)
+    heard, how = hearing.hear_item(samples, item)
     cpu = time.process_time() - started
     out = {
         "file": path,
         "text": heard.text,
         "confidence": round(heard.confidence, 3),
-        "start": heard.start,
-        "end": heard.end,
-        "search": search.kind,
+        "start": round(heard.start, 3),
+        "end": round(heard.end, 3),
+        "recogniser": hearing.name,
+        "search": how,
         "real_time_factor": round(cpu / (len(samples) / RATE), 3),
     }
+    if heard.transcript:
+        out["transcript"] = heard.transcript
     if key is not None:
         understood = explain(test, key, heard.text, today, DEFAULT_PLACE)
         out |= {k: understood[k] for k in ("test", "item", "understood", "points", "max")}
+        out["sure"] = heard.confidence >= MIN_CONFIDENCE
+        if not out["sure"]:  # the robot would ask again: no points from it
+            out |= {"understood": "not_understood", "points": None}
     return out
 
 
 def run(args: argparse.Namespace) -> int:
     try:
-        out = hear(args.file, args.test, args.item, args.date or date.today())
-    except (AudioError, DefinitionError, OSError) as e:
+        out = hear(args.file, args.test, args.item, args.date or date.today(), args.recogniser)
+    except (AudioError, DefinitionError, ModelError, OSError) as e:
         print(f"clarc hear: {e}", file=sys.stderr)
         return 1
     if args.json:
         print(json.dumps(out))
         return 0
     text = out["text"] or "(nothing)"
-    print(f"heard: {text}  (confidence {out['confidence']:.2f}, {out['search']} search)")
+    how = f"{out['recogniser']}, {out['search']}"
+    print(f"heard: {text}  (confidence {out['confidence']:.2f}, {how})")
+    if "transcript" in out:
+        print(f"  (free decoding wrote: {out['transcript'] or '(nothing)'})")
     if "item" in out:
         worth = "no answer" if out["points"] is None else f"{out['points']} of {out['max']} points"
         print(f"{out['test']} {out['item']}: {out['understood']}, {worth}")

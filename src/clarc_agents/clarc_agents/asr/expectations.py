@@ -1,0 +1,75 @@
+"""What the DSR expects to hear while an item's answer is awaited, as a recogniser's context
+(pure). Nothing here names a test or an item: only the item's kind, its sentences and options.
+
+- ``prompt``: what the robot said just before the answer (the item's question and request, a
+  choose item's options read out), given to Whisper as the conversation's previous text. It
+  biases the decoder towards the words of the exchange without listing only right answers: a
+  recall item's prompt is "What were the three objects?", never the objects.
+- ``candidates`` (choose items): what chooses each option (its number, "option N", its text),
+  and what is no option ("I don't know", "skip"), for closed-set rescoring when the free
+  decoding means nothing (../shared/docs/SPEECH.md: 20 of 20 digits where the free one heard
+  "so", "see", "city").
+- ``meaning(text)``: what a text would be worth as the answer (``understand``'s kind and
+  points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
+  add up, hypotheses that mean another one compete.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field
+
+from clarc_agents.asr.searches import ONES
+from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.spoken import words
+
+NO_OPTION = ("I don't know", "Skip")  # said to any item, never an option
+# how a choose item's options are read out and asked (questionnaire/sentences.py says them)
+ASKED = "Which option fits you best?"
+
+
+@dataclass(frozen=True)
+class Expectation:
+    kind: str  # choose | words | serial | free
+    prompt: str = ""
+    candidates: tuple[str, ...] = ()
+    meaning: Callable[[str], Hashable | None] = field(default=lambda text: None, compare=False)
+
+
+# no item: hypotheses that are the same words agree
+FREE = Expectation("free", meaning=lambda text: tuple(words(text)) or None)
+
+
+def _meaning_for(item: Item) -> Callable[[str], Hashable | None]:
+    def meaning(text: str) -> Hashable | None:
+        understood = understand(item, text)
+        if understood.kind == "not_understood":
+            return None
+        return (understood.kind, understood.points)
+
+    return meaning
+
+
+def expectation_for(item: Item | None) -> Expectation | None:
+    """The context for ``item``'s answer; None for an item not answered by voice; ``FREE``
+    with no item."""
+    if item is None:
+        return FREE
+    if "voice" not in item.via:
+        return None
+    meaning = _meaning_for(item)
+    if item.kind == "choose":
+        read_out = " ".join(f"Option {ONES[i + 1]}: {o.text}." for i, o in enumerate(item.options))
+        candidates = [
+            phrase
+            for i, option in enumerate(item.options)
+            for phrase in (ONES[i + 1], f"option {ONES[i + 1]}", option.text)
+        ]
+        return Expectation(
+            "choose",
+            f"{item.question} The options are. {read_out} {ASKED}",
+            tuple(dict.fromkeys([*candidates, *NO_OPTION])),
+            meaning,
+        )
+    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning)

@@ -1,0 +1,22 @@
+"""Which recogniser hears the patient (``asr`` node's ``recogniser`` parameter, ``clarc hear
+--recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), or
+pocketsphinx, the one before it, kept to compare. Both load their model when made (a second or
+two) and give ``hear_item(samples, item) -> (Heard, how)``."""
+
+from __future__ import annotations
+
+RECOGNISERS = ("whisper", "pocketsphinx")
+DEFAULT = "whisper"
+
+
+def open_recogniser(name: str = DEFAULT):
+    """The recogniser called ``name``; ValueError naming the choices for any other."""
+    if name == "whisper":
+        from clarc_agents.asr.whisper import WhisperRecogniser
+
+        return WhisperRecogniser()
+    if name == "pocketsphinx":
+        from clarc_agents.asr.recogniser import Recogniser
+
+        return Recogniser()
+    raise ValueError(f"recogniser {name!r}: one of {', '.join(RECOGNISERS)}")

@@ -1,0 +1,211 @@
+"""Whisper (tiny.en, through faster-whisper and CTranslate2, int8 on the CPU): an utterance's
+samples and what the DSR expects (``expectations.py``) in, what was heard out, with how sure.
+
+How sure: beam search keeps its ``HYPOTHESES`` best transcripts with their log-probabilities;
+each is understood as the item's answer would be (``Expectation.meaning``), and the confidence
+is the probability mass of the hypotheses that mean what the best one means. "Two." and "Two"
+agree; "Two." against "Three." is a coin toss and says so. For words and serial answers, the
+least sure word of the best transcript (each token's probability, forced through the decoder)
+bounds it too (``TOKEN_DOUBT``).
+
+A choose item whose best transcript means nothing ("So.", "City.") is rescored: each way of
+choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
+know", "Skip"), and the free transcript itself, forced through the decoder (CTranslate2's
+``align`` gives each token's probability); the options' share of that mass is the confidence.
+The free transcript stays in the race, so a patient who said something else is not forced into
+an option.
+
+Never an answer (../shared/docs/SPEECH.md): an utterance with less than ``MIN_SPEECH`` of
+voice above the room (``speech_span``); what Whisper writes on silence or noise ("Thank you.",
+"You.") when the decoder itself says there was no speech (no-speech probability over
+``NO_SPEECH`` and average log-probability under ``LOGPROB_FLOOR``, faster-whisper's own
+thresholds), or any time for its known phrases of silence.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+import numpy as np
+from pocketsphinx import Vad
+
+from clarc_agents.asr.audio import RATE, dithered
+from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
+from clarc_agents.asr.models import WHISPER_TINY_EN, verified_folder
+from clarc_agents.asr.recogniser import Heard
+from clarc_agents.definitions import Item
+
+os.environ.setdefault("HF_HUB_OFFLINE", "1")  # a local folder only: never a download
+
+BEAM = 5
+HYPOTHESES = 5
+MAX_TOKENS = 96  # an answer is a sentence or two; a runaway repetition stops here
+WINDOW_FRAMES = 3000  # Whisper's 30 s window of 10 ms mel frames (shorter ones hear worse)
+NO_SPEECH = 0.6
+LOGPROB_FLOOR = -1.0
+# words and serial answers: a word's probability times this bounds the confidence, so that at
+# Speech's 0.5 a words answer needs each word at 0.3 and a serial one each number at 0.5
+# (measured on the benchmark's synthesised answers at 20 dB: the least a wrong answer's
+# least sure word had; BENCHMARKS.md section 9)
+TOKEN_DOUBT = {"words": 0.5 / 0.3, "serial": 1.0}
+MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
+MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
+# what Whisper writes where there is no speech (its training subtitles' closing lines)
+SILENCE_PHRASES = frozenset(
+    {"thank you", "thanks", "thank you very much", "thanks for watching", "you", "bye", "okay"}
+)
+
+
+def speech_span(samples: np.ndarray) -> tuple[float, float, float]:
+    """(start, end, seconds of speech) of the voice above the room in ``samples``: 30 ms frames
+    that WebRTC's voice activity detector calls speech and that stand out of the room: 10 dB
+    over the quietest tenth and within 35 dB of the loudest, or within 15 dB of the loudest
+    (a clip cut tight at the speech has little room in it). A sound as level as a hiss (less
+    than ``MIN_RANGE`` dB from its quietest tenth to its loudest frame) is no speech at all."""
+    vad = Vad(Vad.LOOSE, RATE)
+    size = vad.frame_bytes // 2
+    n = len(samples) // size
+    everything = (0.0, len(samples) / RATE, 0.0)
+    if n == 0:
+        return everything
+    frames = samples[: n * size].astype(np.int16).reshape(n, size)
+    energy = np.mean(frames.astype(np.float64) ** 2, axis=1)
+    level = 10 * np.log10(energy + 1.0)
+    peak, floor = float(level.max()), float(np.quantile(level, 0.1))
+    if peak - floor < MIN_RANGE:
+        return everything
+    threshold = min(max(floor + 10.0, peak - 35.0), peak - 15.0)
+    voiced = [k for k in np.flatnonzero(level >= threshold) if vad.is_speech(frames[k].tobytes())]
+    if not voiced:
+        return everything
+    seconds = size / RATE
+    return voiced[0] * seconds, (voiced[-1] + 1) * seconds, len(voiced) * seconds
+
+
+def _said(text: str) -> str:
+    return re.sub(r"[^a-z' ]+", " ", text.lower()).strip()
+
+
+class WhisperRecogniser:
+    name = "whisper"
+
+    def __init__(self, threads: int = 2):
+        from faster_whisper import WhisperModel
+        from faster_whisper.tokenizer import Tokenizer
+
+        folder = verified_folder(WHISPER_TINY_EN)
+        self.model = WhisperModel(
+            str(folder), device="cpu", compute_type="int8", cpu_threads=threads
+        )
+        self.tokenizer = Tokenizer(
+            self.model.hf_tokenizer, self.model.model.is_multilingual, "transcribe", "en"
+        )
+
+    # -- the decoder's inputs ---------------------------------------------------------------
+    def _encode(self, samples: np.ndarray):
+        audio = dithered(samples).astype(np.float32) / 32768.0
+        features = self.model.feature_extractor(audio[: 30 * RATE])
+        frames = min(features.shape[-1], WINDOW_FRAMES)
+        padded = np.zeros((features.shape[0], WINDOW_FRAMES), dtype=features.dtype)
+        padded[:, :frames] = features[:, :frames]
+        return self.model.encode(padded), frames
+
+    def _start(self, prompt: str) -> list[int]:
+        tokenizer = self.tokenizer
+        previous = [tokenizer.sot_prev, *tokenizer.encode(" " + prompt.strip())] if prompt else []
+        # the previous text is kept short, as Whisper keeps it (half its context)
+        previous = previous[:1] + previous[1:][-223:]
+        return [*previous, *tokenizer.sot_sequence, tokenizer.no_timestamps]
+
+    def _text(self, ids: list[int]) -> str:
+        return self.tokenizer.decode([t for t in ids if t < self.tokenizer.eot]).strip()
+
+    # -- hearing ----------------------------------------------------------------------------
+    def hear_item(self, samples: np.ndarray, item: Item | None) -> tuple[Heard, str]:
+        """What ``samples`` say while ``item``'s answer is awaited (None: nothing is), and how:
+        ``prompted`` by the item's sentences, ``rescored`` over its options, or ``free``."""
+        expectation = expectation_for(item) or FREE
+        heard = self.hear(samples, expectation)
+        how = "free" if expectation.kind == "free" else "prompted"
+        return heard, "rescored" if heard.transcript else how
+
+    def hear(self, samples: np.ndarray, expectation: Expectation) -> Heard:
+        """What ``samples`` (16 kHz mono int16, one utterance) say, as ``expectation`` reads
+        them."""
+        start, end, voiced = speech_span(samples)
+        nothing = Heard("", 0.0, start, end)
+        if voiced < MIN_SPEECH:
+            return nothing
+        encoded, frames = self._encode(samples)
+        prompt = self._start(expectation.prompt)
+        result = self.model.model.generate(
+            encoded,
+            [prompt],
+            beam_size=BEAM,
+            num_hypotheses=HYPOTHESES,
+            max_length=MAX_TOKENS,
+            return_scores=True,
+            return_no_speech_prob=True,
+        )[0]
+        hypotheses = []  # (text, total log-probability)
+        for ids, score in zip(result.sequences_ids, result.scores, strict=True):
+            text = self._text(ids)
+            hypotheses.append((text, score * max(len(ids), 1)))
+        if not hypotheses or not hypotheses[0][0]:
+            return nothing
+        best, best_lp = hypotheses[0]
+        tokens = max(len(result.sequences_ids[0]), 1)
+        average = best_lp / (tokens + 1)  # faster-whisper's avg_logprob
+        if result.no_speech_prob > NO_SPEECH and average < LOGPROB_FLOOR:
+            return nothing
+        if _said(best) in SILENCE_PHRASES:
+            return nothing
+        meaning = expectation.meaning
+        if expectation.kind == "choose" and meaning(best) is None and expectation.candidates:
+            return self._rescored(encoded, frames, prompt, expectation, best, start, end)
+        confidence = _agreeing(hypotheses, meaning)
+        if expectation.kind in TOKEN_DOUBT:
+            # every hypothesis may agree on a word none is sure of ("Table unpainted." for
+            # "table and penny"): the least sure word bounds the whole answer
+            ids = result.sequences_ids[0]
+            aligned = self.model.model.align(encoded, prompt, [ids], frames)[0]
+            sure = [
+                p
+                for token, p in zip(ids, aligned.text_token_probs, strict=False)
+                if any(c.isalnum() for c in self.tokenizer.decode([token]))
+            ]
+            scale = TOKEN_DOUBT[expectation.kind]
+            confidence = min(confidence, min(1.0, scale * min(sure, default=0.0)))
+        return Heard(best, confidence, start, end)
+
+    def _rescored(self, encoded, frames, prompt, expectation, free, start, end) -> Heard:
+        """The candidates and the free transcript forced through the decoder; the best of them
+        with the share of the mass that means what it means."""
+        texts = [*expectation.candidates, free]
+        scored = [(text, self._forced(encoded, frames, prompt, text)) for text in texts]
+        scored.sort(key=lambda s: s[1], reverse=True)
+        best = scored[0][0]
+        if best == free:  # something else was said: not understood, as it was heard
+            return Heard(free, _agreeing(scored, expectation.meaning), start, end)
+        return Heard(best, _agreeing(scored, expectation.meaning), start, end, transcript=free)
+
+    def _forced(self, encoded, frames: int, prompt: list[int], text: str) -> float:
+        """log P(text | audio, prompt), ``text`` written as Whisper writes a short answer."""
+        spelt = " " + text[:1].upper() + text[1:] + ("" if text.endswith((".", "?", "!")) else ".")
+        ids = self.tokenizer.encode(spelt)
+        aligned = self.model.model.align(encoded, prompt, [ids], frames)[0]
+        return float(sum(math.log(max(p, 1e-12)) for p in aligned.text_token_probs))
+
+
+def _agreeing(hypotheses: list[tuple[str, float]], meaning) -> float:
+    """The probability mass of the hypotheses that mean what the first one means (log
+    probabilities normalised over the list)."""
+    top = max(lp for _, lp in hypotheses)
+    weights = [math.exp(lp - top) for _, lp in hypotheses]
+    first = meaning(hypotheses[0][0])
+    same = sum(
+        w for (text, _), w in zip(hypotheses, weights, strict=True) if meaning(text) == first
+    )
+    return same / sum(weights)

