@@ -286,8 +286,9 @@ class Robot:
             return  # the window closed meanwhile
         if response == "silence":
             return
-        if response == "garbled":
-            self.speech.on_heard("mmh... the, eh... brr")
+        if response == "garbled":  # with the clip an asr would have kept
+            clip = f"clips/{item}-{self.windows[item]}.wav"
+            self.speech.on_heard("mmh... the, eh... brr", audio=clip)
         elif response == "skip":
             self.speech.on_heard("skip this one please")
         else:

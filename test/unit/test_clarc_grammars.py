@@ -98,7 +98,10 @@ def test_listening_and_a_tap_race_for_one_answer(room):
     got = room.edge("person", "answer", "got").attrs
     assert got == {"item": "feeding", "answer": 5.0, "via": "touch", "understood": True}
     with pytest.raises(TransactionRejected):  # speech's late answer loses
-        run(room, listen.after_tx("answered", {"points": 10, "heard": "I eat on my own"}))
+        run(
+            room,
+            listen.after_tx("answered", {"points": 10, "heard": "I eat on my own", "audio": ""}),
+        )
     assert panel.signal(room, "tap", {"points": 10}) == []  # nothing awaited any more
 
 

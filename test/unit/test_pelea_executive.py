@@ -80,6 +80,30 @@ def test_words_not_understood_then_a_clarification_and_a_touch():
     assert not_understood[0]["heard"].startswith("mmh")
 
 
+def test_words_never_understood_leave_the_item_to_the_clinician_with_its_clips():
+    """Never a confident wrong score: an item the robot could not understand twice is no 0
+    points but the clinician's to score, from what was heard and the clips; the result has no
+    band until then, only the range the total lies in."""
+    from clarc_sim.hospital.results_store import check_result
+
+    robot = Robot(Patient(answers={"bathing": ["garbled", "garbled"]}))
+    result = robot.run_test()
+    bathing = next(i for i in result["items"] if i["item"] == "bathing")
+    assert (bathing["points"], bathing["via"], bathing["needs_clinician"]) == (None, None, True)
+    assert bathing["audio"] == ["clips/bathing-1.wav", "clips/bathing-2.wav"]
+    assert bathing["heard"].startswith("mmh")
+    assert result["provisional"] and result["band"] is None and not result["complete"]
+    assert result["total_range"] == [result["total"], result["total"] + 5]
+    assert robot.port.stored  # CGAmed took it as it is
+    check_result(result)
+    # an item answered in the end, after words not understood, is no doubt
+    robot = Robot(Patient(answers={"dressing": ["garbled", ("touch", 5)]}))
+    result = robot.run_test()
+    assert not result["provisional"] and result["band"] is not None
+    dressing = next(i for i in result["items"] if i["item"] == "dressing")
+    assert not dressing["needs_clinician"] and dressing["audio"] == ["clips/dressing-1.wav"]
+
+
 def test_asking_to_skip_closes_the_item_at_once():
     robot = Robot(Patient(answers={"bowels": ["skip"]}))
     result = robot.run_test()

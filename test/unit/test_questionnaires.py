@@ -244,6 +244,31 @@ def test_the_clinician_scores_a_drawing_until_the_result_is_validated(tmp_path):
     assert store.patients()[0]["name"] == "Carlos" and store.tests()[0]["patient_id"] == 1
 
 
+def test_the_clinician_scores_what_the_robot_could_not_understand(tmp_path):
+    """An MMSE answer never understood is stored without points, with what was heard and its
+    clips: the result is provisional, with no band, until the clinician scores it; every score
+    is kept."""
+    store = ResultsStore(tmp_path / "db.sqlite")
+    result = Robot(Patient(answers={"recall": ["garbled", "garbled"]}), test="mmse").run_test()
+    test_id = store.store(result)
+    listed = store.test(test_id)
+    recall = next(i for i in listed["items"] if i["item"] == "recall")
+    assert recall["needs_clinician"] and recall["points"] is None and len(recall["audio"]) == 2
+    assert listed["provisional"] and listed["band"] is None
+    assert listed["total_range"] == [listed["total"], listed["total"] + 3]
+    for item, points in (("writing", 1), ("copying", 1), ("recall", 2)):
+        listed = store.score(test_id, item, points, "Dr. Ruiz")
+    assert listed["provisional"] is False and listed["band"] == "normal cognition"
+    assert listed["total"] == listed["total_range"][0] == listed["total_range"][1] == 29
+    listed = store.score(test_id, "recall", 3, "Dr. Vega")  # a re-score keeps the first
+    assert [(s["item"], s["points"]) for s in listed["scores"]][-2:] == [
+        ("recall", 2),
+        ("recall", 3),
+    ]
+    store.validate(test_id, "Dr. Vega")
+    assert store.tests()[0]["total"] == 30
+
+
 def comparable(result):
     """What a restart must not change (attempts may: the item in progress is asked again)."""
     items = {i["item"]: (i["points"], i["via"], i.get("drawing", "")) for i in result["items"]}

@@ -47,7 +47,7 @@ def test_a_store_written_before_versions_migrates_and_keeps_everything(tmp_path)
     assert [p["name"] for p in store.patients()] == ["Carlos", "Ana"]
     assert [t["patient_id"] for t in tests] == [1, 2]
     # a Barthel result reads as it always did; nothing of it waits for the clinician
-    assert set(tests[0]["items"][0]) == {"item", "points", "via", "attempts"}
+    assert set(tests[0]["items"][0]) == {"item", "points", "via", "attempts", "needs_clinician"}
     assert tests[0]["complete"] is True
     store.close()
     assert rows(path) == before  # every row as it was

@@ -130,17 +130,18 @@ class SpeechBehaviour:
         self.listening = ctx
         early = self._early.take(ctx["item"])
         if early is not None:
-            text, sure = early
-            self.on_heard(text, sure=sure)
+            text, sure, audio = early
+            self.on_heard(text, sure=sure, audio=audio)
 
-    def on_heard(self, text: str, item_shown: str = "", sure: bool = True) -> None:
+    def on_heard(self, text: str, item_shown: str = "", sure: bool = True, audio: str = "") -> None:
         """Words recognised by the ASR (``item_shown``: the item of the sentence on screen;
-        ``sure``: the recogniser was confident enough, else they are not understood)."""
+        ``sure``: the recogniser was confident enough, else they are not understood; ``audio``:
+        the clip the recogniser kept of them, the clinician's evidence)."""
         ctx = self.listening
         if ctx is None or ctx.done:
             unless = ""
             if item_shown:  # perhaps an answer to the window about to open: keep it a moment
-                self._early.keep((text, sure), item_shown)
+                self._early.keep((text, sure, audio), item_shown)
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
@@ -151,17 +152,17 @@ class SpeechBehaviour:
         self.listening = None
         if item is None:  # the DSR does not say what the options are: nothing to match
             self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
-            ctx.finish("not_understood", heard=text)
+            ctx.finish("not_understood", heard=text, audio=audio)
             return
         if not sure:
             self.log.info(f"heard {text!r} with too little confidence: not understood")
-            ctx.finish("not_understood", heard=text)
+            ctx.finish("not_understood", heard=text, audio=audio)
             return
         meaning = understand(item, text)
         if meaning.kind == "answer":
-            ctx.finish("answered", points=meaning.points, heard=text)
+            ctx.finish("answered", points=meaning.points, heard=text, audio=audio)
         else:
-            ctx.finish(meaning.kind, heard=text)
+            ctx.finish(meaning.kind, heard=text, audio=audio)
 
     def on_graph(self, graph: Graph) -> None:
         """The window closed without us (a tap answered, or PELEA stopped waiting): stop

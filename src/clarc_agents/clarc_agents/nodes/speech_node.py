@@ -6,7 +6,8 @@ ROS Parameters: min_confidence (0.5: a recognised text less sure than this is no
 and the item is asked again). Publishers: clarc/speaker/say, clarc/speaker/stop, and REP-155's
 /humans/voices/tracked and /humans/voices/anonymous_speaker/speech (what was heard:
 nodes/humans_topics.py).
-Subscriptions: clarc/speaker/events, clarc/asr. Plus the DSR topics (dsr_graph.ros.agent).
+Subscriptions: clarc/speaker/events, clarc/asr ({"text", "confidence", "audio": the clip's
+path, kept on the answer for the clinician}). Plus the DSR topics (dsr_graph.ros.agent).
 """
 
 from __future__ import annotations
@@ -94,11 +95,14 @@ class SpeechAgent(GrammarAgentNode):
             or not 0.0 <= confidence <= 1.0
         ):
             raise ValueError(f"confidence must be a number from 0 to 1, got {confidence!r}")
+        audio = message.get("audio", "")
+        if not isinstance(audio, str) or len(audio) > 4096:
+            raise ValueError(f"audio must be a clip's path, got {audio!r:.100}")
         self._humans.heard(text, confidence)
         sure = confidence >= float_param(self, "min_confidence")
         shown = self.dsr.graph.edge("test", "test_part", "is_in")
         item_shown = shown.attrs.get("item", "") if shown is not None else ""
-        self.behaviour.on_heard(text, item_shown, sure=sure)
+        self.behaviour.on_heard(text, item_shown, sure=sure, audio=audio)
 
 
 main = main_for(SpeechAgent)

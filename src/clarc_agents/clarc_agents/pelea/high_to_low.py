@@ -237,6 +237,8 @@ def record_item(result: ItemResult) -> dict[str, Any]:
         attrs.update(via=result.via)
     if result.drawing:
         attrs.update(drawing=result.drawing)
+    if result.audio:
+        attrs.update(audio_clips=list(result.audio))
     return {"ops": [{"op": "set_node_attrs", "node": item_node(result.item), "attrs": attrs}]}
 
 

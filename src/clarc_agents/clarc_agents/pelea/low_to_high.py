@@ -36,6 +36,7 @@ class Answer:
     via: str | None = None
     heard: str = ""
     drawing: str = ""
+    audio: str = ""  # the clip of what was said (voice), if the recogniser kept one
 
 
 def _first(graph: Graph, name: str) -> dict[str, Any] | None:
@@ -51,18 +52,20 @@ def answer(graph: Graph) -> Answer | None:
     if found is None:
         return None
     attrs = graph.edge("person", "answer", "got").attrs
+    heard, audio = str(attrs.get("heard", "")), str(attrs.get("audio", ""))
     if attrs.get("skip"):
-        return Answer(found["$item"], "skip", heard=attrs.get("heard", ""))
+        return Answer(found["$item"], "skip", heard=heard, audio=audio)
     if not attrs.get("understood", False):
-        return Answer(found["$item"], "not_understood", heard=attrs.get("heard", ""))
+        return Answer(found["$item"], "not_understood", heard=heard, audio=audio)
     points = int(attrs["answer"]) if "answer" in attrs else None
     return Answer(
         found["$item"],
         "answered",
         points,
         attrs.get("via"),
-        attrs.get("heard", ""),
+        heard,
         str(attrs.get("drawing", "")),
+        audio,
     )
 
 
@@ -159,6 +162,7 @@ def record(graph: Graph, definition: Definition) -> QuestionnaireRecord:
         result.attempts = int(node.attrs.get("attempts", 0))
         result.outcomes = list(node.attrs.get("outcomes", []))
         result.heard = str(node.attrs.get("heard", ""))
+        result.audio = [str(a) for a in node.attrs.get("audio_clips", [])]
         status = node.attrs.get("status")
         if status == "answered":
             result.answered, result.via = True, node.attrs.get("via")

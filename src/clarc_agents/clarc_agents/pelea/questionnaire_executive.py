@@ -244,6 +244,8 @@ class QuestionnaireExecutive(HighLevelExecutive):
             # written by an agent that did not check it: not an answer to this item
             self.log.warning(f"{answer.points} points is not a score of {item}: not understood")
             answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
+        if answer.audio:  # the evidence of what was said, for the clinician
+            self.record.items[item].audio.append(answer.audio)
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via, answer.heard, answer.drawing)
             self._window_ended(item, "answered")

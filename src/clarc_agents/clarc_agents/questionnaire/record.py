@@ -23,6 +23,20 @@ class ItemResult:
     heard: str = ""  # the last words heard (or targets touched) for it
     drawing: str = ""  # what the patient drew (SVG path data), for the clinician to score
     answered: bool = False  # an answer came (for a drawing: before the clinician scored it)
+    audio: list[str] = field(default_factory=list)  # the clips of what was said to it
+
+    @property
+    def doubtful(self) -> bool:
+        """Closed without an answer after words the robot did not understand: the clinician
+        scores it from what was heard and its clips, never 0 by default (a skip asked for by
+        the patient is no doubt)."""
+        return (
+            self.closed
+            and not self.answered
+            and self.points is None
+            and "not_understood" in self.outcomes
+            and "skip" not in self.outcomes
+        )
 
     @property
     def status(self) -> str:
@@ -38,13 +52,17 @@ class ItemResult:
             "via": self.via,
             "attempts": self.attempts,
             "max": item.max,
-            "needs_clinician": item.needs_clinician,
+            "needs_clinician": item.needs_clinician or self.doubtful,
         }
         answer = answer_text(item, self)
         if answer:
             result["answer"] = answer
         if self.drawing:
             result["drawing"] = self.drawing
+        if self.doubtful and self.heard:
+            result["heard"] = self.heard
+        if self.audio:
+            result["audio"] = list(self.audio)
         return result
 
 
@@ -112,9 +130,25 @@ class QuestionnaireRecord:
     @property
     def complete(self) -> bool:
         """No item waits for the clinician's score."""
-        return all(
-            self.items[i.key].points is not None for i in self.definition.items if i.needs_clinician
+        return (
+            all(
+                self.items[i.key].points is not None
+                for i in self.definition.items
+                if i.needs_clinician
+            )
+            and not self.doubtful
         )
+
+    @property
+    def doubtful(self) -> list[str]:
+        """Items the robot could not understand, which the clinician scores."""
+        return [k for k in self.definition.order if self.items[k].doubtful]
+
+    @property
+    def total_range(self) -> list[int]:
+        """The least and the most the total can be once the doubtful items are scored."""
+        most = sum(self.definition.item(k).max for k in self.doubtful)
+        return [self.total, self.total + most]
 
     def to_json(self) -> dict[str, Any]:
         order = self.definition.order
@@ -127,7 +161,11 @@ class QuestionnaireRecord:
             "finished": self.finished,
             "total": self.total,
             "max_total": self.definition.max_total,
-            "band": self.definition.band(self.total),
+            # a result with items the robot could not understand has no band until the
+            # clinician scores them: only the range the total lies in
+            "band": None if self.doubtful else self.definition.band(self.total),
+            "provisional": bool(self.doubtful),
+            "total_range": self.total_range,
             "complete": self.complete,
             "items": [self.items[i.key].to_json(i) for i in self.definition.items],
             "unanswered": [k for k in order if not self.items[k].answered],

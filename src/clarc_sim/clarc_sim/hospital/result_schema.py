@@ -40,6 +40,9 @@ ITEM = {
         "needs_clinician": {"type": "boolean"},
         "answer": {"type": "string", "maxLength": 10_000},
         "drawing": {"type": "string", "maxLength": 1_000_000},  # SVG path data
+        "heard": {"type": "string", "maxLength": 10_000},  # what was not understood
+        # the clips of what was said to it (paths on the robot), the clinician's evidence
+        "audio": {"type": "array", "maxItems": 50, "items": {"type": "string", "maxLength": 4096}},
     },
 }
 
@@ -51,6 +54,15 @@ QUESTIONNAIRE = {
         **COMMON,
         "total": {"type": "integer", "minimum": 0, "maximum": 100_000},
         "max_total": COUNT,
+        # null while items the robot could not understand wait for the clinician
+        "band": {"type": ["string", "null"], "maxLength": 100},
+        "provisional": {"type": "boolean"},
+        "total_range": {
+            "type": "array",
+            "minItems": 2,
+            "maxItems": 2,
+            "items": {"type": "integer", "minimum": 0, "maximum": 100_000},
+        },
         "complete": {"type": "boolean"},
         "items": {"type": "array", "maxItems": 200, "items": ITEM},
         "unanswered": {

@@ -57,7 +57,8 @@ ROLES = ("technician", "clinician", "admin")
 TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
 # data files: its results are unchanged for whoever reads them.
-ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts")}
+ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts", "needs_clinician")}
+EVIDENCE = ("heard", "audio")  # an item's, listed whenever it has them
 PATIENTS = """CREATE TABLE IF NOT EXISTS patients (
     id INTEGER PRIMARY KEY AUTOINCREMENT,
     name TEXT NOT NULL,
@@ -250,12 +251,44 @@ def check_result(result: Any) -> dict[str, Any]:
                 f"{i['item']}: via must be {' or '.join(spec.via)} for an answer, null otherwise"
             )
     total = sum(i["points"] for i in items if i["points"] is not None)
-    if result["total"] != total or result["band"] != definition.band(total):
+    band = _band(definition, items)
+    if result["total"] != total or result["band"] != band:
         raise InvalidResult(
-            f"total/band {result['total']}/{result['band']} do not match the items "
-            f"({total}/{definition.band(total)})"
+            f"total/band {result['total']}/{result['band']} do not match the items ({total}/{band})"
         )
+    for key, value in _provisional(definition, items).items():
+        if key in result and result[key] != value:
+            raise InvalidResult(f"{key} {result[key]!r} does not match the items ({value!r})")
     return result
+
+
+def doubtful(definition, items: list[dict[str, Any]]) -> list[str]:
+    """Items the robot could not understand (flagged ``needs_clinician`` though the clinician
+    does not score their kind) that wait for the clinician's score."""
+    return [
+        i["item"]
+        for i in items
+        if i.get("needs_clinician")
+        and i["points"] is None
+        and not definition.item(i["item"]).needs_clinician
+    ]
+
+
+def _band(definition, items: list[dict[str, Any]]) -> str | None:
+    """The band of the items' total; none while doubtful items wait (it could be another)."""
+    if doubtful(definition, items):
+        return None
+    return definition.band(sum(i["points"] for i in items if i["points"] is not None))
+
+
+def _provisional(definition, items: list[dict[str, Any]]) -> dict[str, Any]:
+    """``provisional`` and the ``total_range`` the doubtful items leave open."""
+    total = sum(i["points"] for i in items if i["points"] is not None)
+    open_points = sum(definition.item(k).max for k in doubtful(definition, items))
+    return {
+        "provisional": open_points > 0 or bool(doubtful(definition, items)),
+        "total_range": [total, total + open_points],
+    }
 
 
 def check_timed_result(result: dict[str, Any]) -> dict[str, Any]:
@@ -351,7 +384,8 @@ class ResultsStore:
                     result["started"],
                     result.get("finished"),
                     result.get("total"),
-                    result["band"],
+                    # the listing's column: the band, or provisional while doubtful items wait
+                    result["band"] if result["band"] is not None else "provisional",
                     int(bool(result.get("clinician_called"))),
                     int(bool(result.get("person_lost"))),
                     json.dumps(result),
@@ -438,10 +472,12 @@ class ResultsStore:
             if test == TIMED:
                 raise InvalidResult(f"test {test_id} is timed: it has no items to score")
             definition = definitions.load(test)
-            if item not in definition.order or not definition.item(item).needs_clinician:
-                waits = [i.key for i in definition.items if i.needs_clinician]
+            result = json.loads(result_json)
+            flagged = [i["item"] for i in result["items"] if i.get("needs_clinician")]
+            waits = [i.key for i in definition.items if i.needs_clinician or i.key in flagged]
+            if item not in waits:
                 raise InvalidResult(
-                    f"{item!r} is not scored by the clinician in the {definition.title} "
+                    f"{item!r} is not scored by the clinician in this {definition.title} "
                     f"(those are: {', '.join(waits) or 'none'})"
                 )
             spec = definition.item(item)
@@ -449,18 +485,18 @@ class ResultsStore:
                 raise InvalidResult(
                     f"{item}: a score is one of {list(spec.points)}, got {points!r}"
                 )
-            result = json.loads(result_json)
             entry = result["items"][definition.order.index(item)]
             entry.update(points=points, scored_by=clinician, scored_at=when)
             result["total"] = sum(i["points"] for i in result["items"] if i["points"] is not None)
-            result["band"] = definition.band(result["total"])
+            result["band"] = _band(definition, result["items"])
+            result |= _provisional(definition, result["items"])
             result["complete"] = not waiting_for_clinician(definition, result["items"])
             if result.get("unanswered") and entry.get("via") is None:
                 result["unanswered"] = [k for k in result["unanswered"] if k != item]
             self.db.execute(
                 "UPDATE tests SET total = ?, band = ?, result_json = ?, version = version + 1 "
                 "WHERE id = ? AND validated_by IS NULL",
-                (result["total"], result["band"], json.dumps(result), test_id),
+                (result["total"], result["band"] or "provisional", json.dumps(result), test_id),
             )
             self.db.execute(
                 "UPDATE items SET points = ? WHERE test_id = ? AND item = ?",
@@ -619,7 +655,8 @@ def waiting_for_clinician(definition, items: list[dict[str, Any]]) -> list[str]:
     return [
         i["item"]
         for i in items
-        if i["points"] is None and definition.item(i["item"]).needs_clinician
+        if i["points"] is None
+        and (definition.item(i["item"]).needs_clinician or i.get("needs_clinician"))
     ]
 
 
@@ -673,7 +710,7 @@ def _as_listed(row: tuple) -> dict[str, Any]:
     items = [_item_fields(definition, i) for i in result["items"]]
     complete = not waiting_for_clinician(definition, items)
     if test in ITEM_FIELDS:
-        items = [{k: i[k] for k in ITEM_FIELDS[test]} for i in items]
+        items = [{k: i[k] for k in ITEM_FIELDS[test] + EVIDENCE if k in i} for i in items]
     return {
         "id": test_id,
         "test": test,
@@ -683,6 +720,7 @@ def _as_listed(row: tuple) -> dict[str, Any]:
         "total": result["total"],
         "max_total": definition.max_total,
         "band": result["band"],
+        **_provisional(definition, items),
         "complete": complete,
         "items": items,
         "unanswered": result.get("unanswered", []),
