@@ -33,9 +33,10 @@
 #                    wall time), written into the DSR's kinect node by the camera agent
 #   --audio          the whole loop with sound: the robot speaks (espeak-ng), the patient
 #                    answers aloud in the scenario's voice and room noise, the asr node
-#                    recognises the microphone's stream (pocketsphinx); at real time (audio
+#                    recognises the microphone's stream (Whisper); at real time (audio
 #                    cannot be sped up) unless --scale says otherwise. The microphone's stream
-#                    goes to <run-dir>/audio/microphone.wav, what the robot said beside it.
+#                    goes to <run-dir>/audio/microphone.wav, what the robot said beside it,
+#                    and a clip of each answer heard to <run-dir>/audio/clips/.
 #   --voice-rate WPM the robot's speaking rate with --audio (default 150 words a minute)
 #
 # While it runs: the DSR viewer on http://127.0.0.1:8080/ and the clinician's dashboard on
@@ -257,7 +258,7 @@ scaled=(--ros-args -p time_scale:="$scale")
 start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio" -p voice_rate:="$voice_rate"
 start microphone microphone "${scaled[@]}" -p audio:="$audio" -p wav_file:="$run/audio/microphone.wav"
 if [ "$audio" = true ]; then  # the recogniser, on the microphone's stream
-  start asr asr
+  start asr asr --ros-args -p clips_dir:="$run/audio/clips"
 fi
 start touchscreen touchscreen
 start kinect kinect "${scaled[@]}" -p camera_hz:="$camera_hz"
@@ -272,7 +273,7 @@ start pelea pelea "${scaled[@]}" -p outbox_dir:="$outbox"
 start patient patient "${scaled[@]}" -p scenario:="$scenario"
 [ -n "$viewer_token" ] || viewer_token=$(python -c 'import secrets; print(secrets.token_urlsafe(24))')
 start dsr_viewer dsr_viewer --ros-args -p port:="$viewer_port" -p token:="$viewer_token"
-start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port"
+start cgamed cgamed --ros-args -p db:="$db" -p port:="$dashboard_port" -p clips_dir:="$run/audio/clips"
 # A test started from now on is this run's: the monitor tells it from its start, even when it
 # joins (or is restarted) after the test began, and ends when the DSR says it is finished.
 since=$(date -u +%Y-%m-%dT%H:%M:%S+00:00)

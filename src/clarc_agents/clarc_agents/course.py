@@ -131,6 +131,24 @@ def test_name(kind: str) -> str:
     return names.get(kind) or _definition(kind).title
 
 
+def band_words(result: dict) -> str:
+    """A questionnaire result's band as people read it; a provisional one (items the robot could
+    not understand wait for the clinician) says so, with the range its total lies in."""
+    if result.get("band") is not None:
+        return (
+            f"{result['band']} dependency"
+            if result.get("test", "barthel") == "barthel"
+            else result["band"]
+        )
+    low, high = result.get("total_range") or (result.get("total"), result.get("total"))
+    doubtful = [
+        i["item"]
+        for i in result.get("items", [])
+        if i.get("needs_clinician") and not i.get("via") and i.get("points") is None
+    ]
+    return f"provisional: {low} to {high} until the clinician scores {', '.join(doubtful)}"
+
+
 def items_in(kind: str) -> int:
     """How many items a test has (0: a timed test)."""
     return 0 if kind == TIMED else len(_definition(kind).order)

@@ -9,11 +9,15 @@ What the robot said itself (its speaker's start and end) is never published, nor
 recogniser's guards call no speech. It writes nothing in the DSR: it reads it. Recognition runs
 on a thread of its own, so the stream is never held up.
 
-ROS Parameters: setup_timeout (20), recogniser ("whisper" or "pocketsphinx", read-only).
+Each utterance it publishes is kept as a WAV clip in ``clips_dir`` (asr/clips.py), its path
+sent with the text: the clinician's evidence for an answer the robot could not understand.
+
+ROS Parameters: setup_timeout (20), recogniser ("whisper" or "pocketsphinx", read-only),
+clips_dir (read-only; "" is $ROS_HOME/clarc/clips, ~/.ros/clarc/clips without ROS_HOME).
 Subscriptions: clarc/microphone/audio (audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE),
 clarc/speaker/events, the DSR. Publishers: clarc/asr ({"text", "confidence", "start", "end",
-"recogniser", and "transcript" when a choose item's options were rescored: what free decoding
-wrote}).
+"recogniser", "audio" (the clip's path), and "transcript" when a choose item's options were
+rescored: what free decoding wrote}).
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.asr.audio_topics import qos_audio, samples_of
+from clarc_agents.asr.clips import Clips, default_folder
 from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
 from clarc_agents.asr.utterances import RobotSpeech, Utterance, Utterances
 from clarc_agents.behaviours.item_options import awaited_item, item_in
@@ -53,6 +58,7 @@ class AsrAgent(DsrNode):
             f"the speech recogniser: {' or '.join(RECOGNISERS)}",
             read_only=True,
         )
+        declare(node, "clips_dir", "", "where the clips of what was said are kept", read_only=True)
 
     def __init__(self):
         super().__init__()
@@ -65,6 +71,7 @@ class AsrAgent(DsrNode):
     def setup(self) -> None:
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self._recogniser = open_recogniser(str(param(self, "recogniser")))  # a second or two
+        self._clips = Clips(str(param(self, "clips_dir")) or default_folder())
         self._asr = self.create_publisher(String, topics.ASR, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self.create_subscription(
@@ -122,6 +129,7 @@ class AsrAgent(DsrNode):
             "start": round(utterance.start + heard.start, 3),
             "end": round(utterance.start + heard.end, 3),
             "recogniser": self._recogniser.name,
+            "audio": self._clips.keep(utterance.samples, utterance.start),
         }
         if heard.transcript:
             said["transcript"] = heard.transcript

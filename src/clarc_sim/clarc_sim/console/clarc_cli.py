@@ -20,6 +20,7 @@ import sys
 from datetime import UTC, datetime
 
 from clarc_agents import definitions
+from clarc_agents.course import band_words
 from clarc_agents.exceptions import ScenarioError
 from clarc_sim.console import (
     hear_cli,
@@ -86,11 +87,14 @@ def results(args: argparse.Namespace) -> int:
         title = definition.title
         print(
             f"#{t['id']} {t['patient']}  {t['started']}  {title} {t['total']}/{t['max_total']}"
-            f" ({t['band']})" + (f"  [{', '.join(flags)}]" if flags else "")
+            f" ({t['band'] if t['band'] is not None else band_words(t)})"
+            + (f"  [{', '.join(flags)}]" if flags else "")
         )
         for i in t["items"]:
             if i["points"] is None:
-                got = "drawn, to score" if i["via"] and i["item"] in waiting else "unanswered"
+                got = "unanswered"
+                if i["item"] in waiting:
+                    got = "drawn, to score" if i["via"] else "not understood, to score"
             else:
                 got = f"{i['points']:>2}/{definition.item(i['item']).max} by {i['via']}"
             print(f"    {i['item']:<17} {got}  ({i['attempts']} tries)")

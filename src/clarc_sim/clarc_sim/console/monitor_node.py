@@ -23,7 +23,7 @@ import rclpy
 from std_msgs.msg import String
 
 from clarc_agents import topics
-from clarc_agents.course import Course, test_name
+from clarc_agents.course import Course, band_words, test_name
 from clarc_sim.console.reach import HeartbeatSilence, Reach
 from dsr_graph.formats.safe_json import loads_object
 from dsr_graph.protocol import topic_names
@@ -114,10 +114,10 @@ def describe_result(result: dict) -> list[str]:
         ]
     test = result.get("test", "barthel")
     if test == "barthel":
-        score = f"Barthel index {result['total']}/100 ({result['band']} dependency)"
+        score = f"Barthel index {result['total']}/100 ({band_words(result)})"
     else:
         waiting = [i["item"] for i in result["items"] if i["needs_clinician"] and i["via"]]
-        score = f"{test_name(test)} {result['total']}/{result['max_total']} ({result['band']})"
+        score = f"{test_name(test)} {result['total']}/{result['max_total']} ({band_words(result)})"
         score += f"; the clinician scores {', '.join(waiting)}" if waiting else ""
     lines = [f"RESULT {result['patient']}: {score}"]
     width = max(11, *(len(i["item"]) for i in result["items"]))

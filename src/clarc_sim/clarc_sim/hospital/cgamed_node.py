@@ -23,7 +23,8 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
-from clarc_agents.course import Course, test_name
+from clarc_agents.asr.clips import default_folder
+from clarc_agents.course import Course, band_words, test_name
 from clarc_agents.exceptions import InvalidResult
 from clarc_agents.pelea.high_to_low import request_start
 from clarc_sim.hospital.dashboard_app import DEFAULT_IDLE, TestStatus, make_app, session_key
@@ -67,6 +68,14 @@ class CgamedStandIn(DsrNode):
             maximum=65535,
         )
         declare_allowed_hosts(node)
+        declare(
+            node,
+            "clips_dir",
+            "",
+            "the robot's clips of what patients said, played on the dashboard "
+            "(the asr node's clips_dir; empty: its default, $ROS_HOME/clarc/clips)",
+            read_only=True,
+        )
         declare(
             node,
             "session_idle",
@@ -172,9 +181,9 @@ class CgamedStandIn(DsrNode):
                 ", fall risk" if result["fall_risk"] else ""
             )
         elif result.get("test", "barthel") == "barthel":
-            score = f"{result['total']}/100, {result['band']} dependency"
+            score = f"{result['total']}/100, {band_words(result)}"
         else:
-            score = f"{result['total']}/{result['max_total']}, {result['band']}"
+            score = f"{result['total']}/{result['max_total']}, {band_words(result)}"
             waiting = [i["item"] for i in result["items"] if i["needs_clinician"] and i["via"]]
             score += f"; please score {', '.join(waiting)}" if waiting else ""
         self._tell(
@@ -200,6 +209,7 @@ class CgamedStandIn(DsrNode):
             secret_key=session_key(self.db),
             hosts=allowed_hosts_of(self),
             idle=float_param(self, "session_idle"),
+            clips_dir=str(param(self, "clips_dir")) or default_folder(),
         )
         served = self.bridge.serve(
             app,

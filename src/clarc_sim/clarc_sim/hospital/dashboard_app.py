@@ -29,6 +29,10 @@ validation and change of a user is in the audit trail.
     GET  /api/status          {"running", "patient", "test", "item", "position", "of"}
     GET  /api/results         the stored tests, as `clarc results --json` (with "version" and
                               "scores", every score given)
+    GET  /api/results/{id}/audio/{item}/{k}  the k-th clip (from 0) of what was said to an item
+                              (audio/wav): only a WAV file inside the robot's clips folder
+                              (``clips_dir``), whatever path a result names; 404 otherwise;
+                              each listening is in the audit trail
     POST /api/results/{id}/score  {"item", "points"}: score an item that needs the clinician,
                               as the logged-in clinician (400 not such an item or score, 404 no
                               such test, 409 validated already); the result as it is now
@@ -187,6 +191,16 @@ def session_key(db_path: str) -> bytes:
 PressStart = Callable[[str, str, "int | None"], None]
 
 
+def clip_path(folder: str | Path | None, named: str) -> Path | None:
+    """The clip a result names, if it is a WAV file inside ``folder`` (symbolic links and ".."
+    resolved first): a stored result is not trusted to name any other file."""
+    if folder is None or not isinstance(named, str) or not named.endswith(".wav"):
+        return None
+    root = Path(folder).resolve()
+    clip = Path(named).resolve()
+    return clip if clip.is_relative_to(root) and clip.is_file() else None
+
+
 def make_app(
     db_path: str,
     status: TestStatus,
@@ -196,9 +210,11 @@ def make_app(
     hosts: frozenset[str] = LOOPBACK,
     idle: float = DEFAULT_IDLE,
     throttle: accounts.LoginThrottle | None = None,
+    clips_dir: str | Path | None = None,
 ) -> web.Application:
     """``secret_key``: 32 bytes that encrypt the session cookies (CGAmed keeps it in a file, so
-    a restart keeps everyone logged in)."""
+    a restart keeps everyone logged in). ``clips_dir``: the only folder whose clips are played
+    (None: none is)."""
     store: dict[str, ResultsStore] = {}
     throttle = throttle or accounts.LoginThrottle()
 
@@ -392,6 +408,22 @@ def make_app(
     async def get_results(request: web.Request) -> web.Response:
         return web.json_response(db().tests())
 
+    async def get_audio(request: web.Request) -> web.FileResponse:
+        number, item = test_id(request), request.match_info["item"]
+        try:
+            k = int(request.match_info["k"])
+            entry = next(i for i in db().test(number)["items"] if i["item"] == item)
+            named = entry.get("audio", [])[k]
+        except (UnknownTest, StopIteration, IndexError, ValueError):
+            raise web.HTTPNotFound(
+                text=f"test {number} has no clip {item}/{request.match_info['k']}"
+            ) from None
+        clip = clip_path(clips_dir, named)
+        if clip is None:
+            raise web.HTTPNotFound(text="that clip is not in the robot's clips folder") from None
+        audit(request, "listened", number, f"{item} clip {k}")
+        return web.FileResponse(clip, headers={"Content-Type": "audio/wav"})
+
     # ------------------------------------------------------------------ users, audit
     async def get_users(request: web.Request) -> web.Response:
         allowed(request, "manage_users")
@@ -454,6 +486,7 @@ def make_app(
     app.router.add_post("/api/start", start)
     app.router.add_get("/api/status", get_status)
     app.router.add_get("/api/results", get_results)
+    app.router.add_get("/api/results/{id}/audio/{item}/{k}", get_audio)
     app.router.add_post("/api/results/{id}/score", score)
     app.router.add_post("/api/results/{id}/validate", validate)
     app.router.add_get("/api/users", get_users)

@@ -38,7 +38,7 @@ const DESCRIBE = {
   person_back: () => "the patient is back",
   clinician_called: (e) => `you are called (${e.unanswered.join(", ")} unanswered)`,
   finished: (e) => e.result.test === TIMED && !e.result.tug_seconds ? "finished: unable to perform" :
-    `finished: ${score(e.result)} (${e.result.band})`,
+    `finished: ${score(e.result)} (${bandOf(e.result)})`,
   error: (e) => `error: ${e.message}`,
 };
 const ALERTS = new Set(["person_lost", "clinician_called", "error"]);
@@ -85,7 +85,11 @@ function scoring(t, table) {
     const row = table.querySelector(`tr[data-item='${i.item}']`);
     const select = document.createElement("select");
     select.className = "score";
-    for (let p = 0; p <= i.max; p++) select.append(new Option(String(p), String(p)));
+    // an item with options is scored by one of them; any other from 0 to its maximum
+    const spec = itemOf(t, i.item);
+    const scores = spec && spec.options && spec.options.length
+      ? spec.options.map((o) => o.points) : Array.from({ length: i.max + 1 }, (_, p) => p);
+    for (const p of scores) select.append(new Option(String(p), String(p)));
     const button = document.createElement("button");
     button.className = "score-button";
     button.textContent = "Score";
@@ -160,7 +164,7 @@ function historyChart(t) {
   history.forEach((r, k) => {
     const dot = el("circle", { cx: x(times[k]), cy: y(value(r)), r: r.id === t.id ? 6 : 4, class: "point" });
     dot.dataset.id = String(r.id);
-    el("title", {}, `${localTime(r.started)}: ${score(r)} (${r.band})`);
+    el("title", {}, `${localTime(r.started)}: ${score(r)} (${bandOf(r)})`);
     dot.append(svg.lastChild);
     el("text", { x: x(times[k]), y: H - B + 16, "text-anchor": "middle" }, new Date(r.started).toLocaleDateString());
   });
@@ -176,7 +180,7 @@ function showResult(t) {
   const div = $("result-detail");
   div.innerHTML = "";
   const h = document.createElement("h3");
-  h.textContent = `Test ${t.id}: ${t.patient}, ${testName(t)} ${score(t)} (${t.band})` +
+  h.textContent = `Test ${t.id}: ${t.patient}, ${testName(t)} ${score(t)} (${bandOf(t)})` +
     (t.test === TIMED && t.fall_risk ? ", fall risk" : "") + (t.complete === false ? ", to score" : "");
   const when = document.createElement("p");
   when.textContent = `Started ${localTime(t.started)}` + (t.finished ? `, finished ${localTime(t.finished)}` : "");
@@ -202,7 +206,7 @@ async function loadResults() {
     cell(tr, t.patient);
     cell(tr, localTime(t.started));
     cell(tr, `${testName(t)} ${score(t)}`);
-    cell(tr, t.band);
+    cell(tr, bandOf(t));
     const notes = [];
     if (t.test === TIMED && t.fall_risk) notes.push("fall risk");
     if (t.complete === false) notes.push("to score");

@@ -29,7 +29,7 @@ async function main() {
   if (t.test === TIMED) notes.push(`${t.trials} trial(s)`);
   if (notes.length) fact(facts, "Course", notes.join("; "));
   const bands = TESTS[t.test] && TESTS[t.test].bands ? ` · bands: ${TESTS[t.test].bands.map((b) => `${b.min}–${b.max} ${b.name}`).join(", ")}` : "";
-  document.getElementById("score").textContent = `Result: ${score(t)}, ${t.band}` +
+  document.getElementById("score").textContent = `Result: ${score(t)}, ${bandOf(t)}` +
     (t.test === TIMED && t.fall_risk ? ", fall risk" : "") + (t.complete === false ? " (provisional: items to score)" : "") + bands;
   document.getElementById("detail").append(itemsTable(t));
   document.getElementById("signed").textContent = t.validated_by ?

@@ -13,9 +13,14 @@ async function loadTests() {
 
 function testName(t) { return TESTS[t.test] ? TESTS[t.test].title : t.test; }
 function score(t) {
+  // a provisional total: items the robot could not understand wait for the clinician
+  if (t.test !== TIMED && t.provisional && t.total_range)
+    return `${t.total_range[0]}-${t.total_range[1]}/${t.max_total}, provisional`;
   if (t.test !== TIMED) return `${t.total}/${t.max_total}`;
   return t.outcome === "unable" ? "unable to perform" : `${t.tug_seconds.toFixed(1)} s`;
 }
+// the band, or why there is none yet (items the robot could not understand wait for a score)
+function bandOf(t) { return t.band === null ? "no band until the clinician scores" : t.band; }
 // a stored time (ISO 8601, any zone) in this browser's local time, with its zone
 function localTime(iso) {
   // (dateStyle cannot go with timeZoneName: the fields one by one)
@@ -79,6 +84,20 @@ function itemsTable(t) {
     cell(tr, spec.question);
     const answer = cell(tr, answerWords(t, i));
     if (i.drawing) answer.append(drawingSvg(i.drawing));
+    if (i.heard && i.points === null) {  // what the robot heard and could not understand
+      const heard = document.createElement("div");
+      heard.className = "heard";
+      heard.textContent = `heard: "${i.heard}"`;
+      answer.append(heard);
+    }
+    (i.audio || []).forEach((_, k) => {  // the clips of what was said, to listen to
+      const player = document.createElement("audio");
+      player.controls = true;
+      player.preload = "none";
+      player.className = "clip";
+      player.src = `/api/results/${t.id}/audio/${encodeURIComponent(i.item)}/${k}`;
+      answer.append(player);
+    });
     const waiting = i.needs_clinician && i.points === null;
     cell(tr, waiting ? (i.via ? "to score" : "unanswered") : i.points === null ? "unanswered" : `${i.points}/${max}`);
     cell(tr, i.via || "–");
