@@ -1,10 +1,11 @@
-"""The recogniser's benchmark (scripts/bench.sh --only speech): answers synthesised with
+"""The recognisers' benchmark (scripts/bench.sh --only speech): answers synthesised with
 espeak-ng in several voices, clean and in white noise at 20, 10 and 5 dB SNR and in babble at
-10 dB, recognised with the search the asr node uses for the item (restricted) and, as the
-baseline on the same audio, with the free language model; each understood as Speech would
-(questionnaire/answers.py). Per item kind: the share understood right (the points the clean text
-itself is worth, with a confidence at Speech's min_confidence or more); word accuracy of both
-searches; their real-time factors (CPU time over audio time)."""
+10 dB, heard by each recogniser (Whisper, pocketsphinx) as the asr node hears them while the
+item's answer is awaited, each understood as Speech would (questionnaire/answers.py). Per
+recogniser, condition and item kind: the share understood right (the points the clean text
+itself is worth, with a confidence at Speech's min_confidence or more), the share scored wrong
+(understood and sure, but another score) and the share sent to the clinician (the rest); the
+real speakers of ../shared/data/speech; real-time factors (CPU time over audio time)."""
 
 from __future__ import annotations
 
@@ -20,13 +21,13 @@ import numpy as np
 
 from clarc_agents import definitions
 from clarc_agents.asr.audio import RATE
-from clarc_agents.asr.searches import FREE, Search, search_for
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.orientation import values
-from clarc_agents.questionnaire.spoken import TENS, UNITS, words
+from clarc_agents.questionnaire.spoken import TENS, UNITS
 from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
 
 MIN_CONFIDENCE = 0.5  # Speech's default
+ROOT = Path(__file__).resolve().parents[1]
 VOICES = (
     Voice("en-us", 150, 50),
     Voice("en-gb", 130, 45),
@@ -154,104 +155,119 @@ def _heard_audio(text: str, voice: Voice, noise: str | None, snr: float | None, 
     return mixed([signal])
 
 
-def _word_errors(reference: list[str], hypothesis: list[str]) -> int:
-    """Levenshtein distance over words."""
-    row = list(range(len(hypothesis) + 1))
-    for i, r in enumerate(reference, 1):
-        previous, row[0] = row[0], i
-        for j, h in enumerate(hypothesis, 1):
-            previous, row[j] = row[j], min(row[j] + 1, row[j - 1] + 1, previous + (r != h))
-    return row[-1]
+RECOGNISERS = ("whisper", "pocketsphinx")
+OUTCOMES = ("right", "wrong", "clinician")
+
+
+def _outcome(item, truth, heard) -> str:
+    """How an answer ends for the robot: ``right`` (understood, sure, the points the words are
+    worth), ``wrong`` (understood and sure, but another score: the dangerous one) or
+    ``clinician`` (not understood or not sure: asked again, in the end the clinician's)."""
+    meaning = understand(item, heard.text)
+    if heard.confidence < MIN_CONFIDENCE or meaning.kind == "not_understood":
+        return "clinician"
+    right = meaning.kind == truth.kind and meaning.points == truth.points
+    return "right" if right else "wrong"
+
+
+def _tally(counts: dict[str, list[int]]) -> dict[str, Any]:
+    return {
+        kind: {"of": sum(c), **{o: n / max(sum(c), 1) for o, n in zip(OUTCOMES, c, strict=True)}}
+        for kind, c in counts.items()
+    }
+
+
+def real_speakers(speech_dir: Path, recogniser) -> dict[str, Any]:
+    """../shared's Free Spoken Digit Dataset speakers saying one, two or three to a Barthel
+    item of three options (8 kHz, resampled): real voices the benchmark never synthesised."""
+    from clarc_agents.asr.audio import read_audio
+
+    item = definitions.load("barthel").item("feeding")
+    counts = {"choose": [0, 0, 0]}
+    for path in sorted((speech_dir / "fsdd").glob("[123]_*.wav")):
+        truth = understand(item, ("one", "two", "three")[int(path.name[0]) - 1])
+        heard, _ = recogniser.hear_item(read_audio(path), item)
+        counts["choose"][OUTCOMES.index(_outcome(item, truth, heard))] += 1
+    return _tally(counts)["choose"]
 
 
 def bench_speech(quick: bool) -> dict[str, Any]:
-    from clarc_agents.asr.recogniser import Recogniser
+    """Each recogniser (RECOGNISERS) on the same synthesised audio, each answer understood as
+    Speech would: per condition and item kind, the share right, wrong and sent to the
+    clinician; the real-time factor (CPU time over audio time) and the wall time an answer."""
+    from clarc_agents.asr.hearing import open_recogniser
 
-    recogniser = Recogniser()
     voices = VOICES[:2] if quick else VOICES
     cases = answers()
     if quick:
         cases = cases[::3]
-    free = Search(FREE, None)
-    out: dict[str, Any] = {"voices": [v.name for v in voices], "answers_per_condition": 0}
-    rtf = {"restricted": [0.0, 0.0], "free": [0.0, 0.0]}  # CPU s, audio s
-    # per kind: {search: [word errors, reference words]}
-    words_right: dict[str, dict[str, list[int]]] = {}
-    by_condition: dict[str, dict[str, list[int]]] = {}
-    seed = 0
-    for label, noise, snr in CONDITIONS:
-        name = label if snr is None else f"{label} {snr:g} dB"
-        counts: dict[str, list[int]] = {}
-        for kind, item, said in cases:
-            truth = understand(item, said)
-            search = search_for(item, recogniser.known) or free
-            for voice in voices:
-                seed += 1
-                audio = _heard_audio(said, voice, noise, snr, seed)
-                started = time.process_time()
-                heard = recogniser.hear(audio, search)
-                cpu = time.process_time() - started
-                rtf["restricted"][0] += cpu
-                rtf["restricted"][1] += len(audio) / RATE
-                meaning = understand(item, heard.text)
-                right = (
-                    meaning.kind == truth.kind == "answer"
-                    and meaning.points == truth.points
-                    and heard.confidence >= MIN_CONFIDENCE
-                )
-                tally = counts.setdefault(kind, [0, 0])
-                tally[0] += right
-                tally[1] += 1
-                # the baseline, free decoding of the same audio (a sample of the choose answers,
-                # every serial and words one: it is slow)
-                sampled = kind != "choose" or seed % (8 if quick else 4) == 0
-                if snr in (None, 20.0) and sampled:
-                    started = time.process_time()
-                    baseline = recogniser.hear(audio, free)
-                    rtf["free"][0] += time.process_time() - started
-                    rtf["free"][1] += len(audio) / RATE
-                    reference = words(said)
-                    for which, text in (("restricted", heard.text), ("free", baseline.text)):
-                        errors = words_right.setdefault(kind, {}).setdefault(which, [0, 0])
-                        errors[0] += _word_errors(reference, words(text))
-                        errors[1] += len(reference)
-        by_condition[name] = {
-            k: {"right": r, "of": n, "share": r / n} for k, (r, n) in counts.items()
-        }
-        out["answers_per_condition"] = sum(n for _, n in counts.values())
-    out["understood"] = by_condition
-    out["word_accuracy"] = {
-        kind: {k: {"share": 1 - e / max(n, 1), "reference_words": n} for k, (e, n) in s.items()}
-        for kind, s in words_right.items()
+    out: dict[str, Any] = {
+        "voices": [v.name for v in voices],
+        "answers_per_condition": len(cases) * len(voices),
+        "recognisers": {},
     }
-    out["real_time_factor"] = {k: cpu / max(audio, 1e-9) for k, (cpu, audio) in rtf.items()}
+    speech_dir = ROOT.parent / "shared" / "data" / "speech"
+    for name in RECOGNISERS:
+        recogniser = open_recogniser(name)
+        cpu = audio_s = wall = 0.0
+        answered = 0
+        by_condition: dict[str, Any] = {}
+        seed = 0
+        for label, noise, snr in CONDITIONS:
+            condition = label if snr is None else f"{label} {snr:g} dB"
+            counts: dict[str, list[int]] = {}
+            for kind, item, said in cases:
+                truth = understand(item, said)
+                for voice in voices:
+                    seed += 1
+                    audio = _heard_audio(said, voice, noise, snr, seed)
+                    started, clock = time.process_time(), time.perf_counter()
+                    heard, _ = recogniser.hear_item(audio, item)
+                    cpu += time.process_time() - started
+                    wall += time.perf_counter() - clock
+                    audio_s += len(audio) / RATE
+                    answered += 1
+                    tally = counts.setdefault(kind, [0, 0, 0])
+                    tally[OUTCOMES.index(_outcome(item, truth, heard))] += 1
+            by_condition[condition] = _tally(counts)
+        report = {
+            "understood": by_condition,
+            "real_time_factor": cpu / max(audio_s, 1e-9),
+            "wall_s_per_answer": wall / max(answered, 1),
+        }
+        if (speech_dir / "fsdd").is_dir():
+            report["real_speakers"] = real_speakers(speech_dir, recogniser)
+        out["recognisers"][name] = report
     return out
 
 
 def table(speech: dict[str, Any]) -> list[str]:
-    if "understood" not in speech:  # the loop alone (--only speech_loop)
+    if "recognisers" not in speech:  # the loop alone (--only speech_loop)
         return _loop_lines(speech.get("loop"))
     lines = [
         f"speech: {speech['answers_per_condition']} answers a condition, voices "
-        f"{', '.join(speech['voices'])}; understood right (restricted search)"
+        f"{', '.join(speech['voices'])}; right / wrong / to the clinician"
     ]
-    kinds = sorted({k for c in speech["understood"].values() for k in c})
-    lines.append("  condition        " + "".join(f"{k:>16}" for k in kinds))
-    for condition, counts in speech["understood"].items():
-        cells = "".join(
-            f"{counts[k]['right']:>6}/{counts[k]['of']:<4} {counts[k]['share']:4.0%}" for k in kinds
-        )
-        lines.append(f"  {condition:<16} {cells}")
-    wa, rtf = speech["word_accuracy"], speech["real_time_factor"]
-    for kind in sorted(wa):
+    for name, report in speech["recognisers"].items():
+        understood = report["understood"]
+        kinds = sorted({k for c in understood.values() for k in c})
+        lines.append(f"  {name}: " + "".join(f"{k:>24}" for k in kinds))
+        for condition, counts in understood.items():
+            cells = "".join(
+                f"{c['right']:>9.0%} {c['wrong']:>5.1%} {c['clinician']:>6.0%}"
+                for c in (counts[k] for k in kinds)
+            )
+            lines.append(f"    {condition:<14} {cells}")
+        if "real_speakers" in report:
+            r = report["real_speakers"]
+            lines.append(
+                f"    real speakers (FSDD one/two/three, {r['of']}): right {r['right']:.0%}, "
+                f"wrong {r['wrong']:.1%}, to the clinician {r['clinician']:.0%}"
+            )
         lines.append(
-            f"  word accuracy ({kind}, clean and 20 dB): restricted "
-            f"{wa[kind]['restricted']['share']:.1%}, free model (baseline) "
-            f"{wa[kind]['free']['share']:.1%} of {wa[kind]['free']['reference_words']} words"
+            f"    real-time factor {report['real_time_factor']:.3f}, "
+            f"{report['wall_s_per_answer']:.2f} s of wall time an answer"
         )
-    lines.append(
-        f"  real-time factor: restricted {rtf['restricted']:.3f}, free model {rtf['free']:.3f}"
-    )
     return lines + _loop_lines(speech.get("loop"))
 
 

@@ -15,6 +15,9 @@ from pathlib import Path
 from conftest import needs_espeak
 from test_barthel_scenarios import EXPECTED
 
+from clarc_agents import definitions
+from clarc_agents.questionnaire.answers import understand
+
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -41,9 +44,15 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
         assert got["attempts"] >= want["attempts"], (got, run.stdout[-4000:])
     log = tmp_path / "run" / "log"
     asr = (log / "asr.log").read_text()
-    # what the asr heard, and for which item's search
-    heard = re.findall(r"heard '([^']*)' \(([\d.]+), (\w+)'s \w+ search\)", asr)
-    assert ("i eat by myself", "feeding") in [(t, item) for t, _, item in heard], asr[-3000:]
+    # what the asr heard, and for which item's search: feeding's answer, as its option
+    heard = re.findall(r"heard ['\"](.*?)['\"] \(([\d.]+), (\w+)'s \w+ search\)", asr)
+    feeding = definitions.load("barthel").item("feeding")
+    said = [t for t, _, item in heard if item == "feeding"]
+    assert any(understand(feeding, t).points == 10 for t in said), asr[-3000:]
+    # each answer heard is kept as a clip, named on its item: the clinician's evidence
+    clips = [Path(c) for i in stored["items"] for c in i.get("audio", [])]
+    assert clips and all(c.parent == tmp_path / "run" / "audio" / "clips" for c in clips)
+    assert all(c.is_file() and c.read_bytes()[:4] == b"RIFF" for c in clips), clips
     with wave.open(str(tmp_path / "run" / "audio" / "microphone.wav")) as w:
         assert (w.getframerate(), w.getnchannels(), w.getsampwidth()) == (16000, 1, 2)
         assert w.getnframes() / 16000 > 60  # the whole run, written as it was streamed

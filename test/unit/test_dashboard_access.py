@@ -232,3 +232,47 @@ def test_a_session_ends_after_its_idle_time(db):
         assert (await client.get("/api/me")).status == 401
 
     run(db, scenario, idle=1.0)
+
+
+def test_a_clip_is_played_only_from_the_robot_s_clips_folder_and_audited(tmp_path):
+    """What the patient said is the clinician's evidence for an item the robot could not
+    understand; the path a stored result names is not trusted to reach any other file."""
+    import wave
+
+    from local_clarc import Patient, Robot
+
+    clips = tmp_path / "clips"
+    clips.mkdir()
+    with wave.open(str(clips / "recall-1.wav"), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(16000)
+        w.writeframes(bytes(3200))
+    secret = tmp_path / "secret.wav"
+    secret.write_bytes(b"RIFF not for the dashboard")
+    result = Robot(Patient(answers={"recall": ["garbled", "garbled"]}), test="mmse").run_test()
+    recall = next(i for i in result["items"] if i["item"] == "recall")
+    recall["audio"] = [str(clips / "recall-1.wav"), str(clips / ".." / "secret.wav")]
+    path = tmp_path / "cgamed.sqlite"
+    store = ResultsStore(path)
+    store.add_user("clara", "clinician", accounts.hash_password(PASSWORD))
+    test_id = store.store(result)
+    store.close()
+
+    async def scenario(client, pressed):
+        url = f"/api/results/{test_id}/audio/recall"
+        assert (await client.get(f"{url}/0")).status == 401  # a session first
+        await log_in(client, "clara")
+        played = await client.get(f"{url}/0")
+        assert played.status == 200 and played.headers["Content-Type"] == "audio/wav"
+        assert (await played.read())[:4] == b"RIFF"
+        for k in ("1", "2", "x"):  # outside the folder, no such clip, not a number
+            assert (await client.get(f"{url}/{k}")).status == 404, k
+        assert (await client.get(f"/api/results/{test_id}/audio/naming/0")).status == 404
+        results = await (await client.get("/api/results")).json()
+        listed = next(i for i in results[0]["items"] if i["item"] == "recall")
+        assert listed["needs_clinician"] and results[0]["provisional"]
+
+    run(path, scenario, clips_dir=clips)
+    trail = ResultsStore(path).audit_trail()
+    assert [a["detail"] for a in trail if a["action"] == "listened"] == ["recall clip 0"]
