@@ -129,10 +129,18 @@ class Port:
 
 
 class Robot:
-    def __init__(self, patient: Patient | None = None, present: bool = True, test: str = "barthel"):
+    def __init__(
+        self,
+        patient: Patient | None = None,
+        present: bool = True,
+        test: str = "barthel",
+        policy=None,
+    ):
+        """``policy``: the server's (dsr_graph.model.policy.Policy); by default every write is
+        allowed."""
         self.patient = patient or Patient()
         self.test = test
-        self.bus = LocalBus(read_world(ROOM).graph)
+        self.bus = LocalBus(read_world(ROOM).graph, **({"policy": policy} if policy else {}))
         self.windows: dict[str, int] = {}
         self.left: set[str] = set()
         self.said: list[str] = []

@@ -3,6 +3,7 @@ Panel and Person's real grammars and processes on a LocalBus (test/local_clarc.p
 deviation and the replan it causes, and its action table against the PDDL domain."""
 
 import contextlib
+from pathlib import Path
 
 import pytest
 from pyperplan.pddl.parser import Parser
@@ -14,6 +15,8 @@ from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from dsr_graph.exceptions import TimedOutError
 
 from local_clarc import EVERY_PATH, Patient, Robot
+
+REPO = Path(__file__).resolve().parents[2]
 
 
 def replans(robot):
@@ -492,3 +495,22 @@ def test_speech_hears_by_the_options_the_dsr_carries_not_by_a_table_of_its_own()
     robot.bus.after(0.01, lambda: robot.pelea_link.send(tx))
     result = robot.run_test()
     assert items(result)["feeding"] == (0, "voice", 1)
+
+
+@pytest.mark.parametrize("test", ["barthel", "mmse"])
+def test_the_shipped_policy_lets_each_agent_write_what_it_writes(test):
+    """Every write of a test with deviations (words not understood with their clips, silence, a
+    skip, a touch) under clarc_bringup's policy: none refused, the same result as with none."""
+    from dsr_graph.model.policy import Policy
+
+    policy = Policy.load(str(REPO / "src" / "clarc_bringup" / "policy" / "clarc.yaml"))
+    first, second = ("feeding", "bathing") if test == "barthel" else ("recall", "naming")
+    patient = Patient(answers={first: ["garbled", "garbled"], second: ["garbled", "skip"]})
+    robot = Robot(patient, test=test, policy=policy)
+    result = robot.run_test()
+    assert robot.port.stored, "no result stored"
+    expected = Robot(patient, test=test).run_test()
+    assert [(i["item"], i["points"], i.get("audio")) for i in result["items"]] == [
+        (i["item"], i["points"], i.get("audio")) for i in expected["items"]
+    ]
+    assert next(i for i in result["items"] if i["item"] == first)["needs_clinician"]
