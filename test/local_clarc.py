@@ -294,6 +294,13 @@ class Robot:
             return  # the window closed meanwhile
         if response == "silence":
             return
+        if isinstance(response, tuple) and response[0] == "long":
+            # a long answer: the voice begins now, its words are heard only after the window's
+            # time (as a long answer through a recogniser): ("long", points, seconds)
+            spec = self.definition.item(item)
+            self.speech_runner.signal("voice", stamp=self.epoch())
+            self.bus.after(response[2], lambda: self._answer(spec, "voice", response[1]))
+            return
         if response == "garbled":  # with the clip an asr would have kept
             clip = f"clips/{item}-{self.windows[item]}.wav"
             self.speech.on_heard("mmh... the, eh... brr", audio=clip)

@@ -107,6 +107,18 @@ def test_words_never_understood_leave_the_item_to_the_clinician_with_its_clips()
     assert not dressing["needs_clinician"] and dressing["audio"] == ["clips/dressing-1.wav"]
 
 
+def test_a_long_answer_keeps_its_window_open_until_its_words_are_heard():
+    """The patient began to speak within the window (the asr's voice event, marked on the
+    window by Speech) and the words are heard 12 s later, past the window's 8 s: answered, on
+    the first try. A voice that never brings words is waited for a bounded time only."""
+    robot = Robot(Patient(answers={"feeding": [("long", 10, 12.0)]}))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (10, "voice", 1)
+    robot = Robot(Patient(answers={"feeding": [("long", 10, 100.0), ("voice", 10)]}))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (10, "voice", 2)  # asked again after the patience
+
+
 def test_asking_to_skip_closes_the_item_at_once():
     robot = Robot(Patient(answers={"bowels": ["skip"]}))
     result = robot.run_test()

@@ -8,6 +8,8 @@ SPEAKER = "clarc/speaker/events"  # TTS -> all: {"id", "text", "event": "start" 
 # microphone + ASR -> Speech: {"text", "confidence" (0 to 1, optional), "start", "end" (epoch s,
 # optional: when it was said)}
 ASR = "clarc/asr"
+# asr -> Speech: {"start" (epoch s)}: the patient began to speak (words may follow, once heard)
+ASR_VOICE = "clarc/asr/voice"
 # --audio: audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE in 50 ms chunks (the stream's
 # AudioInfo latched on <topic>/info): what the robot says (TTS), what the microphone hears
 SPEAKER_AUDIO = "clarc/speaker/audio"

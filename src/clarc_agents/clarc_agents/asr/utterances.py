@@ -64,6 +64,11 @@ class Utterances:
         self._processed = 0  # samples taken so far
         self._clock = (0, 0.0)  # (samples taken, capture stamp) at the newest chunk
 
+    @property
+    def under_way(self) -> float | None:
+        """The capture time of the utterance under way (None: none is)."""
+        return self._start if self._speech is not None else None
+
     def _stamp(self, sample: int) -> float:
         """The capture time of stream sample ``sample``."""
         at, stamp = self._clock
@@ -129,6 +134,10 @@ class RobotSpeech:
             self._spans = [*self._spans[-self.KEEP :], [stamp, float("inf")]]
         elif kind in ("end", "stopped") and self._spans and self._spans[-1][1] == float("inf"):
             self._spans[-1][1] = stamp
+
+    def speaking_at(self, stamp: float) -> bool:
+        """Whether the robot was speaking at ``stamp``."""
+        return any(a <= stamp <= b for a, b in self._spans)
 
     def spoke_over(self, start: float, end: float) -> bool:
         """Whether the robot spoke during most of ``start`` .. ``end`` (then what was heard is

@@ -15,9 +15,10 @@ sent with the text: the clinician's evidence for an answer the robot could not u
 ROS Parameters: setup_timeout (20), recogniser ("whisper" or "pocketsphinx", read-only),
 clips_dir (read-only; "" is $ROS_HOME/clarc/clips, ~/.ros/clarc/clips without ROS_HOME).
 Subscriptions: clarc/microphone/audio (audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE),
-clarc/speaker/events, the DSR. Publishers: clarc/asr ({"text", "confidence", "start", "end",
-"recogniser", "audio" (the clip's path), and "transcript" when a choose item's options were
-rescored: what free decoding wrote}).
+clarc/speaker/events, the DSR. Publishers: clarc/asr/voice ({"start"}: the patient began to
+speak, not the robot), clarc/asr ({"text", "confidence", "start", "end", "recogniser", "audio"
+(the clip's path), and "transcript" when a choose item's options were rescored: what free
+decoding wrote}).
 """
 
 from __future__ import annotations
@@ -73,6 +74,7 @@ class AsrAgent(DsrNode):
         self._recogniser = open_recogniser(str(param(self, "recogniser")))  # a second or two
         self._clips = Clips(str(param(self, "clips_dir")) or default_folder())
         self._asr = self.create_publisher(String, topics.ASR, qos_stream())
+        self._voice = self.create_publisher(String, topics.ASR_VOICE, qos_stream())
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self.create_subscription(
             AudioDataStamped, topics.MICROPHONE_AUDIO, self.on_audio, qos_audio()
@@ -88,7 +90,13 @@ class AsrAgent(DsrNode):
 
     def on_audio(self, message: AudioDataStamped) -> None:
         data, stamp = samples_of(message)  # a ValueError is logged, the chunk dropped
-        for utterance in self._utterances.feed(data, stamp):
+        before = self._utterances.under_way
+        ended = self._utterances.feed(data, stamp)
+        began = self._utterances.under_way
+        if began is not None and began != before and not self._robot.speaking_at(began):
+            # the patient is speaking: the window waits for the words (Speech marks it)
+            publish_json(self._voice, {"start": round(began, 3)})
+        for utterance in ended:
             if self._robot.spoke_over(utterance.start, utterance.end):
                 self.get_logger().info(
                     f"{utterance.end - utterance.start:.1f} s of speech while the robot spoke: "

@@ -7,7 +7,9 @@ and the item is asked again). Publishers: clarc/speaker/say, clarc/speaker/stop,
 /humans/voices/tracked and /humans/voices/anonymous_speaker/speech (what was heard:
 nodes/humans_topics.py).
 Subscriptions: clarc/speaker/events, clarc/asr ({"text", "confidence", "audio": the clip's
-path, kept on the answer for the clinician}). Plus the DSR topics (dsr_graph.ros.agent).
+path, kept on the answer for the clinician}), clarc/asr/voice ({"start"}: the patient began
+to speak; marked on the open window, which PELEA then keeps open for the words). Plus the DSR
+topics (dsr_graph.ros.agent).
 """
 
 from __future__ import annotations
@@ -65,6 +67,7 @@ class SpeechAgent(GrammarAgentNode):
         subscribe_json(self, topics.SPEAKER, self.on_speaker, qos_stream())
         self._humans = SpeechHumans(self)
         subscribe_json(self, topics.ASR, self.on_asr, qos_stream())
+        subscribe_json(self, topics.ASR_VOICE, self.on_voice, qos_stream())
         super().setup()
         self.dsr.add_listener(lambda deltas, resynced: self.behaviour.on_graph(self.dsr.graph))
 
@@ -83,6 +86,14 @@ class SpeechAgent(GrammarAgentNode):
             else None
         )
         self.behaviour.on_speaker(int(event["id"]), str(event.get("event")), stamp)
+
+    def on_voice(self, message: dict[str, Any]) -> None:
+        """The patient began to speak: the open window is marked as hearing (rule hearing)."""
+        stamp = message["start"]
+        if isinstance(stamp, bool) or not isinstance(stamp, (int, float)):
+            raise ValueError(f"start must be a time (epoch s), got {stamp!r}")
+        if self.runner is not None:
+            self.runner.signal("voice", stamp=float(stamp))
 
     def on_asr(self, message: dict[str, Any]) -> None:
         text = message["text"]

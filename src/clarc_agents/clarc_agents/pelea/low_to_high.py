@@ -106,6 +106,14 @@ def touched_so_far(graph: Graph) -> tuple[int, str] | None:
     return int(edge.attrs["touched_points"]), str(edge.attrs.get("touched", ""))
 
 
+def hearing_since(graph: Graph) -> float | None:
+    """When the patient began to speak in the open answer window (epoch s), if they did: their
+    words may still be on their way through the recogniser."""
+    edge = graph.edge("person", "answer", "waiting")
+    stamp = edge.attrs.get("hearing") if edge is not None else None
+    return float(stamp) if isinstance(stamp, (int, float)) else None
+
+
 def window_untaken(graph: Graph) -> bool:
     """The answer window is open but no agent started listening (``can`` still there): no one
     could have heard the patient."""

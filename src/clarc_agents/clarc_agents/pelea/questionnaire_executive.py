@@ -59,6 +59,10 @@ CLOSE_RETRY = 0.2  # seconds before a refused close of an answer window is tried
 # a window that times out waits that long before it believes the silence.
 PRESENCE_MARGIN = PRESENCE_LEASE + 0.5
 CUT_PATIENCE = 60.0  # seconds a window waits for agents out of reach, at most
+# seconds after the patient began to speak that a window waits for their words: the longest
+# utterance the asr takes (20 s) and its recognition
+HEARING_PATIENCE = 30.0
+HEARING_RECHECK = 0.5
 
 
 class QuestionnaireExecutive(HighLevelExecutive):
@@ -279,6 +283,12 @@ class QuestionnaireExecutive(HighLevelExecutive):
         def later(seconds: float) -> None:
             self._timer = self.port.after(seconds, lambda: self._answer_timed_out(wait, over))
 
+        # The patient is speaking, or their words are being recognised: a careful examiner
+        # lets them finish. Bounded by HEARING_PATIENCE after they began (wall time: speech).
+        hearing = low_to_high.hearing_since(self.graph)
+        if hearing is not None and self.port.epoch() - hearing < HEARING_PATIENCE:
+            later(HEARING_RECHECK)
+            return
         # A network cut between the hosts: what the patient said may be held on the other side
         # (the listener heard it; its write waits for the link). Keep the window open.
         if not over.margin:
