@@ -360,3 +360,21 @@ def test_clarc_understand_reads_a_definition_file_and_names_what_is_wrong(capsys
 )
 def test_the_place_said_with_accents_or_the_floor_as_a_number(said, expected):
     assert points("orientation_place", said) == expected
+
+
+@pytest.mark.parametrize(
+    "text", ["M-M-H, N-A, B-R-R.", "mmh... the, eh... brr", "uh, m, um", "H. M. M."]
+)
+def test_a_mumble_a_recogniser_spelt_out_is_no_answer(text):
+    """Whisper writes a mumble as letters: to a words or serial item that is no answer worth 0
+    (it is asked again), nor an option."""
+    for key in ("orientation_time", "recall", "attention"):
+        assert understand(MMSE.item(key), text).kind == "not_understood", (key, text)
+    assert understand(BARTHEL.item("feeding"), text).kind == "not_understood"
+    assert points("recall", "a penny") == 1  # a word with its article is still an answer
+
+
+def test_tens_in_digits_and_a_unit_in_words_are_one_number():
+    assert words("93, 80 seven, 80.") == ["93", "87", "80"]
+    assert words("80, 7") == ["80", "7"]  # a pause: two numbers
+    assert points("attention", "93, 80 six, 79") == 3

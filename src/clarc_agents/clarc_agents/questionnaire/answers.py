@@ -29,6 +29,14 @@ from clarc_agents.questionnaire.spoken import suffixed, words
 SKIP = (("skip",), ("next", "question"), ("pass",), ("go", "to", "the", "next"))
 # sounds that are no answer at all (what a recogniser makes of mumbling)
 HESITATIONS = frozenset("mmh mm hmm hm eh er uh um ah oh brr the a an and well so".split())
+
+
+def _hesitating(said: list[str]) -> bool:
+    """Only sounds of hesitation, or letters alone: a recogniser spells a mumble out ("M-M-H,
+    B-R-R"), and no answer to any item is a string of single letters."""
+    return all(t in HESITATIONS or (len(t) == 1 and t.isalpha()) for t in said)
+
+
 # saying one does not know: an answer worth 0 to a words item, never an option
 UNKNOWING = tuple(
     tuple(words(p))
@@ -101,7 +109,7 @@ def understand(item: Item, text: str) -> Understanding:
     if any(_find(s, said) for s in SKIP):
         return Understanding("skip")
     if item.kind in ("words", "serial"):
-        if set(said) <= HESITATIONS:
+        if _hesitating(said):
             return Understanding("not_understood", why=("only hesitations",))
         meaning = _serial(item, said) if item.kind == "serial" else _words(item, said)
     else:
@@ -114,7 +122,7 @@ def understand(item: Item, text: str) -> Understanding:
 
 def _choose(item: Item, said: list[str]) -> Understanding:
     said = _strip(said, UNKNOWING)  # "I don't know" is never an option ("don't" might be)
-    if not said or set(said) <= HESITATIONS:
+    if not said or _hesitating(said):
         return Understanding("not_understood", why=("no option was said",))
     n = _position(said, len(item.options))
     if n is not None:
