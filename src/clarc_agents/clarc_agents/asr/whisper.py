@@ -46,10 +46,11 @@ WINDOW_FRAMES = 3000  # Whisper's 30 s window of 10 ms mel frames (shorter ones 
 NO_SPEECH = 0.6
 LOGPROB_FLOOR = -1.0
 # words and serial answers: a word's probability times this bounds the confidence, so that at
-# Speech's 0.5 a words answer needs each word at 0.3 and a serial one each number at 0.5
-# (measured on the benchmark's synthesised answers at 20 dB: the least a wrong answer's
-# least sure word had; BENCHMARKS.md section 9)
-TOKEN_DOUBT = {"words": 0.5 / 0.3, "serial": 1.0}
+# Speech's 0.5 a words answer needs each word at 0.4 and a serial one each number at 0.5
+# (measured on 88 of the benchmark's synthesised answers at 20 dB: above these no answer was
+# scored wrong; at 0.3 for words, 3.8 to 15% were in the quick benchmark; BENCHMARKS.md
+# section 9)
+TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 1.0}
 MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
 MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
 # what Whisper writes where there is no speech (its training subtitles' closing lines)
