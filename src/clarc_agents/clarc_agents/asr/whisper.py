@@ -12,8 +12,9 @@ A choose item whose best transcript means nothing ("So.", "City.") is rescored: 
 choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
 know", "Skip"), and the free transcript itself, forced through the decoder (CTranslate2's
 ``align`` gives each token's probability); the options' share of that mass is the confidence.
-The free transcript stays in the race, so a patient who said something else is not forced into
-an option.
+The free transcript and the ways of choosing none stay in the race, so a patient who said
+something else is not forced into an option; when one of them wins, the answer is the free
+transcript, not understood (a "Skip" forced out of a mumble would close the item).
 
 Never an answer (../shared/docs/SPEECH.md): an utterance with less than ``MIN_SPEECH`` of
 voice above the room (``speech_span``); what Whisper writes on silence or noise ("Thank you.",
@@ -188,8 +189,11 @@ class WhisperRecogniser:
         scored = [(text, self._forced(encoded, frames, prompt, text)) for text in texts]
         scored.sort(key=lambda s: s[1], reverse=True)
         best = scored[0][0]
-        if best == free:  # something else was said: not understood, as it was heard
-            return Heard(free, _agreeing(scored, expectation.meaning), start, end)
+        meaning = expectation.meaning(best)
+        if best == free or meaning is None or meaning[0] != "answer":
+            # something else was said, or what chooses no option ("Skip" forced out of a mumble
+            # would close the item): not understood, as it was heard
+            return Heard(free, 0.0, start, end)
         return Heard(best, _agreeing(scored, expectation.meaning), start, end, transcript=free)
 
     def _forced(self, encoded, frames: int, prompt: list[int], text: str) -> float:
