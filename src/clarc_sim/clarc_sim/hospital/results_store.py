@@ -56,7 +56,7 @@ VERSION = 5
 ROLES = ("technician", "clinician", "admin")
 TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
-# data files: its results are unchanged for whoever reads them.
+# data files, and whether the clinician scores them (an answer the robot could not understand)
 ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts", "needs_clinician")}
 EVIDENCE = ("heard", "audio")  # an item's, listed whenever it has them
 PATIENTS = """CREATE TABLE IF NOT EXISTS patients (
@@ -284,11 +284,9 @@ def _band(definition, items: list[dict[str, Any]]) -> str | None:
 def _provisional(definition, items: list[dict[str, Any]]) -> dict[str, Any]:
     """``provisional`` and the ``total_range`` the doubtful items leave open."""
     total = sum(i["points"] for i in items if i["points"] is not None)
-    open_points = sum(definition.item(k).max for k in doubtful(definition, items))
-    return {
-        "provisional": open_points > 0 or bool(doubtful(definition, items)),
-        "total_range": [total, total + open_points],
-    }
+    waiting = doubtful(definition, items)
+    open_points = sum(definition.item(k).max for k in waiting)
+    return {"provisional": bool(waiting), "total_range": [total, total + open_points]}
 
 
 def check_timed_result(result: dict[str, Any]) -> dict[str, Any]:
