@@ -20,7 +20,7 @@ from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea.hle import Times
 from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
-from clarc_agents.questionnaire import orientation
+from clarc_agents.questionnaire import confirmation, orientation
 from clarc_sim.hospital.results_store import InvalidResult, check_result
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from dsr_graph.formats.world_files import read_world
@@ -44,10 +44,14 @@ class Patient:
     item of parts says that many right; ``("touch", points)`` touches that many shapes in their
     place, or draws (1) or scribbles (0); ``("shapes", [...])`` touches those shapes, in order;
     ``("eyes", points)`` closes the eyes (1) or not (0).
+    ``("unsure", points)`` says the option worth ``points``, heard not for sure (the robot asks
+    "I heard: ... Is that right?"); ``confirms``: the answers to those questions, in order
+    ("yes", "no", "silence", "tap": the Yes button; "yes" once they run out).
     ``leaves``: item -> seconds the patient is away, leaving while that item is introduced."""
 
     answers: dict[str, list[Any]] = field(default_factory=dict)
     leaves: dict[str, float] = field(default_factory=dict)
+    confirms: list[str] = field(default_factory=list)
 
 
 # every deviation of the test once: a touch, silence twice, words not understood, silence then
@@ -282,12 +286,26 @@ class Robot:
         """Speech listens (its listen process starts): the patient answers after a moment."""
         self.speech.listen(ctx)
         item = ctx["item"]
+        if item == confirmation.KEY:  # "I heard: ... Is that right?"
+            asked = self.windows[item] = self.windows.get(item, 0) + 1
+            said = (self.patient.confirms[asked - 1 :] or ["yes"])[0]
+            if said != "silence":
+                self.bus.after(REACTION, lambda: self._confirm(said))
+            return
         self.windows[item] = self.windows.get(item, 0) + 1
         spec = self.definition.item(item)
         way = {"voice": "voice", "touch": "touch", "camera": "eyes"}[spec.via[0]]
         responses = self.patient.answers.get(item, [(way, spec.max)])
         response = responses[min(self.windows[item], len(responses)) - 1]
         self.bus.after(REACTION, lambda: self._respond(item, response))
+
+    def _confirm(self, said: str) -> None:
+        if said == "tap":  # the Yes button
+            self.panel.on_tap(self.panel_runner, self.panel_link.graph, confirmation.YES)
+            return
+        listening = self.speech.listening
+        if listening is not None and listening["item"] == confirmation.KEY:
+            self.speech.on_heard("Yes, that's right." if said == "yes" else "No.")
 
     def _respond(self, item: str, response: Any) -> None:
         if self.speech.listening is None or self.speech.listening["item"] != item:
@@ -300,6 +318,12 @@ class Robot:
             spec = self.definition.item(item)
             self.speech_runner.signal("voice", stamp=self.epoch())
             self.bus.after(response[2], lambda: self._answer(spec, "voice", response[1]))
+            return
+        if isinstance(response, tuple) and response[0] == "unsure":
+            option = self.definition.item(item).option(response[1])
+            self.speech.on_heard(
+                option.says, sure=False, confirmable=True, audio="clips/unsure.wav"
+            )
             return
         if response == "garbled":  # with the clip an asr would have kept
             clip = f"clips/{item}-{self.windows[item]}.wav"

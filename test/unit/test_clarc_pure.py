@@ -140,6 +140,11 @@ def test_patient_script_follows_the_scenario():
     assert (a.kind, a.text) == ("say", GARBLED)
     [a] = p.heard("Sorry, I did not understand. Can you eat by yourself?", "end")
     assert (a.kind, a.text) == ("say", "I need some help cutting the food")
+    # the answer read back: yes when it is the option meant (worth 5), no otherwise
+    [a] = p.heard("I heard: I need help cutting or spreading. Is that right? Say yes or no", "end")
+    assert (a.kind, a.text) == ("say", "Yes, that's right.")
+    [a] = p.heard("I heard: I eat by myself. Is that right? Say yes or no", "end")
+    assert (a.kind, a.text) == ("say", "No.")
     p.heard("Question 2 of 10, Bathing. Can you bathe or shower by yourself?", "start")
     assert p.heard(ASK, "end") == []  # silent on the first try
     [a] = p.heard("Let me say the options again. ...", "end")

@@ -119,6 +119,29 @@ def test_a_long_answer_keeps_its_window_open_until_its_words_are_heard():
     assert items(result)["feeding"] == (10, "voice", 2)  # asked again after the patience
 
 
+def test_an_option_heard_not_for_sure_is_confirmed_by_voice_or_touch_once():
+    """ "I heard: I eat by myself. Is that right?": yes, and the option counts (by voice, one
+    try); no, and the item is asked again as for words not understood; asked once an item."""
+    robot = Robot(Patient(answers={"feeding": [("unsure", 10)]}))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (10, "voice", 1)
+    assert "I heard: I eat by myself. Is that right?" in " ".join(robot.said)
+    asked = next(s for s in robot.screen if s.get("text", "").startswith("I heard:"))
+    assert asked["options"] == ["Yes", "No"]
+    robot = Robot(Patient(answers={"feeding": [("unsure", 5)]}, confirms=["tap"]))
+    assert items(robot.run_test())["feeding"] == (5, "voice", 1)  # yes on the screen
+    robot = Robot(Patient(answers={"feeding": [("unsure", 10), ("voice", 5)]}, confirms=["no"]))
+    result = robot.run_test()
+    assert items(result)["feeding"] == (5, "voice", 2)
+    assert any(s.startswith("Sorry, I did not understand.") for s in robot.said)
+    # no yes twice: confirmed once only, then the clinician's, with what was heard
+    patient = Patient(answers={"feeding": [("unsure", 10), ("unsure", 10)]}, confirms=["silence"])
+    result = Robot(patient).run_test()
+    feeding = next(i for i in result["items"] if i["item"] == "feeding")
+    assert (feeding["points"], feeding["needs_clinician"]) == (None, True)
+    assert result["provisional"] and result["band"] is None
+
+
 def test_asking_to_skip_closes_the_item_at_once():
     robot = Robot(Patient(answers={"bowels": ["skip"]}))
     result = robot.run_test()

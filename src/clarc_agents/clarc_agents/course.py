@@ -14,7 +14,8 @@ A test the observer finds under way is told from its start if it started at or a
 Events (``event`` and its fields): following (patient, item, position: a test already running
 when the observer started), start_requested (patient), started (patient), item (item, position),
 listening (item, attempt), answer (item, points, via), no_answer (item, attempt),
-not_understood (item, heard, attempt), skip (item), window_interrupted (item, attempt),
+not_understood (item, heard, attempt), unsure (item, heard, attempt: an option heard not for
+sure, being confirmed), skip (item), window_interrupted (item, attempt),
 unanswered (item), person_lost, person_back, clinician_called (unanswered), finished (result).
 A Get Up & Go test (``started`` says ``test``) has instead: trial (trial), phase (trial, phase),
 timed (trial, tug_seconds, band), trial_void (trial), and finished (result: the stored result, or
@@ -168,7 +169,7 @@ def _item_changes(key: str, before: ItemResult, after: ItemResult) -> list[dict[
         event: dict[str, Any] = {"event": outcome, "item": key, "attempt": k}
         if outcome == "interrupted":
             event["event"] = "window_interrupted"
-        if outcome == "not_understood":
+        if outcome in ("not_understood", "unsure"):
             event["heard"] = after.heard
         events.append(event)
     if after.attempts > before.attempts and after.status == "asking":

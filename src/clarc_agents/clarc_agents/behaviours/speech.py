@@ -130,18 +130,26 @@ class SpeechBehaviour:
         self.listening = ctx
         early = self._early.take(ctx["item"])
         if early is not None:
-            text, sure, audio = early
-            self.on_heard(text, sure=sure, audio=audio)
+            text, sure, audio, confirmable = early
+            self.on_heard(text, sure=sure, audio=audio, confirmable=confirmable)
 
-    def on_heard(self, text: str, item_shown: str = "", sure: bool = True, audio: str = "") -> None:
+    def on_heard(
+        self,
+        text: str,
+        item_shown: str = "",
+        sure: bool = True,
+        audio: str = "",
+        confirmable: bool = False,
+    ) -> None:
         """Words recognised by the ASR (``item_shown``: the item of the sentence on screen;
-        ``sure``: the recogniser was confident enough, else they are not understood; ``audio``:
-        the clip the recogniser kept of them, the clinician's evidence)."""
+        ``sure``: the recogniser was confident enough, else they are not understood, unless
+        ``confirmable``: confident enough to ask whether an option was meant; ``audio``: the
+        clip the recogniser kept of them, the clinician's evidence)."""
         ctx = self.listening
         if ctx is None or ctx.done:
             unless = ""
             if item_shown:  # perhaps an answer to the window about to open: keep it a moment
-                self._early.keep((text, sure, audio), item_shown)
+                self._early.keep((text, sure, audio, confirmable), item_shown)
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
@@ -154,11 +162,16 @@ class SpeechBehaviour:
             self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
             ctx.finish("not_understood", heard=text, audio=audio)
             return
+        meaning = understand(item, text)
+        if not sure and confirmable and item.kind == "choose" and meaning.kind == "answer":
+            # an option heard, but not for sure: PELEA asks whether it was meant
+            self.log.info(f"heard {text!r}, not for sure: option worth {meaning.points}?")
+            ctx.finish("unsure", points=meaning.points, heard=text, audio=audio)
+            return
         if not sure:
             self.log.info(f"heard {text!r} with too little confidence: not understood")
             ctx.finish("not_understood", heard=text, audio=audio)
             return
-        meaning = understand(item, text)
         if meaning.kind == "answer":
             ctx.finish("answered", points=meaning.points, heard=text, audio=audio)
         else:

@@ -4,7 +4,7 @@
 ; order (next, last) and whether each has options to describe (has-options, no-options).
 ;
 ; The actions assume the expected outcome (an answer comes, the person stays). Monitoring
-; records what really happened as facts: (no-answer ?i), (not-understood ?i), (failed-again ?i),
+; records what really happened as facts: (no-answer ?i), (not-understood ?i), (unsure ?i), (failed-again ?i),
 ; (person-absent), (clinician-needed); the next plan starts from that state, so what follows a
 ; deviation is chosen by the planner. The executive maps each action here to a handler.
 (define (domain questionnaire)
@@ -17,6 +17,7 @@
     (has-options ?i - item) (no-options ?i - item)
     (pending ?i - item) (introduced ?i - item) (described ?i - item) (asked ?i - item)
     (no-answer ?i - item) (not-understood ?i - item) (retry-asked ?i - item) (failed-again ?i - item)
+    (unsure ?i - item) (confirm-asked ?i - item)
     (closed ?i - item)
     (clinician-ok) (clinician-needed)
     (said-goodbye) (result-stored))
@@ -77,6 +78,16 @@
     :parameters (?i - item)
     :precondition (and (person-present) (retry-asked ?i))
     :effect (and (closed ?i) (not (retry-asked ?i))))
+  ; -- an answer heard without enough confidence: "I heard: ... Is that right?" (yes closes the
+  ;    item with it; no, or nothing, is recorded by Monitoring as words not understood) ------
+  (:action confirm
+    :parameters (?i - item)
+    :precondition (and (person-present) (unsure ?i))
+    :effect (and (confirm-asked ?i) (not (unsure ?i))))
+  (:action await-confirmation
+    :parameters (?i - item)
+    :precondition (and (person-present) (confirm-asked ?i))
+    :effect (and (closed ?i) (not (confirm-asked ?i))))
   (:action skip-item
     :parameters (?i - item)
     :precondition (and (failed-again ?i))

@@ -3,7 +3,9 @@ test_part through the TTS, stops at once when the person it talks to leaves, and
 answers, mapping recognised words to the item's options. Its rules: grammars/speech.yaml.
 
 ROS Parameters: min_confidence (0.5: a recognised text less sure than this is not understood,
-and the item is asked again). Publishers: clarc/speaker/say, clarc/speaker/stop, and REP-155's
+and the item is asked again), confirm_confidence (0.2: an option heard at least this sure, but
+under min_confidence, is confirmed with the patient first). Publishers: clarc/speaker/say,
+clarc/speaker/stop, and REP-155's
 /humans/voices/tracked and /humans/voices/anonymous_speaker/speech (what was heard:
 nodes/humans_topics.py).
 Subscriptions: clarc/speaker/events, clarc/asr ({"text", "confidence", "audio": the clip's
@@ -43,6 +45,15 @@ class SpeechAgent(GrammarAgentNode):
             "min_confidence",
             0.5,
             "a recognised text less sure than this is not understood (asked again)",
+            minimum=0.0,
+            maximum=1.0,
+        )
+        declare(
+            node,
+            "confirm_confidence",
+            0.2,
+            "an option heard at least this sure (but under min_confidence) is confirmed: "
+            '"I heard: ... Is that right?"',
             minimum=0.0,
             maximum=1.0,
         )
@@ -111,9 +122,10 @@ class SpeechAgent(GrammarAgentNode):
             raise ValueError(f"audio must be a clip's path, got {audio!r:.100}")
         self._humans.heard(text, confidence)
         sure = confidence >= float_param(self, "min_confidence")
+        confirmable = confidence >= float_param(self, "confirm_confidence")
         shown = self.dsr.graph.edge("test", "test_part", "is_in")
         item_shown = shown.attrs.get("item", "") if shown is not None else ""
-        self.behaviour.on_heard(text, item_shown, sure=sure, audio=audio)
+        self.behaviour.on_heard(text, item_shown, sure=sure, audio=audio, confirmable=confirmable)
 
 
 main = main_for(SpeechAgent)

@@ -7,6 +7,7 @@ from typing import Any
 
 from clarc_agents.behaviours.item_options import answer_attrs, item_node
 from clarc_agents.definitions import Definition
+from clarc_agents.questionnaire import confirmation
 from clarc_agents.questionnaire.record import ItemResult
 from clarc_agents.sentence import Sentence
 from dsr_graph.model.graph import Graph
@@ -213,6 +214,12 @@ def start_test(graph: Graph, patient: str, started: str, definition: Definition)
             }
         )
         ops.append({"op": "insert_edge", "from": "test", "to": name, "type": "has"})
+    # the yes or no that confirms an answer heard not for sure, answered as any choose item
+    name = item_node(confirmation.KEY)
+    if name in graph:
+        ops.append({"op": "delete_node", "node": name})
+    attrs = {"item": confirmation.KEY, **answer_attrs(confirmation.ITEM)}
+    ops.append({"op": "insert_node", "name": name, "type": "test_item", "attrs": attrs})
     return {"preconditions": checks, "ops": ops}
 
 

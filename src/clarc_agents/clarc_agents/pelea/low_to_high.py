@@ -27,7 +27,8 @@ PATTERNS = {
 
 @dataclass(frozen=True)
 class Answer:
-    """answer(item, outcome, points, via, heard): outcome is answered, skip or not_understood.
+    """answer(item, outcome, points, via, heard): outcome is answered, skip, not_understood or
+    unsure (an option heard, not for sure: ``points`` is the option, to confirm).
     A drawing is answered without points (the clinician scores it)."""
 
     item: str
@@ -55,6 +56,9 @@ def answer(graph: Graph) -> Answer | None:
     heard, audio = str(attrs.get("heard", "")), str(attrs.get("audio", ""))
     if attrs.get("skip"):
         return Answer(found["$item"], "skip", heard=heard, audio=audio)
+    if attrs.get("unsure") and isinstance(attrs.get("answer"), (int, float)):
+        points = int(attrs["answer"])
+        return Answer(found["$item"], "unsure", points, "voice", heard, audio=audio)
     if not attrs.get("understood", False):
         return Answer(found["$item"], "not_understood", heard=heard, audio=audio)
     points = int(attrs["answer"]) if "answer" in attrs else None

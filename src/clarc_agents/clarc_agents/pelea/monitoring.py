@@ -16,6 +16,8 @@ ITEM_PROGRESS = (
     "not-understood",
     "retry-asked",
     "failed-again",
+    "unsure",
+    "confirm-asked",
 )
 
 
@@ -46,6 +48,18 @@ def window_failed(state: frozenset[Fact], item: str, window: int, outcome: str) 
     if outcome == "skip" or window >= 2:
         return state | {f"(failed-again {item})"}
     return state | {f"({'no-answer' if outcome == 'no_answer' else 'not-understood'} {item})"}
+
+
+def unsure(state: frozenset[Fact], item: str) -> frozenset[Fact]:
+    """An answer heard without enough confidence: it is confirmed before it counts."""
+    return _without(state, {f"(asked {item})", f"(retry-asked {item})"}) | {f"(unsure {item})"}
+
+
+def confirmation_failed(state: frozenset[Fact], item: str, window: int) -> frozenset[Fact]:
+    """The patient said no to the answer read back (or nothing): as words not understood in the
+    window that heard it."""
+    state = _without(state, {f"(confirm-asked {item})", f"(unsure {item})"})
+    return window_failed(state, item, window, "not_understood")
 
 
 def clinician_needed(state: frozenset[Fact]) -> frozenset[Fact]:

@@ -27,7 +27,7 @@ from clarc_agents.pelea.hle import (
     Port,
     Times,
 )
-from clarc_agents.questionnaire import orientation, sentences
+from clarc_agents.questionnaire import confirmation, orientation, sentences
 from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
 from dsr_graph.protocol.presence import PRESENCE_LEASE
@@ -42,6 +42,7 @@ class AnswerWait:
     token: int
     boot: str  # the DSR server that opened the window (its heartbeat's boot)
     losses: int = 0  # how often an agent had gone out of the server's reach when it opened
+    confirming: str = ""  # the item whose answer this window confirms (item: confirmation.KEY)
 
 
 @dataclass
@@ -86,6 +87,8 @@ class QuestionnaireExecutive(HighLevelExecutive):
         self.KIND = definition.test
         self.place = tuple(place)
         self.record: QuestionnaireRecord | None = None
+        # item -> (the option heard not for sure, what was heard, its window): to confirm
+        self._unsure: dict[str, tuple[int, str, int]] = {}
 
     # ------------------------------------------------------------------ the test's own part
     def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
@@ -182,6 +185,17 @@ class QuestionnaireExecutive(HighLevelExecutive):
     def _await_answer(self, step: Step, item: str) -> None:
         self._open_window(item, 1)
 
+    def _confirm(self, step: Step, item: str) -> None:
+        candidate = self._unsure.get(item)
+        if candidate is None:  # lost by a race with a replan: as words not understood
+            self._complete(self._token, monitoring.confirmation_failed(self.state, item, 1))
+            return
+        self._say(confirmation.sentence(self.definition.item(item), candidate[0]))
+
+    def _await_confirmation(self, step: Step, item: str) -> None:
+        candidate = self._unsure.get(item)
+        self._open_window(item, candidate[2] if candidate else 1, confirming=True)
+
     def _await_answer_again(self, step: Step, item: str) -> None:
         self._open_window(item, 2)
 
@@ -208,12 +222,16 @@ class QuestionnaireExecutive(HighLevelExecutive):
         self._say(sentences.goodbye(self.definition, self.record.patient))
 
     # ------------------------------------------------------------------ answer windows
-    def _open_window(self, item: str, window: int) -> None:
+    def _open_window(self, item: str, window: int, confirming: bool = False) -> None:
+        """An answer window for ``item`` (its ``window``-th), or for the confirmation of the
+        answer heard to it (the yes or no to confirmation.KEY; no attempt counted)."""
         token = self._token
-        result = self.record.items[item]
-        result.attempts += 1
-        self.port.send(high_to_low.record_item(result))
-        self.port.event(event="listening", item=item, window=window)
+        if not confirming:
+            result = self.record.items[item]
+            result.attempts += 1
+            self.port.send(high_to_low.record_item(result))
+        self.port.event(event="listening", item=item, window=window, confirming=confirming)
+        key, confirmed = (confirmation.KEY, item) if confirming else (item, "")
 
         def opened(r) -> None:
             if token != self._token:
@@ -221,14 +239,16 @@ class QuestionnaireExecutive(HighLevelExecutive):
             if not r.accepted:  # the person left at this very moment: _watch_person replans
                 self.log.info(f"could not open the answer window: {r.error}")
                 return
-            wait = AnswerWait(item, window, token, self.port.dsr_boot(), self.port.reach_losses())
+            wait = AnswerWait(
+                key, window, token, self.port.dsr_boot(), self.port.reach_losses(), confirmed
+            )
             self._wait = wait
             self._timer = self.port.after(
                 self.times(self.times.answer_timeout), lambda: self._answer_timed_out(wait)
             )
             self._check_wait(self.graph)
 
-        self.port.send(high_to_low.open_answer(self.graph, item), opened)
+        self.port.send(high_to_low.open_answer(self.graph, key), opened)
 
     def _on_answer(self, graph: Graph, wait: AnswerWait) -> None:
         item, window, token = wait.item, wait.window, wait.token
@@ -237,6 +257,9 @@ class QuestionnaireExecutive(HighLevelExecutive):
             return
         self.port.send(high_to_low.consume_answer())
         if answer.item != item:
+            return
+        if wait.confirming:
+            self._confirmed(wait, answer)
             return
         spec = self.definition.item(item)
         valid = (
@@ -250,6 +273,17 @@ class QuestionnaireExecutive(HighLevelExecutive):
             answer = low_to_high.Answer(item, "not_understood", heard=f"{answer.points} points")
         if answer.audio:  # the evidence of what was said, for the clinician
             self.record.items[item].audio.append(answer.audio)
+        if answer.outcome == "unsure":
+            confirmed = self.record.items[item].outcomes.count("unsure")
+            if spec.kind != "choose" or confirmed >= confirmation.MOST or not valid:
+                # confirmed once already (a test must not drag), or nothing to confirm
+                answer = low_to_high.Answer(item, "not_understood", heard=answer.heard)
+            else:
+                self._unsure[item] = (answer.points, answer.heard, window)
+                self._window_ended(item, "unsure", answer.heard)
+                self.port.event(event="unsure", item=item, points=answer.points, heard=answer.heard)
+                self._complete(token, monitoring.unsure(self.state, item))
+                return
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via, answer.heard, answer.drawing)
             self._window_ended(item, "answered")
@@ -261,6 +295,27 @@ class QuestionnaireExecutive(HighLevelExecutive):
             self._complete(
                 token, monitoring.window_failed(self.state, item, window, answer.outcome)
             )
+
+    def _confirmed(self, wait: AnswerWait, answer: low_to_high.Answer | None) -> None:
+        """The yes or no to the answer read back (None: none came): yes, the option heard
+        counts; anything else is words not understood in the window that heard them."""
+        item = wait.confirming
+        points, heard, window = self._unsure.pop(item, (None, "", wait.window))
+        yes = (
+            answer is not None
+            and answer.outcome == "answered"
+            and answer.points == confirmation.YES
+            and points is not None
+        )
+        if yes:
+            self.record.answer(item, points, "voice", heard)
+            self._window_ended(item, "answered")
+            self.port.event(event="answer", item=item, points=points, via="voice", confirmed=True)
+            self._complete(wait.token)
+            return
+        self._window_ended(item, "not_understood", heard)
+        self.port.event(event="not_understood", item=item, heard=heard, window=window)
+        self._complete(wait.token, monitoring.confirmation_failed(self.state, item, window))
 
     def _window_ended(self, item: str, outcome: str, heard: str = "") -> None:
         """Written to the item's node: how its window ended, for observers and for a restart."""
@@ -325,6 +380,9 @@ class QuestionnaireExecutive(HighLevelExecutive):
                 retry = lambda: self._answer_timed_out(wait, over)  # noqa: E731
                 self._timer = self.port.after(CLOSE_RETRY, retry)
                 return
+            if wait.confirming:  # no yes came: the answer heard does not count
+                self._confirmed(wait, None)
+                return
             # A DSR server that restarted during the window may have lost an answer given then:
             # Speech sends it again, but the close may reach the new server first. Such a
             # window is asked again, never counted as silence.
@@ -369,6 +427,8 @@ class QuestionnaireExecutive(HighLevelExecutive):
         "clarify": _clarify,
         "await-answer": _await_answer,
         "await-answer-again": _await_answer_again,
+        "confirm": _confirm,
+        "await-confirmation": _await_confirmation,
         "skip-item": _skip_item,
         "next-item": _next_item,
         "call-clinician": _call_clinician,

@@ -8,8 +8,9 @@ from typing import Any
 
 from clarc_agents.definitions import Definition, Item
 
-# how an answer window ended; "interrupted": cut by a restart, so the item is asked again
-WINDOW_OUTCOMES = ("answered", "no_answer", "not_understood", "skip", "interrupted")
+# how an answer window ended; "interrupted": cut by a restart, so the item is asked again;
+# "unsure": an option heard, not for sure, confirmed with the patient
+WINDOW_OUTCOMES = ("answered", "no_answer", "not_understood", "unsure", "skip", "interrupted")
 
 
 @dataclass

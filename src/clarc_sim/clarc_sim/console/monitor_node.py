@@ -64,6 +64,8 @@ def describe_step(event: dict) -> str | None:
         return f"no answer to {event['item']} in time (try {event['attempt']})"
     if kind == "not_understood":
         return f"not understood: {event['heard']!r} (try {event['attempt']})"
+    if kind == "unsure":
+        return f"heard {event['heard']!r}, not for sure: asking whether it was meant"
     if kind == "skip":
         return f"the patient asked to skip {event['item']}"
     if kind == "window_interrupted":

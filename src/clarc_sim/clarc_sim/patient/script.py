@@ -1,8 +1,9 @@
 """What the simulated patient does when it hears CLARC (pure; the node runs the actions).
 
 The patient reacts to sentences, as a person would: it recognises the question of an item, the
-request to answer, the options said again, the question asked again and the "did not
-understand" repetition, and answers according to its scenario, the way the item is answered
+request to answer, the options said again, the question asked again, the "did not
+understand" repetition and "I heard: ... Is that right?" (yes when it is the option meant), and
+answers according to its scenario, the way the item is answered
 (``answering.py``). ``heard(text, event)`` returns the actions to take, each after a delay in
 seconds of a real session (the node scales them).
 """
@@ -12,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from clarc_agents.definitions import Definition
+from clarc_agents.questionnaire import confirmation
 from clarc_agents.questionnaire.sentences import AGAIN, ASK, ASK_AGAIN, CLARIFY
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from clarc_sim.patient.scenario import Scenario
@@ -65,6 +67,8 @@ class PatientScript:
         if event != "end" or self.item is None:
             return []
         spec = self.definition.item(self.item)
+        if text.startswith(confirmation.HEARD):  # "I heard: ... Is that right?"
+            return self._confirm(spec, text)
         if text.startswith(ASK) or (spec.kind != "choose" and text == spec.ask):
             if self.item not in self._first_done:
                 self._first_done.add(self.item)
@@ -77,6 +81,13 @@ class PatientScript:
         if text.startswith((AGAIN, CLARIFY, ASK_AGAIN)):
             return self._answer()
         return []
+
+    def _confirm(self, spec, text: str) -> list[Action]:
+        """Yes if the robot heard the option the patient meant, else no."""
+        plan = self.scenario.plan(self.item)
+        meant = spec.option(plan.answer) if spec.kind == "choose" else None
+        right = meant is not None and text.startswith(f"{confirmation.HEARD} {meant.text}.")
+        return [Action("say", self.reaction, text="Yes, that's right." if right else "No.")]
 
     def _answer(self) -> list[Action]:
         plan = self.scenario.plan(self.item)
