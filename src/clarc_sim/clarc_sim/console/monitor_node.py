@@ -126,8 +126,12 @@ def describe_result(result: dict) -> list[str]:
     for i in result["items"]:
         if i["points"] is not None:
             got = f"{i['points']:>2} points by {i['via']}"
+        elif i["via"]:
+            got = f"drawn by {i['via']}, to score"
+        elif i.get("needs_clinician"):  # heard, never understood: the clinician's, with clips
+            got = f"not understood, to score ({len(i.get('audio', []))} clips)"
         else:
-            got = f"drawn by {i['via']}, to score" if i["via"] else "unanswered"
+            got = "unanswered"
         lines.append(f"  {i['item']:<{width}} {got}  ({i['attempts']} tries)")
     lines.append(
         f"  clinician called: {'yes' if result['clinician_called'] else 'no'}; "
