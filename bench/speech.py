@@ -21,12 +21,12 @@ import numpy as np
 
 from clarc_agents import definitions
 from clarc_agents.asr.audio import RATE
+from clarc_agents.asr.hearing import MIN_CONFIDENCE
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.orientation import values
 from clarc_agents.questionnaire.spoken import TENS, UNITS
 from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
 
-MIN_CONFIDENCE = 0.5  # Speech's default
 ROOT = Path(__file__).resolve().parents[1]
 VOICES = (
     Voice("en-us", 150, 50),

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 RECOGNISERS = ("whisper", "pocketsphinx")
 DEFAULT = "whisper"
+# Speech's default min_confidence: a text heard less sure than this is not understood
+MIN_CONFIDENCE = 0.5
 
 
 def open_recogniser(name: str = DEFAULT):

@@ -21,6 +21,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
+from clarc_agents.asr.hearing import MIN_CONFIDENCE
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import SpeechHumans
@@ -43,7 +44,7 @@ class SpeechAgent(GrammarAgentNode):
         declare(
             node,
             "min_confidence",
-            0.5,
+            MIN_CONFIDENCE,
             "a recognised text less sure than this is not understood (asked again)",
             minimum=0.0,
             maximum=1.0,

@@ -22,7 +22,7 @@ from datetime import date
 
 from clarc_agents.asr.audio import RATE, read_audio
 from clarc_agents.asr.expectations import expectation_for
-from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
+from clarc_agents.asr.hearing import DEFAULT, MIN_CONFIDENCE, RECOGNISERS, open_recogniser
 from clarc_agents.exceptions import AudioError, DefinitionError, ModelError
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 from clarc_sim.console.understand_cli import definition_of, explain
@@ -39,9 +39,6 @@ def add_parser(sub) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object")
     p.add_argument("--date", type=date.fromisoformat, default=None, help="orientation's date")
     p.set_defaults(run=run)
-
-
-MIN_CONFIDENCE = 0.5  # Speech's default min_confidence
 
 
 def hear(
