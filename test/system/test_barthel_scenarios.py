@@ -130,6 +130,9 @@ EXPECTED = {
 }
 
 
+# launched at pace x0.3: launch.sh's x0.1 makes walks_away's 1.5 s absence 0.15 s of wall time,
+# which the Kinect and Person did not see on a machine with both cores busy (2 leaves of 3)
+SLOWER = {"walks_away.yaml": ("--scale", "0.3")}
 # launched with the Kinect's cameras streaming into the DSR (640x480 colour and depth, 30 Hz):
 # sensor data beside the symbols changes no result
 WITH_CAMERA = {"all_voice.yaml"}
@@ -150,7 +153,8 @@ def test_scenario_through_the_launch(scenario, tmp_path, request):
         journal = sum(f.stat().st_size for f in (tmp_path / "run" / "dsr_state").rglob("*"))
         assert journal < 2_000_000, f"{journal} bytes of state: the images were kept"
     else:
-        run, [stored] = launch_scenario(REPO / "scenarios" / scenario, tmp_path)
+        pace = SLOWER.get(scenario, ())
+        run, [stored] = launch_scenario(REPO / "scenarios" / scenario, tmp_path, *pace)
     assert "RESULT" in run.stdout and "Barthel index" in run.stdout
     expected = EXPECTED[scenario]
     for key, value in expected.items():
