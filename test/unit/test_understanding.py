@@ -378,3 +378,19 @@ def test_tens_in_digits_and_a_unit_in_words_are_one_number():
     assert words("93, 80 seven, 80.") == ["93", "87", "80"]
     assert words("80, 7") == ["80", "7"]  # a pause: two numbers
     assert points("attention", "93, 80 six, 79") == 3
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("90, three.", 1),  # "ninety... three"
+        ("93, 80, 7, 80.", 2),  # 93, 87, 80
+        ("93, 86, 80, 70, 3.", 3),  # 93, 86, 80, 73
+        ("93, 86, 79, 70, 2, 65", 5),
+        ("93, 86, 80, 73", 3),  # a round tens followed by a two-digit answer stays itself
+    ],
+)
+def test_a_unit_after_a_round_tens_finishes_it_in_the_serial_sevens(said, expected):
+    """Whisper writes a pause inside "ninety three" as "90, 3": a unit alone is no serial
+    answer, so it is the tens' unit; elsewhere a pause still ends a number."""
+    assert points("attention", said) == expected

@@ -301,13 +301,31 @@ def _is_year(token: str) -> bool:
 
 def _serial(item: Item, said: list[str]) -> Understanding:
     given: list[int] = []
+    lowest = min(serial_numbers(item))
     for k, t in enumerate(said):
         if not t.isdigit() or (k > 0 and said[k - 1] in OPERATORS):
             continue  # a word, or the "seven" of "minus seven"
+        if _unit_of_tens(said, k, given, lowest):
+            given[-1] += int(t)  # "ninety... three": a recogniser writes "90, 3"
+            continue
         restated = k + 1 < len(said) and said[k + 1] in OPERATORS and given[-1:] == [int(t)]
         if not restated:  # "93 minus 7 is 86": that 93 restates the answer before, once
             given.append(int(t))
     return Understanding("answer", serial_points(item, given), tuple(map(str, given)))
+
+
+def _unit_of_tens(said: list[str], k: int, given: list[int], lowest: int) -> bool:
+    """Whether the digit ``said[k]`` is the unit of the round tens just before it, split by a
+    pause ("ninety... three", written "90, 3"): a unit alone is never an answer where every
+    expected number has two digits, so it finishes the tens a clinician heard."""
+    unit, tens = int(said[k]), given[-1] if given else 0
+    return (
+        lowest >= 10
+        and 0 < unit < 10
+        and 20 <= tens <= 90
+        and tens % 10 == 0
+        and said[k - 1] == str(tens)
+    )
 
 
 def touched_in_order(item: Item, targets: list[str]) -> int:
