@@ -277,10 +277,17 @@ def _loop_lines(loop: dict[str, Any] | None) -> list[str]:
     if "error" in loop:
         return [f"  end of speech to the answer in the DSR: {loop['error']}"]
     d = loop["end_of_speech_to_dsr_ms"]
-    return [
+    lines = [
         f"  end of speech to the answer in the DSR ({loop['answers']} answers, --audio): "
         f"p50 {d['p50_ms']:.0f} ms, p99 {d['p99_ms']:.0f} ms"
     ]
+    for name, run in loop.get("robot", {}).items():
+        busiest = sorted(run["cpu_s"].items(), key=lambda kv: -kv[1])[:4]
+        lines.append(
+            f"  robot CPU, {name} --audio: {run['cpu_total_s']:.1f} s in {run['wall_s']:.0f} s "
+            "(" + ", ".join(f"{n} {s:.1f}" for n, s in busiest) + ")"
+        )
+    return lines
 
 
 LOOP_SCENARIOS = ("default.yaml", "mmse_normal.yaml")  # a Barthel, then a Mini-Mental
@@ -293,10 +300,11 @@ def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:
     to MCAP. For each hypothesis the asr node published (clarc/asr: its text and the capture
     time its speech ended) whose text Speech stored as an answer or as not understood, the time
     from that end to the recorder receiving the DSR delta that holds it: what any agent of the
-    DSR sees."""
+    DSR sees. And the CPU seconds of every process of each run (launch.sh's CLARC_CPU_REPORT):
+    the robot's cost of a test heard aloud."""
     delays: list[float] = []
     unmatched = 0
-    per_scenario = {}
+    per_scenario, robot = {}, {}
     for name in LOOP_SCENARIOS:
         run = _speech_loop_run(work, domain, root, name)
         if "error" in run:
@@ -304,12 +312,18 @@ def bench_speech_loop(work: Path, domain: int, root: Path) -> dict[str, Any]:
         delays += run["delays"]
         unmatched += run["unmatched"]
         per_scenario[name] = len(run["delays"])
+        robot[name] = {
+            "wall_s": run["wall_s"],
+            "cpu_total_s": sum(run["cpu_s"].values()),
+            "cpu_s": run["cpu_s"],
+        }
     p50, p99 = np.percentile(delays, [50, 99])
     return {
         "answers": len(delays),
         "answers_per_scenario": per_scenario,
         "hypotheses_not_stored": unmatched,
         "end_of_speech_to_dsr_ms": {"p50_ms": 1000 * p50, "p99_ms": 1000 * p99},
+        "robot": robot,
         "delays_ms": [round(1000 * d, 1) for d in delays],
     }
 
@@ -328,10 +342,18 @@ def _speech_loop_run(work: Path, domain: int, root: Path, name: str) -> dict[str
     argv += ["--scale", "0.7", "--voice-rate", "300", "--timeout", "900"]
     argv += ["--db", str(work / f"aloud_{tag}.sqlite"), "--run-dir", str(work / f"run_{tag}")]
     argv += ["--viewer-port", "0", "--dashboard-port", "0", "--record", str(recording)]
-    env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
+    cpu_report = work / f"aloud_{tag}_cpu.txt"
+    cpu_report.unlink(missing_ok=True)
+    env = dict(os.environ, ROS_DOMAIN_ID=str(domain), CLARC_CPU_REPORT=str(cpu_report))
+    clock = time.perf_counter()
     run = subprocess.run(argv, capture_output=True, text=True, env=env, timeout=1000)
+    wall = time.perf_counter() - clock
     if run.returncode != 0:
         return {"error": f"launch.sh exited {run.returncode}: {run.stderr[-2000:]}"}
+    cpu = {}  # launch.sh's report: "node seconds" a line, user + system time of each process
+    for line in cpu_report.read_text().splitlines() if cpu_report.exists() else []:
+        name, seconds = line.split()
+        cpu[name] = float(seconds)
     deltas = dsr_channels(recording)["deltas"]
     pending: list[tuple[str, float]] = []  # (the JSON of what Speech stores, end of speech)
     delays, unmatched = [], 0
@@ -350,4 +372,4 @@ def _speech_loop_run(work: Path, domain: int, root: Path, name: str) -> dict[str
                 break
     if not delays:
         return {"error": "no hypothesis was found stored in the DSR"}
-    return {"delays": delays, "unmatched": unmatched + len(pending)}
+    return {"delays": delays, "unmatched": unmatched + len(pending), "wall_s": wall, "cpu_s": cpu}
