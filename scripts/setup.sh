@@ -108,7 +108,7 @@ if [ "$(cat "$stamps/pip" 2>/dev/null)" != "$req_hash" ]; then
     -r requirements.txt -c constraints.txt
   echo "$req_hash" > "$stamps/pip"
   rm -f "$stamps/cmake-fix" "$stamps/colcon"
-  done_step "installed $("$venv/bin/python" -m pip list --format=freeze 2>/dev/null | wc -l) packages (requirements.txt, constraints.txt)"
+  done_step "installed as pinned (requirements.txt, constraints.txt)"
 else
   done_step "already there (requirements.txt unchanged)"
 fi
@@ -119,7 +119,7 @@ models_hash=$(hash_of "$stamps/pip" src/clarc_agents/clarc_agents/asr/models.py)
 if [ "$(cat "$stamps/models" 2>/dev/null)" != "$models_hash" ]; then
   PYTHONPATH="$root/src/clarc_agents:$root/src/dsr_graph" quietly "$venv/bin/python" -m clarc_agents.asr.models
   echo "$models_hash" > "$stamps/models"
-  done_step "checked by SHA-256 ($(grep -c '^\[models\]' "$log") models)"
+  done_step "checked by SHA-256: $(sed -n 's/^\[models\] \([^:]*\):.*/\1/p' "$log" | paste -sd, -)"
 else
   done_step "already checked"
 fi

@@ -78,6 +78,15 @@ def _watch(item) -> None:
     )
 
 
+def pytest_collection_modifyitems(config, items):
+    """Every test under test/unit is a ``unit`` test (no ROS, no processes): with the ``smoke``
+    tests, scripts/test.sh --quick runs those (``-m "unit or smoke"``)."""
+    unit = REPO / "test" / "unit"
+    for item in items:
+        if unit in item.path.parents:
+            item.add_marker(pytest.mark.unit)
+
+
 @pytest.hookimpl(tryfirst=True)
 def pytest_runtest_setup(item):
     _watch(item)

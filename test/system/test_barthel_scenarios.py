@@ -138,7 +138,14 @@ SLOWER = {"walks_away.yaml": ("--scale", "0.3")}
 WITH_CAMERA = {"all_voice.yaml"}
 
 
-@pytest.mark.parametrize("scenario", sorted(EXPECTED))
+@pytest.mark.parametrize(
+    "scenario",
+    # the default scenario is clarc_agents' and launch.sh's smoke test (scripts/test.sh --quick)
+    [
+        pytest.param(s, marks=pytest.mark.smoke) if s == "default.yaml" else s
+        for s in sorted(EXPECTED)
+    ],
+)
 def test_scenario_through_the_launch(scenario, tmp_path, request):
     from ros_processes import launch_scenario, stored_tests
 

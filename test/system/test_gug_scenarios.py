@@ -62,7 +62,11 @@ def test_the_shipped_suite_covers_the_issue_s_cases():
     assert any(not s.rises for s in loaded)  # unable to perform
 
 
-@pytest.mark.parametrize("scenario", SCENARIOS)
+@pytest.mark.parametrize(
+    "scenario",
+    # a normal patient is clarc_sim's smoke test (the Kinect and the patient; test.sh --quick)
+    [pytest.param(s, marks=pytest.mark.smoke) if s == "gug_normal.yaml" else s for s in SCENARIOS],
+)
 def test_a_get_up_and_go_scenario_through_the_launch(scenario, tmp_path):
     # the patient who leaves is recorded: REP-155's topics, a body lost and a new one found
     record = ("--record", tmp_path / "run.mcap") if scenario == "gug_leaves.yaml" else ()

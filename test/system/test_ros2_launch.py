@@ -15,6 +15,7 @@ import urllib.request
 from http.cookiejar import CookieJar
 from pathlib import Path
 
+import pytest
 from hri_msgs.msg import IdsList, Skeleton2D
 from test_barthel_scenarios import EXPECTED
 from test_gug_scenarios import check as check_gug
@@ -111,6 +112,7 @@ def finished_cleanly(out: str) -> None:
     assert out.count("process has finished cleanly") >= len(SUITE) - 1, out[-4000:]
 
 
+@pytest.mark.smoke  # clarc_bringup's (scripts/test.sh --quick)
 def test_the_default_scenario_through_ros2_launch_stores_what_launch_sh_stores(tmp_path, ros2_cli):
     recording = tmp_path / "run.mcap"
     launch = Launch(tmp_path, f"record:={recording}")

@@ -31,6 +31,7 @@ def canonical(doc):
     return json.dumps(doc, sort_keys=True)
 
 
+@pytest.mark.smoke  # dsr_graph's (scripts/test.sh --quick)
 def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
     start(ros, cortex_dir)
     tx = tmp_path / "tx.json"
