@@ -27,7 +27,7 @@
 #                    in Foxglove. The recorder starts before the robot and stops after it.
 #   --keystore DIR   sign the DSR's traffic with this keystore (dsr keystore init/add; every
 #                    node of the suite needs its key); default: a new one in the run's folder
-#   --security MODE  enforce (default), permissive or off (DSR_SECURITY; README "Who may do what")
+#   --security MODE  enforce (default), permissive or off (DSR_SECURITY; docs/explanation/who-may-do-what.md)
 #   --viewer-token T the DSR viewer's access token (default: a new one, printed)
 #   --camera HZ      the Kinect's colour and depth cameras on (640x480, HZ images a second of
 #                    wall time), written into the DSR's kinect node by the camera agent

@@ -1,8 +1,8 @@
 """DDS security on these machines: the Fast DDS in the PyPI Jazzy wheels is built without its
 security plugins, so a participant asked to enforce security cannot even be created. This test
-pins that fact (README, "DDS security"): if a future wheel has the plugins, it fails, and the
-keystore, the enclaves and the test that an unauthenticated participant cannot publish to
-dsr/transactions (issue 11) become possible."""
+pins that fact (docs/explanation/who-may-do-what.md, "DDS security"): if a future wheel has the
+plugins, it fails, and the keystore, the enclaves and the test that an unauthenticated
+participant cannot publish to dsr/transactions (issue 11) become possible."""
 
 import os
 import subprocess

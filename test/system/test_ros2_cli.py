@@ -1,4 +1,5 @@
-"""The real ``ros2`` command line (ros2cli, Jazzy) on a running DSR, as the README tells users:
+"""The real ``ros2`` command line (ros2cli, Jazzy) on a running DSR, as
+docs/how-to/jazzy-install.md tells users:
 ``ros2 run`` with ``--ros-args -p``, ``ros2 node list``, ``ros2 topic list -t``, ``ros2 topic
 echo``, ``ros2 topic pub`` of a transaction (signed with the keystore, and forged),
 ``ros2 service call`` of each dsr_msgs service, ``ros2 param list/get/set``, ``ros2 interface

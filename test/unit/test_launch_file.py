@@ -1,7 +1,8 @@
 """The bringup's launch file (src/clarc_bringup/launch/clarc.launch.py), checked without the
 launch wheels (not on PyPI): it parses; it starts the same nodes as scripts/launch.sh, each an
 executable of its package, respawned, with parameters its node declares; it names only launch
-and launch_ros's public modules. Running it needs a ROS 2 Jazzy install (README)."""
+and launch_ros's public modules. Running it needs a ROS 2 Jazzy install
+(docs/how-to/jazzy-install.md)."""
 
 import ast
 import importlib

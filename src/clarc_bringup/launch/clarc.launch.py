@@ -12,8 +12,8 @@ scenario's patient (a request in the DSR, which PELEA takes whenever it runs); w
 ``start:=false`` press it on the clinician's dashboard. ``record:=FILE.mcap`` records the run
 with dsr_recorder (it starts with the others here; launch.sh starts it first and stops it last).
 
-The DSR's traffic is signed (README "Who may do what"): ``keystore:=DIR`` names a keystore
-(``dsr keystore init/add``), made or completed with a key for every node of the suite; by
+The DSR's traffic is signed (docs/explanation/who-may-do-what.md): ``keystore:=DIR`` names a
+keystore (``dsr keystore init/add``), made or completed with a key for every node of the suite; by
 default a new one per launch under ``$XDG_STATE_HOME/dsr/keystores``. ``security:=permissive``
 or ``off`` relaxes it. Discovery stays on this machine (``discovery:=localhost``, as launch.sh);
 ``discovery:=subnet`` opens it to a second host on the same network.

@@ -6,7 +6,7 @@ written for CORTEX run here unchanged: ``from pydsr import *``.
     rt = rt_api(g); inner = inner_api(g)
     signals.connect(g, signals.UPDATE_NODE, lambda id, type: ...)
 
-What differs from CORTEX (README, "Coming from CORTEX"): the transport is ROS 2 and writes go
+What differs from CORTEX (docs/how-to/from-cortex.md): the transport is ROS 2 and writes go
 through the DSR server as transactions (a refused one returns None / False and logs why); the
 DSR's rules hold (a node with RT children is not deleted).
 """

@@ -166,8 +166,8 @@ def start(args: argparse.Namespace) -> int:
     return 0
 
 
-def main(argv: list[str] | None = None) -> int:
-    set_private_umask()  # the results store holds patients' data
+def build_parser() -> argparse.ArgumentParser:
+    """The ``clarc`` command line (also the documentation's reference of it)."""
     parser = argparse.ArgumentParser(
         prog="clarc", description="CLARC: the clinical test robot's tools"
     )
@@ -192,6 +192,12 @@ def main(argv: list[str] | None = None) -> int:
     skeleton_cli.add_parser(sub)
     understand_cli.add_parser(sub)
     hear_cli.add_parser(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    set_private_umask()  # the results store holds patients' data
+    parser = build_parser()
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(own)
     args.ros_args = ros_args

@@ -25,7 +25,8 @@ def run(args: argparse.Namespace) -> int:
     try:
         doc = fetch_snapshot(args.timeout, args.ros_args)
         if args.format == "cortex":
-            graph, _ = dsr_json.snapshot_from_json(doc)
+            # trusted as a replica trusts it (the server's vocabulary may extend the default)
+            graph, _ = dsr_json.snapshot_from_json(doc, trusted=True)
             doc = world_document(graph, "cortex")
         write_json_atomically(doc, args.file)
     except (DsrError, OSError) as e:

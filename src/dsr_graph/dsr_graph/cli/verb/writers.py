@@ -34,7 +34,9 @@ def run(args: argparse.Namespace) -> int:
             graph, seq = None, 0
             for kind, _time, doc in dsr_events(path):
                 if kind == "snapshot":
-                    graph, seq = dsr_json.snapshot_from_json(doc)
+                    # as a replay reads it: the recorded server checked it against its own
+                    # vocabulary, which may extend the default
+                    graph, seq = dsr_json.snapshot_from_json(doc, trusted=True)
                 elif graph is not None and follows(doc, seq):  # as replay_history reads it
                     observe_writes(merged, graph, doc)
                     seq = doc["seq"]

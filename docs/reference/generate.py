@@ -1,0 +1,103 @@
+"""The generated reference pages (mkdocs-gen-files runs this at every build): every node with its
+parameters, as its ``--help`` prints them (dsr_graph.ros.parameters.help_text, from the same
+declarations the node makes at start), and the ``dsr`` and ``clarc`` command lines from their
+argparse parsers. Nothing here is written by hand, so it cannot drift from the code."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import inspect
+import re
+from pathlib import Path
+
+import mkdocs_gen_files
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+PACKAGES = ("dsr_graph", "clarc_agents", "clarc_sim")
+ENTRY = re.compile(r'"(\w+) = ([\w.]+):main"')
+
+
+def console_scripts(package: str) -> list[tuple[str, str]]:
+    """(executable, module) of a package's console scripts, from its setup.py."""
+    return ENTRY.findall((SRC / package / "setup.py").read_text())
+
+
+def node_class(module):
+    from dsr_graph.ros.dsr_node import DsrNode
+
+    found = [
+        c
+        for _, c in inspect.getmembers(module, inspect.isclass)
+        if issubclass(c, DsrNode) and c is not DsrNode and c.__module__ == module.__name__
+    ]
+    return found[0] if len(found) == 1 else None
+
+
+def nodes_page() -> str:
+    from dsr_graph.ros.parameters import help_text
+
+    out = [
+        "# Nodes",
+        "",
+        "Every node of the suite, by package, as `ros2 run <package> <executable> --help` prints",
+        "it: what the node is, its node name and each parameter (type, default, range, whether",
+        "it is read only at start). Generated from the code at each build of this site. The",
+        "topics and services each node uses are in its module's documentation and in",
+        "[The DSR server](dsr-server.md); `ros2 node info /<name>` lists them on a running robot.",
+        "",
+    ]
+    for package in PACKAGES:
+        out += [f"## {package}", ""]
+        for executable, module_name in console_scripts(package):
+            cls = node_class(importlib.import_module(module_name))
+            if cls is None:
+                continue  # a command line, not a node (reference: cli.md)
+            out += [
+                f"### {executable}",
+                "",
+                f"`ros2 run {package} {executable}`",
+                "",
+                "```text",
+                help_text(cls, executable),
+                "```",
+                "",
+            ]
+    return "\n".join(out)
+
+
+def _helps(parser: argparse.ArgumentParser, prog: str) -> list[str]:
+    """The parser's help and each subcommand's, nested."""
+    out = [f"### `{prog}`", "", "```text", parser.format_help().rstrip(), "```", ""]
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for name, sub in action.choices.items():
+                out += _helps(sub, f"{prog} {name}")
+    return out
+
+
+def cli_page() -> str:
+    from clarc_sim.console.clarc_cli import build_parser as clarc_parser
+    from dsr_graph.cli.main import build_parser as dsr_parser
+
+    out = [
+        "# Command lines",
+        "",
+        "`dsr` (the DSR's tools: dsr_graph) and `clarc` (the clinical robot's: clarc_sim), each",
+        "command as its `--help` prints it. Generated from their argparse parsers at each build",
+        "of this site. What each `dsr` verb is for: [The dsr command line](dsr-cli.md).",
+        "",
+        "## dsr",
+        "",
+        *_helps(dsr_parser(), "dsr"),
+        "## clarc",
+        "",
+        *_helps(clarc_parser(), "clarc"),
+    ]
+    return "\n".join(out)
+
+
+with mkdocs_gen_files.open("reference/nodes.md", "w") as f:
+    f.write(nodes_page())
+with mkdocs_gen_files.open("reference/cli.md", "w") as f:
+    f.write(cli_page())
