@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: sets the workspace up if needed (idempotent), lints (ruff, pinned,
 # ruff.toml), then runs the tests.
-#   scripts/test.sh            the whole suite (what CI runs): test/unit (no ROS, seconds) and
-#                              test/system (processes, launches, the browser)
+#   scripts/test.sh            the whole suite (what CI runs), on both cores: test/unit (no ROS,
+#                              seconds) and test/system (processes, launches, the browser)
 #   scripts/test.sh --quick    the five-minute loop: the unit tests and one system smoke test a
 #                              package (pytest -m smoke), on both cores
 # Extra arguments go to pytest (scripts/test.sh test/unit -x; scripts/test.sh --quick -x).
@@ -25,10 +25,10 @@ mkdir -p test-results
 # their stale locks can hang a new participant at start; living processes' files are kept.
 fastdds shm clean > /dev/null 2>&1 || true
 # CI runs hypothesis derandomised so a run is reproducible; locally it explores new examples.
+# Two workers (pytest-xdist), each with its own block of ROS domains (test/ros_processes.py)
+# and temporary folders; a file's tests stay on one worker (they share its fixtures).
 if [ -n "$quick" ]; then
-  # two workers, each with its own block of ROS domains (test/ros_processes.py); a file's tests
-  # stay on one worker (they share its fixtures)
   exec python -m pytest -n 2 --dist loadfile -m "unit or smoke" \
     --junitxml=test-results/junit-quick.xml "$@"
 fi
-exec python -m pytest --junitxml=test-results/junit.xml "$@"
+exec python -m pytest -n 2 --dist loadfile --junitxml=test-results/junit.xml "$@"
