@@ -42,15 +42,17 @@ def nodes_page() -> str:
         "",
         "Every node of the suite, by package, as `ros2 run <package> <executable> --help` prints",
         "it: what the node is, its node name and each parameter (type, default, range, whether",
-        "it is read only at start). Generated from the code at each build of this site. The",
-        "topics and services each node uses are in its module's documentation and in",
-        "[The DSR server](dsr-server.md); `ros2 node info /<name>` lists them on a running robot.",
+        "it is read only at start), then the rest of its module's documentation (the topics",
+        "and services it uses, and how it works). Generated from the code at each build of this",
+        "site. The DSR's own topics: [The DSR server](dsr-server.md); `ros2 node info /<name>`",
+        "lists a running node's.",
         "",
     ]
     for package in PACKAGES:
         out += [f"## {package}", ""]
         for executable, module_name in console_scripts(package):
-            cls = node_class(importlib.import_module(module_name))
+            module = importlib.import_module(module_name)
+            cls = node_class(module)
             if cls is None:
                 continue  # a command line, not a node (reference: cli.md)
             out += [
@@ -63,6 +65,10 @@ def nodes_page() -> str:
                 "```",
                 "",
             ]
+            # the rest of the module's documentation: its topics, services and how it works
+            rest = inspect.cleandoc(module.__doc__ or "").split("\n\n", 1)[1:]
+            if rest:
+                out += ["Its module's documentation:", "", "```text", rest[0].strip(), "```", ""]
     return "\n".join(out)
 
 
