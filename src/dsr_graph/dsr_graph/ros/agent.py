@@ -98,6 +98,9 @@ class DsrAgent:
         self.out_of_reach: frozenset[str] = frozenset()  # agents the server cannot hear now
         self.reach_losses = 0  # how often an agent went out of the server's reach (heartbeat)
         self._outbox: list[str] = []
+        # the server was lost (its heartbeat silent, or its subscription gone): requests wait
+        # for its next heartbeat, so that a restarted server gets the unanswered ones first
+        self._server_lost = False
         self._run = uuid.uuid4().hex[:6]
         self._count = 0
         self._snapshot_future = None
@@ -205,6 +208,8 @@ class DsrAgent:
     def _send_again(self, older_than: float) -> None:
         """Requests whose verdict has not come (lost to a server that died, or not heard): send
         them again with the same id; the server applies each once and answers the rest."""
+        if self._server_lost:
+            return  # all of them go again, in order, when the server is heard (_on_heartbeat)
         now = time.monotonic()
         for ident, (text, sent, blobs) in list(self._unanswered.items()):
             if now - sent >= older_than:
@@ -212,8 +217,15 @@ class DsrAgent:
                 self._outbox.append((text, blobs))
 
     def _flush_outbox(self) -> None:
-        # A request published before the server's subscription is matched would be lost.
-        if self._outbox and self._tx_pub.get_subscription_count() > 0:
+        # A request published before the server's subscription is matched would be lost; one
+        # published to a restarted server before it told us it restarted would overtake the
+        # requests its predecessor never answered (an agent's writes must apply in its order).
+        if self._boot and (
+            self._tx_pub.get_subscription_count() == 0
+            or time.monotonic() - (self._heard or 0.0) > SERVER_SILENCE
+        ):
+            self._server_lost = True
+        if self._outbox and not self._server_lost and self._tx_pub.get_subscription_count() > 0:
             for text, blobs in self._outbox:
                 for digest, data in blobs.items():  # the bytes first: the server holds for them
                     self._blob_pub.publish(blob_message(digest, data))
@@ -362,14 +374,23 @@ class DsrAgent:
             # a server killed and back within SERVER_SILENCE is a gap all the same: what it held
             # open (an answer's window) opens again only now
             self.server_gap = (before, now)
-        if restarted and self._unanswered:
-            # the server restarted: what it did not answer may have died with it
-            self.node.get_logger().warning(
-                f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
-                "request(s) again"
-            )
-            self._send_again(older_than=0.0)
+        if (restarted or self._server_lost) and self._unanswered:
+            # the server restarted (what it did not answer may have died with it) or was out of
+            # reach: every unanswered request goes again, in the order they were first sent
+            # (those sent while it was lost were held for this; the same id is applied once)
+            if restarted:
+                self.node.get_logger().warning(
+                    f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
+                    "request(s) again"
+                )
+            now = time.monotonic()
+            self._outbox = []
+            for ident, (text, _sent, blobs) in self._unanswered.items():
+                self._unanswered[ident] = (text, now, blobs)
+                self._outbox.append((text, blobs))
         self._boot = boot
+        self._server_lost = False
+        self._flush_outbox()
 
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
