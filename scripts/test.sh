@@ -2,7 +2,8 @@
 # The README's test command: sets the workspace up if needed (idempotent), lints (ruff, pinned,
 # ruff.toml), then runs the tests.
 #   scripts/test.sh            the whole suite (what CI runs), on both cores: test/unit (no ROS,
-#                              seconds) and test/system (processes, launches, the browser)
+#                              seconds) and test/system (processes, launches, docs), then the
+#                              browser's tests on their own
 #   scripts/test.sh --quick    the five-minute loop: the unit tests and one system smoke test a
 #                              package (pytest -m smoke), on both cores
 # Extra arguments go to pytest (scripts/test.sh test/unit -x; scripts/test.sh --quick -x).
@@ -31,4 +32,13 @@ if [ -n "$quick" ]; then
   exec python -m pytest -n 2 --dist loadfile -m "unit or smoke" \
     --junitxml=test-results/junit-quick.xml "$@"
 fi
-exec python -m pytest -n 2 --dist loadfile --junitxml=test-results/junit.xml "$@"
+if [ $# -gt 0 ]; then  # the caller's selection, on both workers
+  exec python -m pytest -n 2 --dist loadfile --junitxml=test-results/junit.xml "$@"
+fi
+# The whole suite: everything on both workers but the tests marked `alone` (the browser's: a
+# renderer crash seen only while another test loaded the machine, not yet understood, issue 36),
+# then those on their own.
+code=0
+python -m pytest -n 2 --dist loadfile -m "not alone" --junitxml=test-results/junit.xml || code=$?
+python -m pytest -m alone --junitxml=test-results/junit-alone.xml || code=$?
+exit "$code"

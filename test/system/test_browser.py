@@ -22,6 +22,12 @@ from ros_processes import (
     wait_for,
 )
 
+# scripts/test.sh runs these with no other test beside them: Chromium's renderer crashed
+# ("Target crashed", at a tap on a skeleton joint) in runs where another test loaded the
+# machine, and not in 8 runs of that test under busy loops alone; its cause is not found yet
+# (issue 36)
+pytestmark = pytest.mark.alone
+
 REPO = Path(__file__).resolve().parents[2]
 WORLD = REPO / "worlds" / "clarc_room.json"
 
@@ -325,7 +331,9 @@ def test_dashboard_starts_a_test_and_shows_it_complete(tmp_path):
     try:
         url = f"http://127.0.0.1:{port}/"
 
-        wait_for(lambda: http_get(url + "login")[0] == 200, 60, "the dashboard")
+        # launch.sh starts fifteen Python processes as CGAmed starts: half a minute of CPU and
+        # more, which a machine whose cores are busy with other work gives slowly (seen: > 60 s)
+        wait_for(lambda: http_get(url + "login")[0] == 200, 150, "the dashboard")
         with chromium_page() as page:
             log_in(page, url, "Dr. Ruiz")
             page.click("#start")  # no patient chosen yet
