@@ -34,31 +34,35 @@ def node_class(module):
     return found[0] if len(found) == 1 else None
 
 
-def nodes_page() -> str:
+def node_pages() -> dict[str, str]:
+    """A page per node (reference/nodes/<executable>.md) and their index (reference/nodes.md)."""
     from dsr_graph.ros.parameters import help_text
 
-    out = [
+    index = [
         "# Nodes",
         "",
-        "Every node of the suite, by package, as `ros2 run <package> <executable> --help` prints",
-        "it: what the node is, its node name and each parameter (type, default, range, whether",
-        "it is read only at start), then the rest of its module's documentation (the topics",
-        "and services it uses, and how it works). Generated from the code at each build of this",
-        "site. The DSR's own topics: [The DSR server](dsr-server.md); `ros2 node info /<name>`",
-        "lists a running node's.",
+        "Every node of the suite, by package, each on a page of its own: what `ros2 run",
+        "<package> <executable> --help` prints (what the node is, its node name, each parameter",
+        "with its type, default, range and whether it is read only at start), then the rest of",
+        "its module's documentation (the topics and services it uses, and how it works).",
+        "Generated from the code at each build of this site. The DSR's own topics: [The DSR",
+        "server](dsr-server.md); `ros2 node info /<name>` lists a running node's.",
         "",
     ]
+    pages = {}
     for package in PACKAGES:
-        out += [f"## {package}", ""]
+        index += [f"## {package}", ""]
         for executable, module_name in console_scripts(package):
             module = importlib.import_module(module_name)
             cls = node_class(module)
             if cls is None:
                 continue  # a command line, not a node (reference: cli.md)
-            out += [
-                f"### {executable}",
+            summary = inspect.cleandoc(module.__doc__ or "").split("\n\n")[0].replace("\n", " ")
+            index.append(f"- [`{executable}`](nodes/{executable}.md): {summary}")
+            page = [
+                f"# {executable}",
                 "",
-                f"`ros2 run {package} {executable}`",
+                f"`ros2 run {package} {executable}` (package `{package}`, module `{module_name}`)",
                 "",
                 "```text",
                 help_text(cls, executable),
@@ -68,8 +72,11 @@ def nodes_page() -> str:
             # the rest of the module's documentation: its topics, services and how it works
             rest = inspect.cleandoc(module.__doc__ or "").split("\n\n", 1)[1:]
             if rest:
-                out += ["Its module's documentation:", "", "```text", rest[0].strip(), "```", ""]
-    return "\n".join(out)
+                page += ["## Its module's documentation", "", "```text", rest[0].strip(), "```"]
+            pages[f"reference/nodes/{executable}.md"] = "\n".join(page) + "\n"
+        index.append("")
+    pages["reference/nodes.md"] = "\n".join(index)
+    return pages
 
 
 def _helps(parser: argparse.ArgumentParser, prog: str) -> list[str]:
@@ -103,7 +110,8 @@ def cli_page() -> str:
     return "\n".join(out)
 
 
-with mkdocs_gen_files.open("reference/nodes.md", "w") as f:
-    f.write(nodes_page())
+for path, text in node_pages().items():
+    with mkdocs_gen_files.open(path, "w") as f:
+        f.write(text)
 with mkdocs_gen_files.open("reference/cli.md", "w") as f:
     f.write(cli_page())
