@@ -119,7 +119,9 @@ def test_the_default_scenario_through_ros2_launch_stores_what_launch_sh_stores(t
     try:
         deadline = time.monotonic() + 60
         while True:  # every node of the suite, as the real ros2 node list shows them
-            listed = launch.ros2("node", "list", "--no-daemon", "--spin-time", "2").split()
+            # a new participant needs a few seconds to discover fifteen others on a machine
+            # whose cores are busy (2 s of spin found none in a whole run beside the unit tests)
+            listed = launch.ros2("node", "list", "--no-daemon", "--spin-time", "5").split()
             missing = [n for n in SUITE + ["/dsr_recorder"] if n not in listed]
             if not missing or launch.proc.poll() is not None or time.monotonic() > deadline:
                 break
