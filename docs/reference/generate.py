@@ -1,7 +1,9 @@
-"""The generated reference pages (mkdocs-gen-files runs this at every build): every node with its
-parameters, as its ``--help`` prints them (dsr_graph.ros.parameters.help_text, from the same
-declarations the node makes at start), and the ``dsr`` and ``clarc`` command lines from their
-argparse parsers. Nothing here is written by hand, so it cannot drift from the code."""
+"""The generated reference pages (mkdocs-gen-files runs this at every build): a page per node with
+its parameters, as its ``--help`` prints them (dsr_graph.ros.parameters.help_text, from the same
+declarations the node makes at start), then its module's documentation; and the ``dsr`` and
+``clarc`` command lines from their argparse parsers. The parameters and the command lines cannot
+drift from the code; the topics are what each module's documentation says (not checked against
+a running node)."""
 
 from __future__ import annotations
 
