@@ -220,12 +220,10 @@ class DsrAgent:
         # A request published before the server's subscription is matched would be lost; one
         # published to a restarted server before it told us it restarted would overtake the
         # requests its predecessor never answered (an agent's writes must apply in its order).
-        if self._boot and (
-            self._tx_pub.get_subscription_count() == 0
-            or time.monotonic() - (self._heard or 0.0) > SERVER_SILENCE
-        ):
+        matched = self._tx_pub.get_subscription_count() > 0  # one rcl query a send
+        if self._boot and (not matched or time.monotonic() - (self._heard or 0.0) > SERVER_SILENCE):
             self._server_lost = True
-        if self._outbox and not self._server_lost and self._tx_pub.get_subscription_count() > 0:
+        if self._outbox and not self._server_lost and matched:
             for text, blobs in self._outbox:
                 for digest, data in blobs.items():  # the bytes first: the server holds for them
                     self._blob_pub.publish(blob_message(digest, data))
