@@ -278,3 +278,34 @@ def test_setup_attaches_what_the_constructor_did_not(context):
         assert "/clarc/asr" in [p.topic_name for p in node.publishers]
     finally:
         node.destroy_node()
+
+
+MISSED = """
+import signal, sys
+import rclpy
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+
+class Missed(DsrNode):
+    NAME = "missed"
+
+    def setup(self):
+        # A stop rclpy never sees and whose KeyboardInterrupt is swallowed on the way: what a
+        # SIGINT during start-up did to nodes that then spun until launch killed them.
+        rclpy.signals.uninstall_signal_handlers()
+        signal.signal(signal.SIGINT, lambda *_: None)
+        signal.signal(signal.SIGTERM, lambda *_: None)
+        print("spinning", flush=True)
+
+sys.exit(main_for(Missed)())
+"""
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_a_spinning_node_stops_on_a_signal_rclpy_missed(ros, sig):
+    program = ros.tmp / "missed.py"
+    program.write_text(MISSED)
+    proc = ros.procs.start("missed", ["python", program])
+    wait_for(lambda: "spinning" in ros.procs.log("missed"), 60, "the node to spin")
+    proc.send_signal(sig)
+    proc.wait(timeout=30)
+    assert proc.returncode == 0 and "Traceback" not in ros.procs.log("missed")

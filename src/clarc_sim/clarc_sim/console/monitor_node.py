@@ -249,6 +249,8 @@ class Monitor(DsrNode):
         ``timeout``."""
         deadline = time.monotonic() + float_param(self, "timeout")
         while self.exit_code is None and time.monotonic() < deadline:
+            if self.stop_requested():
+                return 0
             rclpy.spin_once(self, timeout_sec=0.1)
         if self.exit_code is None:
             self.say(f"the test did not finish within {param(self, 'timeout')} s")

@@ -11,6 +11,12 @@ error of the suite (``DsrError``: a locked or corrupt state directory, a scenari
 used, a server that does not answer), a missing or out-of-range parameter, a bad file or a taken
 port becomes one fatal log line and exit code 1 instead of a traceback; SIGINT and SIGTERM end
 it with exit 0, also while it waits for the DSR server.
+
+A node spins until ``stop_requested()``: rclpy's handler shuts ROS down on SIGINT and SIGTERM,
+but a signal it never saw (one that came before ``rclpy.init`` installed it, its
+KeyboardInterrupt swallowed on the way) left nodes spinning until launch killed them (seen
+under load: 4 of 300 stops in a stress of SIGINTs at random moments; ros2 launch's kinect in
+CI). ``StopSignals`` hears every stop from Python's own handler, which runs in either case.
 """
 
 from __future__ import annotations
@@ -23,20 +29,25 @@ from collections.abc import Callable
 import rclpy
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.exceptions import ParameterException
-from rclpy.executors import ExternalShutdownException
+from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros import dds_teardown
+from dsr_graph.ros.exit_timer import exit_if_stuck
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals
 
 NO_DEFAULT_EVENTS = {"use_default_callbacks": False}  # see DsrNode.create_publisher
+# seconds the DDS participant's deletion may take at the end (launch sends SIGTERM after 5)
+TEARDOWN_LIMIT = 3.0
+STOP_POLL = 0.5  # seconds: the longest a stop rclpy missed goes unseen by a spinning node
 
 
 class DsrNode(Node):
     NAME = ""  # the node's name unless remapped
+    stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
 
     def __init__(self, node_name: str = "", **kwargs) -> None:
         super().__init__(node_name or self.NAME, **kwargs)
@@ -52,8 +63,18 @@ class DsrNode(Node):
 
     def run(self) -> int | None:
         """Serve until shut down; the exit code (None: 0)."""
-        rclpy.spin(self)
+        executor = SingleThreadedExecutor(context=self.context)
+        executor.add_node(self)
+        try:
+            while not self.stop_requested():
+                executor.spin_once(timeout_sec=STOP_POLL)
+        finally:
+            executor.shutdown(timeout_sec=0)
         return None
+
+    def stop_requested(self) -> bool:
+        """ROS is shut down, or SIGINT or SIGTERM arrived (also one rclpy did not see)."""
+        return not self.context.ok() or (self.stops is not None and self.stops.arrived())
 
     def close(self) -> None:
         """Release what ``setup()`` took (files, locks); called once, also after a failure."""
@@ -102,6 +123,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     stops = StopSignals().install()  # before rclpy.init, which chains to it
     rclpy.init(args=args)
     node: DsrNode | None = None
+    DsrNode.stops = stops
     try:
         node = make_node()
         node.setup()
@@ -122,7 +144,8 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     finally:
         if node is not None:
             node.close()
-            dds_teardown.destroy_node(node)
+            with exit_if_stuck(TEARDOWN_LIMIT):  # the process ends here anyway
+                dds_teardown.destroy_node(node)
         rclpy.try_shutdown()
         stops.uninstall()
 

@@ -209,7 +209,9 @@ class Recorder(DsrNode):
             self._channel(topic, STRING, "")
 
     def run(self) -> int:
-        while rclpy.ok() and (self._stop_at is None or time.monotonic() < self._stop_at):
+        while not self.stop_requested() and (
+            self._stop_at is None or time.monotonic() < self._stop_at
+        ):
             rclpy.spin_once(self, timeout_sec=0.1)
         return 0
 

@@ -1,0 +1,96 @@
+"""A process's last step, bounded: if it has not ended within its time, the process exits
+(code 0) from a thread that needs no GIL, after the stacks of its Python threads are written to
+stderr.
+
+A node's last step is deleting its DDS participant (dds_teardown), which in Fast DDS 2.14 can
+wait for a discovery callback forever while holding the GIL: no Python thread, timer or signal
+handler runs then, and ros2 launch escalates to SIGKILL after 15 s (seen in CI: kinect, at the end
+of a Get Up & Go). By then the node has closed its files and flushed its logs; what is left
+undone is only the goodbye to its peers, who drop the participant when its lease (2 s) ends.
+
+The timer is POSIX ``timer_create`` with ``SIGEV_THREAD``: at expiry the C library starts a
+thread that calls ``_exit`` with the timer's value (0). ``faulthandler`` writes the stacks a
+moment before, also from a thread of its own. Where the C library has no such timer (not Linux),
+only the stacks are written.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import faulthandler
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+CLOCK_MONOTONIC = 1
+SIGEV_THREAD = 2
+STACKS_BEFORE = 0.2  # seconds before the exit the stacks are written
+
+
+class _SigEvent(ctypes.Structure):  # struct sigevent (64 bytes on Linux, LP64)
+    _fields_ = [
+        ("value", ctypes.c_void_p),  # union sigval: the argument _exit gets
+        ("signo", ctypes.c_int),
+        ("notify", ctypes.c_int),
+        ("function", ctypes.c_void_p),
+        ("attributes", ctypes.c_void_p),
+        ("_pad", ctypes.c_byte * 32),
+    ]
+
+
+class _TimeSpec(ctypes.Structure):
+    _fields_ = [("sec", ctypes.c_long), ("nsec", ctypes.c_long)]
+
+
+class _ITimerSpec(ctypes.Structure):
+    _fields_ = [("interval", _TimeSpec), ("value", _TimeSpec)]
+
+
+def _libc():
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.timer_create  # noqa: B018 (glibc 2.34+: in libc; older: librt)
+        return libc
+    except (OSError, AttributeError):
+        try:
+            return ctypes.CDLL("librt.so.1", use_errno=True)
+        except OSError:
+            return None
+
+
+def _arm(seconds: float):
+    """A timer that calls ``_exit(0)`` in ``seconds``; None where there is none."""
+    libc = _libc()
+    if libc is None or sys.platform != "linux":
+        return None
+    exit_now = ctypes.cast(ctypes.CDLL(None)._exit, ctypes.c_void_p).value
+    event = _SigEvent(value=None, signo=0, notify=SIGEV_THREAD, function=exit_now)
+    timer = ctypes.c_void_p()
+    if libc.timer_create(CLOCK_MONOTONIC, ctypes.byref(event), ctypes.byref(timer)) != 0:
+        return None
+    whole = int(seconds)
+    spec = _ITimerSpec(value=_TimeSpec(whole, int((seconds - whole) * 1e9)))
+    if libc.timer_settime(timer, 0, ctypes.byref(spec), None) != 0:
+        libc.timer_delete(timer)
+        return None
+    return libc, timer
+
+
+@contextmanager
+def exit_if_stuck(seconds: float) -> Iterator[None]:
+    """Run the block; if it is still running after ``seconds``, write the Python stacks to
+    stderr and end the process with exit code 0 (see the module's docstring)."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()  # _exit flushes nothing
+        except (OSError, ValueError):
+            pass
+    faulthandler.dump_traceback_later(max(0.0, seconds - STACKS_BEFORE), exit=False)
+    armed = _arm(seconds)
+    try:
+        yield
+    finally:
+        if armed is not None:
+            libc, timer = armed
+            libc.timer_delete(timer)
+        faulthandler.cancel_dump_traceback_later()
