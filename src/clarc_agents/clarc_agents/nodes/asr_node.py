@@ -70,6 +70,7 @@ class AsrAgent(DsrNode):
         self._thread: threading.Thread | None = None
 
     def setup(self) -> None:
+        self.dsr.describe(can_do=["recognise speech"], listens_to=[topics.MICROPHONE_AUDIO])
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self._recogniser = open_recogniser(str(param(self, "recogniser")))  # a second or two
         self._clips = Clips(str(param(self, "clips_dir")) or default_folder())

@@ -76,6 +76,7 @@ class CameraAgent(DsrNode):
         self._reported = time.monotonic()
 
     def setup(self) -> None:
+        self.dsr.describe(can_do=["see"], listens_to=[topics.KINECT_RGB, topics.KINECT_DEPTH])
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.create_subscription(Image, topics.KINECT_RGB, self.on_rgb, qos_images())
         self.create_subscription(Image, topics.KINECT_DEPTH, self.on_depth, qos_images())

@@ -34,6 +34,7 @@ class GaitAnalyserNode(DsrNode):
         self._next: dict | None = None
 
     def setup(self) -> None:
+        self.dsr.describe(can_do=["time a Get Up & Go"])
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         # every frame of the deltas counts; after a resynchronisation, the graph's latest
         self.dsr.add_listener(lambda deltas, resynced: self.on_graph(None if resynced else deltas))

@@ -37,6 +37,7 @@ class PanelAgent(GrammarAgentNode):
     def setup(self) -> None:
         self._display = self.create_publisher(String, topics.PANEL_DISPLAY, qos_latched())
         subscribe_json(self, topics.PANEL_TAP, self.on_tap, qos_stream())
+        self.dsr.describe(can_do=["show", "take taps"], listens_to=[topics.PANEL_TAP])
         super().setup()
         self.dsr.add_listener(lambda d, r: self.behaviour.on_graph(self.runner, self.dsr.graph))
 

@@ -107,6 +107,7 @@ class PeleaNode(DsrNode):
         self._events = self.create_publisher(String, topics.PELEA_EVENTS, qos_stream())
         self._notify = self.create_publisher(String, topics.CGAMED_NOTIFY, qos_stream())
         self._store = self.create_client(StoreResult, topics.CGAMED_STORE)
+        self.dsr.describe(can_do=["run a test"])
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.dsr.add_listener(self._on_graph)
         self.create_timer(2.0, self._flush_outbox)

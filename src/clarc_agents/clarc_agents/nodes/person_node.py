@@ -108,6 +108,7 @@ class PersonAgent(GrammarAgentNode):
         )
         self.humans = PersonHumans(self, SENSOR, camera)
         subscribe_json(self, topics.KINECT_PERSON, self.on_frame, kept)
+        self.dsr.describe(can_do=["track the person"], listens_to=[topics.KINECT_PERSON])
         super().setup()
 
     def _with_robot(self) -> bool:

@@ -80,6 +80,9 @@ class SpeechAgent(GrammarAgentNode):
         self._humans = SpeechHumans(self)
         subscribe_json(self, topics.ASR, self.on_asr, qos_stream())
         subscribe_json(self, topics.ASR_VOICE, self.on_voice, qos_stream())
+        # ready once the recogniser (or the microphone that is one) is heard: an answer said
+        # before that would go to no one
+        self.dsr.describe(can_do=["speak", "hear"], listens_to=[topics.ASR])
         super().setup()
         self.dsr.add_listener(lambda deltas, resynced: self.behaviour.on_graph(self.dsr.graph))
 

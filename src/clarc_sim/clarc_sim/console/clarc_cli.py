@@ -150,7 +150,7 @@ def start(args: argparse.Namespace) -> int:
     try:
         # named for the policy: clarc.yaml lets /clarc_start_* press Start and nothing else
         with RosSession(name=f"clarc_start_{os.getpid()}", ros_args=args.ros_args) as ros:
-            agent = DsrAgent()
+            agent = DsrAgent(describe=False)  # a one-shot tool
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
             request = request_start(args.patient, now(), args.test, args.patient_id, agent.graph)

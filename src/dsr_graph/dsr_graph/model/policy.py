@@ -14,6 +14,7 @@ from its ``policy_file`` (YAML) and checks every request against it before apply
 
 A list left out means nothing of that kind. Deleting a node takes its edges with it (the node
 type is what is checked). Writing attributes of an edge needs both its type and the names.
+Whatever the policy, an agent may write its own agent info node (model/agent_info.py).
 Without a policy every agent may write anything, all with the same priority, so no one preempts
 anyone (``OPEN``).
 """
@@ -25,6 +26,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from dsr_graph.exceptions import FormatError, TransactionRejected, Violation
+from dsr_graph.model.agent_info import is_own_info
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.vocabulary import RT
 
@@ -74,6 +76,8 @@ class Policy:
             return
         rule = self.rule_for(agent)
         for i, op, kind, what in _writes(graph, ops):
+            if is_own_info(graph, agent, op):  # every agent describes itself (agent_info.py)
+                continue
             at = f"op {i} ({op.get('op')})"
             if rule is None:
                 _refuse(agent, at, f"no entry of {self.source} names {agent!r}")
@@ -171,8 +175,9 @@ def observe_writes(seen: dict[str, dict[str, set[str]]], graph: Graph, delta: di
 
     mine = seen.setdefault(delta.get("agent", ""), {k: set() for k in _KIND_TEXT})
     ops = delta.get("ops", [])
-    for _i, _op, kind, what in _writes(graph, ops):
-        mine[kind].add(what)
+    for _i, op, kind, what in _writes(graph, ops):
+        if not is_own_info(graph, delta.get("agent", ""), op):  # allowed to all (check)
+            mine[kind].add(what)
     apply_ops(graph, ops)
 
 

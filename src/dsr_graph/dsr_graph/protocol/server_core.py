@@ -20,6 +20,7 @@ from typing import Any
 from dsr_graph.exceptions import MissingBlob, TransactionRejected, ValueTypeError, Violation
 from dsr_graph.formats import dsr_json, safe_json, units
 from dsr_graph.model import provenance
+from dsr_graph.model.agent_info import gone_ops
 from dsr_graph.model.binary import declared_size
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
@@ -335,6 +336,17 @@ class ServerCore:
         """A server delta ending every claim these agents hold (gone, out of reach), or None."""
         agents = set(agents)
         return self.end_claims([c for c in self.claims.all() if c.agent in agents], reason, now)
+
+    def mark_gone(self, agents: Iterable[str], now: float | None = None) -> dict[str, Any] | None:
+        """A server delta marking these agents' info nodes gone (model/agent_info.py): their
+        processes ended. None when there is nothing to mark."""
+        ops = gone_ops(self.graph, agents)
+        if not ops:
+            return None
+        canonical = apply_ops(self.graph, ops)
+        delta = self._commit(SERVER_AGENT, "", canonical, {}, time.time() if now is None else now)
+        provenance.stamped(self.graph, canonical, delta["stamp"], delta["agent"])
+        return delta
 
     # ------------------------------------------------------------------ replay and snapshots
     def replay(self, delta: dict[str, Any]) -> None:

@@ -20,11 +20,20 @@ With DSR_KEYSTORE (protocol/security.py) the agent signs its requests with its n
 reads the deltas, rejections, heartbeats and snapshots only when the server's key signed them:
 under enforce anything else is dropped (logged, alarmed), under permissive only logged.
 Clients: dsr/get_snapshot.
+
+Every agent describes itself in the graph (model/agent_info.py): its agent info node, named
+after its node, says who it is and its state, ``starting`` until its replica is in sync, both
+directions are matched and every topic it ``listens_to`` has a publisher, then ``ready``; a
+volatile ``heartbeat`` every 5 s. It is written again whenever the graph says otherwise (a
+server restarted from an older state, a gone mark while the agent lives). Short-lived tools
+(``dsr apply``, ``clarc start``) pass ``describe=False``.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import socket
 import time
 import uuid
 from collections.abc import Callable
@@ -35,6 +44,7 @@ from std_msgs.msg import String
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.formats.dsr_json import COLUMNS
 from dsr_graph.formats.safe_json import loads_object
+from dsr_graph.model import agent_info
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.collector import collector_paused, settle
 from dsr_graph.model.vocabulary import Vocabulary
@@ -68,6 +78,8 @@ RESEND_AFTER = 3.0  # seconds before a request with no verdict is sent again (sa
 DUPLICATE_PATIENCE = 0.5  # seconds the delta of a request the server calls a duplicate may take
 # seconds without the server's heartbeat (one a second): out of its reach (agents, the monitor)
 SERVER_SILENCE = 2.5
+DESCRIBE_PERIOD = 0.25  # seconds between looks at whether the agent info node is as it should be
+AGENT_HEARTBEAT = 5.0  # seconds between an agent's heartbeats in its info node
 
 
 Listener = Callable[
@@ -76,10 +88,19 @@ Listener = Callable[
 
 
 class DsrAgent:
-    def __init__(self, vocabulary: Vocabulary | None = None, blobs: bool = False):
+    def __init__(
+        self, vocabulary: Vocabulary | None = None, blobs: bool = False, describe: bool = True
+    ):
         """``blobs``: receive the bytes of large binary values (camera images) as they change;
-        without, the replica holds such a value as a ``BlobRef`` (its digest, type and shape)."""
+        without, the replica holds such a value as a ``BlobRef`` (its digest, type and shape).
+        ``describe``: keep an agent info node in the graph (the module's docstring)."""
         self.replica = Replica(vocabulary)
+        self.describes = describe
+        self.listens_to: list[str] = []  # topics that need a publisher before it is ready
+        self.can_do: list[str] = []
+        self._started_at = time.time()
+        self._described = (0.0, 0.0)  # (last look, last heartbeat), time.monotonic()
+        self._describing = False  # an info write is on its way
         self.wants_blobs = blobs
         self.blobs = BlobCache(AGENT_BLOB_BYTES)
         # deltas and snapshots waiting for the bytes of their binary values, in order
@@ -153,6 +174,50 @@ class DsrAgent:
             )
         node.create_timer(0.05, self._tick)
         self._request_snapshot()
+
+    def describe(self, can_do: list[str] = (), listens_to: list[str] = ()) -> None:
+        """What this agent does for the others, and the topics it needs a publisher on before it
+        is ready (its devices: a microphone's, a touch screen's)."""
+        self.can_do = sorted(set(can_do))
+        self.listens_to = sorted(set(listens_to))
+
+    @property
+    def state(self) -> str:
+        """``ready`` once in sync, matched both ways and hearing every topic it listens to."""
+        inputs = all(self.node.count_publishers(t) > 0 for t in self._inputs())
+        return agent_info.READY if self.ready and inputs else agent_info.STARTING
+
+    def _inputs(self) -> list[str]:
+        """The topics it listens to, as remapped and namespaced for this node."""
+        return [self.node.resolve_topic_name(t) for t in self.listens_to]
+
+    def _describe_self(self, now: float) -> None:
+        """Write the agent info node where the replica shows it is not as it should be."""
+        last, beat = self._described
+        if now - last < DESCRIBE_PERIOD or self._describing or not self.replica.synced:
+            return
+        attrs = {
+            "state": self.state,
+            "pid": os.getpid(),
+            "host": socket.gethostname(),
+            "agent_run": self._run,
+            "listens_to": self._inputs(),
+            "can_do": self.can_do,
+            "started_at": self._started_at,
+        }
+        ops = agent_info.info_ops(self.graph, self.name, attrs)
+        if not ops and now - beat >= AGENT_HEARTBEAT and self.name in self.graph:
+            ops = [{"op": "set_node_attrs", "node": self.name, "attrs": {"heartbeat": time.time()}}]
+            beat = now
+        self._described = (now, beat)
+        if ops:
+            self._describing = True
+            self.send({"ops": ops}, on_done=self._described_done)
+
+    def _described_done(self, result: Result) -> None:
+        self._describing = False
+        if not result.accepted:
+            self.node.get_logger().warning(f"could not describe this agent: {result.error}")
 
     def _listen_to_agents(self) -> None:
         self._blob_inbox.listen_to_agents(self.node.get_topic_names_and_types())
@@ -393,6 +458,8 @@ class DsrAgent:
     # ------------------------------------------------------------------ resynchronisation
     def _tick(self) -> None:
         self._apply_held()
+        if self.describes:
+            self._describe_self(time.monotonic())
         if self._accepted_before:
             self._deliver([], resynced=False)
         self._send_again(older_than=RESEND_AFTER)

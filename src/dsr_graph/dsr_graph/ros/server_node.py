@@ -18,7 +18,8 @@ ROS Parameters:
         (default 1.0; 0: no markers). Graphs above 1000 nodes are not drawn.
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
-        claims are freed (default 3.0).
+        claims are freed (default 3.0). An agent's info node (model/agent_info.py) is marked
+        gone after 2 s missing (not in the server's first 3 s); the agent undoes a wrong mark.
     rt_history_seconds (float), rt_history_count (int): each RT edge's past transforms kept for
         dsr/get_transform's ``at`` (default 10 s, at most 100 values; model/rt_history.py).
     policy_file (str): YAML of who may write what, with which claim priority
@@ -74,6 +75,8 @@ from dsr_graph.formats.default_paths import state_path
 from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.model import rigid
+from dsr_graph.model.agent_info import GONE
+from dsr_graph.model.agent_info import states as agent_states
 from dsr_graph.model.binary import dumps, to_json_value
 from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.graph import Graph
@@ -111,6 +114,8 @@ ALARM_EVERY = 5.0  # seconds between alarms about the same intruders on the same
 BLOB_CACHE_BYTES = 256 * 1024 * 1024  # binary values' bytes the server keeps, newest first
 MAX_DRAWN_NODES = 1000  # a larger graph is not drawn on dsr/markers (unreadable, and costly)
 DISCOVERY_PERIOD = 0.2  # seconds between looks at the ROS graph for agents that appeared
+INFO_GRACE = 2.0  # seconds an agent described in the graph may be missing before it is gone
+DISCOVERY = 3.0  # seconds after the server's start before anyone is marked gone
 
 
 class DsrServer(DsrNode):
@@ -256,6 +261,7 @@ class DsrServer(DsrNode):
         # layout -> (version, seq, signed text, blobs)
         self._snapshot_cache: dict[str, tuple[Any, int, str, dict]] = {}
         self._missing_since: dict[str, float] = {}
+        self._started = time.monotonic()
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
 
@@ -566,7 +572,9 @@ class DsrServer(DsrNode):
         expired = self.core.claims.expired(now)
         if expired:
             ended.append(self.core.end_claims(expired, "expired", now))
-        ended.append(self.core.end_claims_of(self._gone_holders(now), "agent-gone", now))
+        claims_gone, info_gone = self._gone_agents(now)
+        ended.append(self.core.end_claims_of(claims_gone, "agent-gone", now))
+        ended.append(self.core.mark_gone(info_gone, now))
         ended.append(self._check_presence(now))
         if any(ended):
             self._accept([d for d in ended if d is not None])
@@ -602,23 +610,33 @@ class DsrServer(DsrNode):
             self.get_logger().info(f"{agent} is back in reach after {seconds:.1f} s")
         return self.core.end_claims_of(self.requests.presence.away, "unreachable", now)
 
-    def _gone_holders(self, now: float) -> list[str]:
+    def _gone_agents(self, now: float) -> tuple[list[str], list[str]]:
+        """(claim holders missing from the ROS graph for agent_grace, agents whose info node is
+        not gone missing for INFO_GRACE): their processes ended. A gone mark is undone by the
+        agent itself if it was wrong (it writes its state again), so it waits less; not in the
+        server's first DISCOVERY seconds, while the graph still fills."""
         holders = {c.agent for c in self.core.claims.all()}
-        if not holders:
+        described = {a for a, state in agent_states(self.core.graph).items() if state != GONE}
+        if not holders and not described:
             self._missing_since.clear()
-            return []
+            return [], []
         graph = self.get_node_names_and_namespaces()  # one query of the ROS graph per heartbeat
         live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {name for name, _ in graph}
-        gone = []
-        for agent in holders:
+        grace = float_param(self, "agent_grace")
+        warm = time.monotonic() - self._started >= DISCOVERY
+        claims_gone, info_gone = [], []
+        for agent in holders | described:
             if agent in live:
                 self._missing_since.pop(agent, None)
-            elif now - self._missing_since.setdefault(agent, now) >= float_param(
-                self, "agent_grace"
-            ):
-                gone.append(agent)
+                continue
+            missing = now - self._missing_since.setdefault(agent, now)
+            if agent in described and warm and missing >= INFO_GRACE:
+                info_gone.append(agent)
+            if agent in holders and missing >= grace:
+                claims_gone.append(agent)
+            if missing >= grace or (agent not in holders and agent in info_gone):
                 del self._missing_since[agent]
-        return gone
+        return claims_gone, info_gone
 
     # ------------------------------------------------------------------ services
     def on_get_attribute(self, request: GetAttribute.Request, response: GetAttribute.Response):

@@ -33,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     results = []
     try:
         with RosSession(ros_args=args.ros_args) as ros:
-            agent = DsrAgent()
+            agent = DsrAgent(describe=False)  # a one-shot tool
             agent.setup(ros.node, timeout_sec=args.timeout)
             # Wait for the replica too: our delta must not arrive before the stream is matched.
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server's topics")
