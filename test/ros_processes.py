@@ -159,7 +159,7 @@ def agent_in_session(ros, timeout=15):
     """A DsrAgent in the test's own ROS session, synced and matched both ways."""
     from dsr_graph.ros.agent import DsrAgent
 
-    agent = DsrAgent()
+    agent = DsrAgent(describe=False)  # the test's own client: a tool, not one of the agents
     agent.setup(ros.session.node, timeout_sec=timeout)
     wait_for(lambda: agent.ready, timeout, "the agent to sync", ros.session)
     return agent

@@ -10,7 +10,7 @@ from dsr_graph.ros.session import RosSession
 def main() -> int:
     prefix, n = sys.argv[1], int(sys.argv[2])
     with RosSession(name=f"writer_{prefix}") as ros:
-        agent = DsrAgent()
+        agent = DsrAgent(describe=False)  # a load generator, not one of the agents
         agent.setup(ros.node, timeout_sec=15)
         ros.spin_until(lambda: agent.ready, 15, "the server")
         results = []

@@ -1,11 +1,14 @@
 """Agents announce themselves in the DSR (issue "Ready before it asks"): ``dsr agents --json``
 lists each running agent with its state; Panel is ``starting`` until the touch screen it listens
-to is there, then ``ready``; killed, it is ``gone`` within 5 s, and ready again once restarted."""
+to is there, then ``ready``; killed, it is ``gone`` within 5 s, and ready again once restarted,
+also when its successor starts at once (as launch respawns it)."""
 
 import json
 import time
 
-from ros_processes import wait_for
+from dsr_graph.model.agent_info import listing
+
+from ros_processes import agent_in_session, wait_for
 
 
 def agents(ros) -> dict[str, dict]:
@@ -40,3 +43,30 @@ def test_an_agent_is_starting_then_ready_then_gone_when_killed_and_ready_again(r
     wait_for(lambda: state_of(ros, "/panel") == "ready", 60, "panel ready again")
     r = ros.procs.run("dsr", "agents")
     assert r.returncode == 0 and "/panel" in r.stdout and "ready" in r.stdout, r.stdout
+
+
+def test_a_killed_agent_respawned_at_once_reads_gone_before_its_successor_is_ready(ros):
+    ros.procs.start_server(ros.tmp / "state")
+    ros.procs.start("touchscreen", ["touchscreen"])
+    ros.procs.start("panel", ["panel"])
+    observer = agent_in_session(ros)
+
+    def panel():
+        return next((a for a in listing(observer.graph) if a["name"] == "/panel"), {})
+
+    seen = []
+    observer.add_listener(lambda deltas, resynced: seen.append(panel().get("state")))
+    wait_for(lambda: panel().get("state") == "ready", 60, "panel ready", ros.session)
+    first = panel()["pid"]
+    seen.clear()
+    ros.procs.kill9("panel")
+    killed = time.monotonic()
+    ros.procs.start("panel", ["panel"])  # at once, as launch.sh and ros2 launch respawn it
+    wait_for(lambda: "gone" in seen, 30, "panel gone", ros.session)
+    assert time.monotonic() - killed < 5
+    wait_for(
+        lambda: panel().get("state") == "ready" and panel()["pid"] != first,
+        60,
+        "the new panel ready",
+        ros.session,
+    )

@@ -67,3 +67,16 @@ def test_a_drafted_policy_leaves_out_what_every_agent_may_write():
     ):
         observe_writes(seen, graph, {"agent": "/speech", "ops": ops})
     assert seen["/speech"] == {"nodes": set(), "edges": set(), "attributes": {"text"}}
+
+
+def test_an_ability_is_missing_until_a_ready_agent_in_reach_offers_it():
+    from dsr_graph.model.agent_info import missing_abilities
+
+    graph = Graph()
+    assert missing_abilities(graph, ["hear"]) == []  # no agent describes itself: as before
+    apply_ops(graph, info_ops(graph, "/speech", {"state": STARTING, "can_do": ["speak", "hear"]}))
+    apply_ops(graph, info_ops(graph, "/panel", {"state": READY, "can_do": ["show"]}))
+    assert missing_abilities(graph, ["speak", "hear", "show"]) == ["speak", "hear"]
+    apply_ops(graph, info_ops(graph, "/speech", {"state": READY, "can_do": ["speak", "hear"]}))
+    assert missing_abilities(graph, ["speak", "hear", "show"]) == []
+    assert missing_abilities(graph, ["hear", "show"], away={"/speech"}) == ["hear"]

@@ -549,3 +549,37 @@ def test_the_shipped_policy_lets_each_agent_write_what_it_writes(test):
         (i["item"], i["points"], i.get("audio")) for i in expected["items"]
     ]
     assert next(i for i in result["items"] if i["item"] == first)["needs_clinician"]
+
+
+def describe(robot, link, state, can_do):
+    """An agent's info node as the agent runtime writes it (model/agent_info.py)."""
+    from dsr_graph.model.agent_info import info_ops
+
+    attrs = {"state": state, "can_do": can_do}
+    link.send({"ops": info_ops(link.graph, link.name, attrs)})
+    robot.bus.deliver()
+
+
+def test_no_question_before_the_agents_it_needs_are_ready_and_a_long_wait_is_told():
+    """Speech still starting (as after a kill): the robot says nothing, tells the clinician
+    after 30 s, and once Speech is ready runs the test as if nothing had happened."""
+    robot = Robot()
+    describe(robot, robot.panel_link, "ready", ["show", "take taps"])
+    describe(robot, robot.speech_link, "starting", ["speak", "hear"])
+    robot.hle.start(robot.pelea_link.graph, "Carlos")
+    with contextlib.suppress(TimedOutError):
+        robot.bus.run(until=lambda: bool(robot.port.notifications), limit=60)
+    assert robot.said == [] and robot.screen == []
+    assert "nothing is ready to speak, hear" in robot.port.notifications[0]
+    waits = [e for e in robot.port.events if e["event"] == "waiting_for_agents"]
+    assert waits and waits[0]["missing"] == ["speak", "hear"]
+    describe(robot, robot.speech_link, "ready", ["speak", "hear"])
+    robot.bus.run(until=robot.finished, limit=3600)
+    result = robot.port.stored[-1]
+    assert result["total"] == 100 and robot.said[0].startswith("Hello Carlos")
+
+
+def test_a_graph_without_agent_info_is_taken_as_before():
+    robot = Robot()  # no agent describes itself here: nothing to wait for
+    assert robot.run_test()["total"] == 100
+    assert not [e for e in robot.port.events if e["event"] == "waiting_for_agents"]

@@ -111,6 +111,7 @@ def void_trial(trial: int) -> dict[str, Any]:
 class GugExecutive(HighLevelExecutive):
     KIND = "get_up_and_go"
     CLOSING = ("store-result", "say-goodbye", "call-clinician", "end-untimed")
+    NEEDS = ("speak", "track the person", "time a Get Up & Go")  # speech, person, gait_analyser
 
     def __init__(self, port, times, log):
         super().__init__(port, times, log)

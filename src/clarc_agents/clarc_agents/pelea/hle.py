@@ -33,6 +33,7 @@ from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monit
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.result_delivery import STORED, deliver
 from clarc_agents.sentence import Sentence
+from dsr_graph.model.agent_info import missing_abilities
 from dsr_graph.model.graph import Graph
 
 
@@ -45,6 +46,7 @@ class Times:
     words_per_second: float = 2.5  # to bound how long a sentence may take
     sentence_slack: float = 5.0
     store_retry: float = 2.0
+    agents_patience: float = 30.0  # waiting for a needed agent before the clinician is told
 
     def __call__(self, seconds: float) -> float:
         return seconds * self.scale
@@ -59,6 +61,13 @@ class SentenceWait:
     """Speech and Panel both finished sentence ``sid``."""
 
     sid: int
+    token: int
+
+
+@dataclass(frozen=True)
+class AgentsWait:
+    """Every agent the test needs is ready (model/agent_info.py): the step waits to begin."""
+
     token: int
 
 
@@ -100,6 +109,9 @@ class HighLevelExecutive(ABC):
     KIND: str = ""  # the test this executive runs (the Start request's requested_test)
     CLOSING: tuple[str, ...] = ()  # actions not broken off when the person leaves: it is over
     ACTIONS: ClassVar[dict[str, Callable[..., None]]] = {}  # the plan's actions, each a handler
+    # what the test needs agents ready for (their can_do): no step begins without them, so the
+    # robot never asks while nobody listens (a Speech still starting, restarting, gone)
+    NEEDS: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, port: Port, times: Times, log):
         self.port = port
@@ -237,6 +249,11 @@ class HighLevelExecutive(ABC):
         if not self.plan:
             self.running = False
             return
+        closing = self.plan[0].name in self.CLOSING  # the result is stored whoever is gone
+        missing = [] if closing or self.graph is None else self._agents_missing(self.graph)
+        if missing:
+            self._wait_for_agents(missing)
+            return
         step = self.plan.pop(0)
         self.current = step
         self._token += 1
@@ -284,9 +301,46 @@ class HighLevelExecutive(ABC):
         self._timer = timer
 
     # ------------------------------------------------------------------ waiting on the graph
+    def _agents_missing(self, graph: Graph) -> list[str]:
+        return missing_abilities(graph, self.NEEDS, away=self.port.out_of_reach())
+
+    def _wait_for_agents(self, missing: list[str]) -> None:
+        """The next step waits until agents that can do ``missing`` are ready (looked at on
+        every change of the graph, and every REACH_RECHECK for the server's reach); the
+        clinician is told if that takes longer than ``agents_patience``."""
+        self._token += 1
+        token = self._token
+        self._wait = AgentsWait(token)
+        self.log.warning(f"waiting for an agent ready to {', '.join(missing)} before going on")
+        self.port.event(event="waiting_for_agents", missing=missing)
+        self._recheck_agents(token, waited=0.0, told=False)
+
+    def _recheck_agents(self, token: int, waited: float, told: bool) -> None:
+        if token != self._token or not isinstance(self._wait, AgentsWait):
+            return
+        self._check_wait(self.graph)
+        if token != self._token or not isinstance(self._wait, AgentsWait):
+            return  # they are ready: the step began
+        if not told and waited >= self.times(self.times.agents_patience):
+            still = self._agents_missing(self.graph)
+            self.port.notify_clinician(
+                f"The robot is waiting to go on with the {self.KIND} test: nothing is ready to "
+                f"{', '.join(still)} (an agent is starting, restarting or gone). Please check it."
+            )
+            self.port.event(event="agents_missing", missing=still)
+            told = True
+        self._timer = self.port.after(
+            REACH_RECHECK, lambda: self._recheck_agents(token, waited + REACH_RECHECK, told)
+        )
+
     def _check_wait(self, graph: Graph) -> None:
         wait = self._wait
-        if isinstance(wait, SentenceWait):
+        if isinstance(wait, AgentsWait):
+            if not self._agents_missing(graph):
+                self._clear_wait()
+                self.port.event(event="agents_ready")
+                self._next()
+        elif isinstance(wait, SentenceWait):
             if low_to_high.sentence_done(graph, wait.sid):
                 self._complete(wait.token)
         elif isinstance(wait, PersonWait):

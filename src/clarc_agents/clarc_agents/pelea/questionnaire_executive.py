@@ -69,6 +69,7 @@ HEARING_RECHECK = 0.5
 class QuestionnaireExecutive(HighLevelExecutive):
     KIND = "barthel"  # by default; else the definition's test
     CLOSING = ("say-goodbye", "store-result")
+    NEEDS = ("speak", "hear", "show", "take taps")  # nodes/speech_node.py, nodes/panel_node.py
 
     def __init__(
         self,

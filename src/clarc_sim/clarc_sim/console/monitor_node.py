@@ -175,7 +175,7 @@ class Monitor(DsrNode):
         super().__init__()
         self.t0 = time.monotonic()
         self.exit_code: int | None = None
-        self.dsr = DsrAgent()
+        self.dsr = DsrAgent(describe=False)  # reads, never writes
         self.course: Course | None = None
         self.reach = Reach(ROBOT_NODES)
         self.silence = HeartbeatSilence(SERVER_SILENCE)

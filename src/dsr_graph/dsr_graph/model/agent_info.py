@@ -16,13 +16,28 @@ AGENT_TYPE = "agent"
 STARTING, READY, GONE = "starting", "ready", "gone"
 STATES = (STARTING, READY, GONE)  # "stopping" cannot be sent: see docs/FORMAT.md
 # the attributes of an info node, as the agent itself writes them
-ATTRIBUTES = frozenset(
-    {"state", "pid", "host", "agent_run", "listens_to", "can_do", "started_at", "heartbeat"}
-)
+LISTS = ("listens_to", "can_do")  # strings of comma-separated items (CORTEX has no string lists)
+ATTRIBUTES = frozenset({"state", "pid", "host", "agent_run", "listens_to", "can_do", "started_at"})
+
+
+def joined(items) -> str:
+    """A list attribute's value: its items, separated by commas."""
+    return ", ".join(items)
+
+
+def split(value: Any) -> list[str]:
+    """A list attribute's items (none for a value that is not a string)."""
+    return (
+        [item.strip() for item in value.split(",") if item.strip()]
+        if isinstance(value, str)
+        else []
+    )
 
 
 def info_ops(graph, name: str, attrs: dict[str, Any]) -> list[dict[str, Any]]:
-    """The ops that make ``name``'s info node hold ``attrs`` (none when it already does)."""
+    """The ops that make ``name``'s info node hold ``attrs`` (none when it already does); the
+    values of ``LISTS`` may be given as lists."""
+    attrs = {k: joined(v) if k in LISTS and not isinstance(v, str) else v for k, v in attrs.items()}
     node = graph.find(name)
     if node is None:
         return [{"op": "insert_node", "name": name, "type": AGENT_TYPE, "attrs": dict(attrs)}]
@@ -55,12 +70,31 @@ def gone_ops(graph, agents) -> list[dict[str, Any]]:
 
 
 def listing(graph) -> list[dict[str, Any]]:
-    """Every agent info node, as ``{"name", "state", ...its other attributes}``, by name."""
+    """Every agent info node, as ``{"name", "state", ...its other attributes}`` (``LISTS`` as
+    lists), by name."""
     agents = []
     for node in [n for n in graph.nodes() if n.type == AGENT_TYPE]:
         attrs = {k: v for k, v in node.attrs.items() if k in ATTRIBUTES}
+        attrs |= {k: split(attrs[k]) for k in LISTS if k in attrs}
         agents.append({"name": node.name, "state": attrs.pop("state", ""), **attrs})
     return sorted(agents, key=lambda a: a["name"])
+
+
+def missing_abilities(graph, needed, away=frozenset()) -> list[str]:
+    """The abilities in ``needed`` that no ``ready`` agent offers (``can_do``), those ``away``
+    (out of the server's reach: killed a moment ago, or cut off) not counted. None missing
+    when the graph describes no agent at all: a DSR whose agents do not describe themselves
+    (an in-process test bus, an older agent set) is taken as it was before agents did."""
+    agents = listing(graph)
+    if not agents:
+        return []
+    offered = {
+        ability
+        for agent in agents
+        if agent["state"] == READY and agent["name"] not in away
+        for ability in agent.get("can_do", [])
+    }
+    return [a for a in needed if a not in offered]
 
 
 def states(graph) -> dict[str, str]:

@@ -23,10 +23,11 @@ Clients: dsr/get_snapshot.
 
 Every agent describes itself in the graph (model/agent_info.py): its agent info node, named
 after its node, says who it is and its state, ``starting`` until its replica is in sync, both
-directions are matched and every topic it ``listens_to`` has a publisher, then ``ready``; a
-volatile ``heartbeat`` every 5 s. It is written again whenever the graph says otherwise (a
-server restarted from an older state, a gone mark while the agent lives). Short-lived tools
-(``dsr apply``, ``clarc start``) pass ``describe=False``.
+directions are matched and every topic it ``listens_to`` has a publisher, then ``ready``. It is
+written again whenever the graph says otherwise (a server restarted from an older state, a gone
+mark while the agent lives). Whether it is alive the server knows (presence, the ROS graph): no
+heartbeat is written. Tools that only read or send one request (the recorder, the monitor,
+``dsr apply``, ``clarc start``) pass ``describe=False``.
 """
 
 from __future__ import annotations
@@ -79,7 +80,6 @@ DUPLICATE_PATIENCE = 0.5  # seconds the delta of a request the server calls a du
 # seconds without the server's heartbeat (one a second): out of its reach (agents, the monitor)
 SERVER_SILENCE = 2.5
 DESCRIBE_PERIOD = 0.25  # seconds between looks at whether the agent info node is as it should be
-AGENT_HEARTBEAT = 5.0  # seconds between an agent's heartbeats in its info node
 
 
 Listener = Callable[
@@ -99,7 +99,7 @@ class DsrAgent:
         self.listens_to: list[str] = []  # topics that need a publisher before it is ready
         self.can_do: list[str] = []
         self._started_at = time.time()
-        self._described = (0.0, 0.0)  # (last look, last heartbeat), time.monotonic()
+        self._described = 0.0  # the last look at its info node, time.monotonic()
         self._describing = False  # an info write is on its way
         self.wants_blobs = blobs
         self.blobs = BlobCache(AGENT_BLOB_BYTES)
@@ -193,9 +193,9 @@ class DsrAgent:
 
     def _describe_self(self, now: float) -> None:
         """Write the agent info node where the replica shows it is not as it should be."""
-        last, beat = self._described
-        if now - last < DESCRIBE_PERIOD or self._describing or not self.replica.synced:
+        if now - self._described < DESCRIBE_PERIOD or self._describing or not self.replica.synced:
             return
+        self._described = now
         attrs = {
             "state": self.state,
             "pid": os.getpid(),
@@ -206,10 +206,6 @@ class DsrAgent:
             "started_at": self._started_at,
         }
         ops = agent_info.info_ops(self.graph, self.name, attrs)
-        if not ops and now - beat >= AGENT_HEARTBEAT and self.name in self.graph:
-            ops = [{"op": "set_node_attrs", "node": self.name, "attrs": {"heartbeat": time.time()}}]
-            beat = now
-        self._described = (now, beat)
         if ops:
             self._describing = True
             self.send({"ops": ops}, on_done=self._described_done)

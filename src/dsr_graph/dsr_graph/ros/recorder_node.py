@@ -145,7 +145,7 @@ class Recorder(DsrNode):
 
     def __init__(self) -> None:
         super().__init__()
-        self.agent = DsrAgent()
+        self.agent = DsrAgent(describe=False)  # reads, never writes
         self.path: Path | None = None
         self._stream = None
         self._writer: Writer | None = None

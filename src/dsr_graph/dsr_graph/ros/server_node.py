@@ -575,7 +575,7 @@ class DsrServer(DsrNode):
         claims_gone, info_gone = self._gone_agents(now)
         ended.append(self.core.end_claims_of(claims_gone, "agent-gone", now))
         ended.append(self.core.mark_gone(info_gone, now))
-        ended.append(self._check_presence(now))
+        ended += self._check_presence(now)
         if any(ended):
             self._accept([d for d in ended if d is not None])
         self._beat(now)
@@ -584,9 +584,9 @@ class DsrServer(DsrNode):
     def on_presence(self) -> None:
         """An agent's request topic changed liveliness: tell everyone now, not at the next beat."""
         now = time.time()
-        ended = self._check_presence(now)
-        if ended is not None:
-            self._accept([ended])
+        ended = [d for d in self._check_presence(now) if d is not None]
+        if ended:
+            self._accept(ended)
         self._beat(now)
 
     def _beat(self, now: float) -> None:
@@ -598,8 +598,11 @@ class DsrServer(DsrNode):
         }
         self._publish(self._heartbeat, topic_names.HEARTBEAT, beat)
 
-    def _check_presence(self, now: float):
-        """The claims of agents out of reach end (protocol/presence.py): a delta, or None."""
+    def _check_presence(self, now: float) -> list[dict[str, Any] | None]:
+        """The claims of agents out of reach end (protocol/presence.py), and their info nodes
+        say gone: no one here can reach them (a killed process is told so within its 1 s
+        lease, before its successor, respawned at once, is up). An agent back in reach writes
+        its state again. The deltas (None: nothing to end)."""
         lost, back = self.requests.presence.update(time.monotonic())
         for agent in lost:
             self.get_logger().warning(
@@ -608,7 +611,8 @@ class DsrServer(DsrNode):
             )
         for agent, seconds in back:
             self.get_logger().info(f"{agent} is back in reach after {seconds:.1f} s")
-        return self.core.end_claims_of(self.requests.presence.away, "unreachable", now)
+        away = self.requests.presence.away
+        return [self.core.end_claims_of(away, "unreachable", now), self.core.mark_gone(lost, now)]
 
     def _gone_agents(self, now: float) -> tuple[list[str], list[str]]:
         """(claim holders missing from the ROS graph for agent_grace, agents whose info node is

@@ -64,7 +64,8 @@ class Viewer(DsrNode):
 
     def __init__(self) -> None:
         super().__init__()
-        self.agent = DsrAgent(blobs=True)  # the inspector shows a camera's latest image
+        # the inspector shows a camera's latest image; it reads, never writes
+        self.agent = DsrAgent(blobs=True, describe=False)
         self.history = History()
         self.events = Broadcaster()
         self.bridge: Bridge | None = None

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 
 from dsr_graph.cli.api import DsrError, error, fetch_snapshot
 from dsr_graph.exceptions import FormatError
@@ -37,13 +36,10 @@ def run(args: argparse.Namespace) -> int:
     if not agents:
         print("no agent has described itself in the graph")
         return 0
-    now = time.time()
     width = max(len(a["name"]) for a in agents)
     for a in agents:
-        beat = a.get("heartbeat")
-        heard = f"  heartbeat {now - beat:.0f} s ago" if isinstance(beat, float) else ""
         process = f"pid {a.get('pid', '?')} on {a.get('host', '?')}"
         does = f"  does: {', '.join(a['can_do'])}" if a.get("can_do") else ""
         listens = f"  listens to: {', '.join(a['listens_to'])}" if a.get("listens_to") else ""
-        print(f"{a['name']:<{width}}  {a['state']:<8}  {process}{heard}{does}{listens}")
+        print(f"{a['name']:<{width}}  {a['state']:<8}  {process}{does}{listens}")
     return 0
