@@ -16,7 +16,8 @@ A node spins until ``stop_requested()``: rclpy's handler shuts ROS down on SIGIN
 but a signal it never saw (one that came before ``rclpy.init`` installed it, its
 KeyboardInterrupt swallowed on the way) left nodes spinning until launch killed them (seen
 under load: 4 of 300 stops in a stress of SIGINTs at random moments; ros2 launch's kinect in
-CI). ``StopSignals`` hears every stop from Python's own handler, which runs in either case.
+CI). ``StopSignals`` hears every stop from Python's own handler, which runs in either case;
+not one that lands during the imports, before ``run_node`` installs it.
 """
 
 from __future__ import annotations

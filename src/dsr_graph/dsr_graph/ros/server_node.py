@@ -19,7 +19,8 @@ ROS Parameters:
     heartbeat_period (float): seconds between heartbeats and claim housekeeping (default 1.0).
     agent_grace (float): seconds a claim holder may be missing from the ROS graph before its
         claims are freed (default 3.0). An agent's info node (model/agent_info.py) is marked
-        gone after 2 s missing (not in the server's first 3 s); the agent undoes a wrong mark.
+        gone at once when it goes out of reach, and after 2 s missing from the ROS graph (not in
+        the server's first 3 s); an agent that is alive undoes a wrong mark.
     rt_history_seconds (float), rt_history_count (int): each RT edge's past transforms kept for
         dsr/get_transform's ``at`` (default 10 s, at most 100 values; model/rt_history.py).
     policy_file (str): YAML of who may write what, with which claim priority
