@@ -117,6 +117,11 @@ def test_a_node_cannot_write_as_another_running_node(ros):
     # a real /speech runs; this node publishes on its topic too: refused, and an alarm names us
     speech = ros.procs.start("speech", ["speech"])
     wait_for(lambda: "agent up" in ros.procs.log("speech"), 30, "the speech agent")
+
+    def described():  # its own info node written (model/agent_info.py): nothing more comes
+        return any(n["name"] == "/speech" for n in snapshot_via(ros.session)["nodes"])
+
+    wait_for(described, 30, "the speech agent's info node")
     before = snapshot_via(ros.session)
     spoof = Requests(ros, "dsr/transactions/speech")
     refused = spoof.send({"id": "s1", "ops": text_op("spoofed")}, "s1")
