@@ -73,9 +73,23 @@ def fetch_snapshot(timeout: float, ros_args: list[str] | None = None) -> dict:
         return loads_object(opened, None)
 
 
+def live_graph(doc: dict):
+    """(graph, seq) of a snapshot ``fetch_snapshot`` returned; ``DsrError`` if it is not one."""
+    from dsr_graph.exceptions import FormatError
+    from dsr_graph.formats import dsr_json
+
+    try:
+        # trusted as every replica trusts it: the server checked each element against its own
+        # vocabulary (which may extend the default), so only the structure is checked here
+        return dsr_json.snapshot_from_json(doc, trusted=True)
+    except FormatError as e:
+        raise DsrError(f"the server's snapshot: {e}") from None
+
+
 __all__ = [
     "DsrError",
     "add_world_arguments",
+    "live_graph",
     "load_world",
     "warn_violations",
     "error",

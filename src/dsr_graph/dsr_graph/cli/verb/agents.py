@@ -6,9 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from dsr_graph.cli.api import DsrError, error, fetch_snapshot
-from dsr_graph.exceptions import FormatError
-from dsr_graph.formats import dsr_json
+from dsr_graph.cli.api import DsrError, error, fetch_snapshot, live_graph
 from dsr_graph.model.agent_info import listing
 
 HELP = "the agents in the graph and their states (starting, ready, gone); --json"
@@ -23,12 +21,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        doc = fetch_snapshot(args.timeout, args.ros_args)
-        graph, _seq = dsr_json.snapshot_from_json(doc, trusted=True)  # as live_graph reads it
+        graph, _seq = live_graph(fetch_snapshot(args.timeout, args.ros_args))
     except DsrError as e:
         return error(str(e))
-    except FormatError as e:
-        return error(f"the server's snapshot: {e}")
     agents = listing(graph)
     if args.json:
         print(json.dumps(agents, indent=2))

@@ -5,9 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from dsr_graph.cli.api import DsrError, error, fetch_snapshot
-from dsr_graph.exceptions import FormatError
-from dsr_graph.formats import dsr_json
+from dsr_graph.cli.api import DsrError, error, fetch_snapshot, live_graph
 from dsr_graph.model.binary import short_text
 
 NAME = "graph"
@@ -30,11 +28,9 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps(doc, indent=2))
         return 0
     try:
-        # trusted as every replica trusts it: the server checked each element against its own
-        # vocabulary (which may extend the default), so only the structure is checked here
-        graph, seq = dsr_json.snapshot_from_json(doc, trusted=True)
-    except FormatError as e:
-        return error(f"the server's snapshot: {e}")
+        graph, seq = live_graph(doc)
+    except DsrError as e:
+        return error(str(e))
     print(f"seq {seq}: {len(graph)} nodes, {graph.edge_count()} edges")
     for node in sorted(graph.nodes(), key=lambda n: n.id):
         parent = graph.rt_parent(node.id)
