@@ -67,7 +67,16 @@ fi
 
 # Names and addresses of our own: a /24 inside 10.213.0.0/16 picked by pid, only in the
 # namespaces (no default route: nothing can leave them).
-tag=$(( $$ % 100000 ))
+tag=$$
+# Namespaces outlive a run that was SIGKILLed (no trap runs): remove those of our naming whose
+# run is dead, so that they neither pile up nor look like this run's leftovers.
+for ns in $(ip netns list | awk '$1 ~ /^dsr[AB][0-9]+$/ {print $1}'); do
+  owner=${ns#dsr?}
+  if ! grep -qs two_hosts.sh "/proc/$owner/cmdline"; then
+    ip netns pids "$ns" 2>/dev/null | xargs -r kill -KILL 2>/dev/null || true
+    if ip netns del "$ns" 2>/dev/null; then echo "[two_hosts] removed $ns, left by a run that died"; fi
+  fi
+done
 nsA="dsrA$tag"; nsB="dsrB$tag"; vA="vdA$tag"; vB="vdB$tag"
 net="10.213.$(( $$ % 250 ))"
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
