@@ -51,7 +51,7 @@ LOGPROB_FLOOR = -1.0
 # (measured on 88 of the benchmark's synthesised answers at 20 dB: above these no answer was
 # scored wrong; at 0.3 for words, 3.8 to 15% were in the quick benchmark; BENCHMARKS.md
 # section 9)
-TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 1.0}
+TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.6}
 MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
 MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
 # what Whisper writes where there is no speech (its training subtitles' closing lines)

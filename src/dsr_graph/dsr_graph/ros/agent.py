@@ -99,6 +99,8 @@ class DsrAgent:
         self.listens_to: list[str] = []  # topics that need a publisher before it is ready
         self.can_do: list[str] = []
         self._started_at = time.time()
+        # the process's own: asked once, not at every look at the info node
+        self._process = {"pid": os.getpid(), "host": socket.gethostname()}
         self._described = 0.0  # the last look at its info node, time.monotonic()
         self._describing = False  # an info write is on its way
         self.wants_blobs = blobs
@@ -198,8 +200,7 @@ class DsrAgent:
         self._described = now
         attrs = {
             "state": self.state,
-            "pid": os.getpid(),
-            "host": socket.gethostname(),
+            **self._process,
             "agent_run": self._run,
             "listens_to": self._inputs(),
             "can_do": self.can_do,

@@ -85,6 +85,7 @@ from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.rt_history import DEFAULT_MAX_AGE, DEFAULT_MAX_COUNT
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
+from dsr_graph.protocol.absence import Absences
 from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
@@ -261,7 +262,7 @@ class DsrServer(DsrNode):
         self._pose_pubs: dict[str, Any] = {}
         # layout -> (version, seq, signed text, blobs)
         self._snapshot_cache: dict[str, tuple[Any, int, str, dict]] = {}
-        self._missing_since: dict[str, float] = {}
+        self._absences = Absences()
         self._started = time.monotonic()
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
         self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
@@ -616,32 +617,22 @@ class DsrServer(DsrNode):
         return [self.core.end_claims_of(away, "unreachable", now), self.core.mark_gone(lost, now)]
 
     def _gone_agents(self, now: float) -> tuple[list[str], list[str]]:
-        """(claim holders missing from the ROS graph for agent_grace, agents whose info node is
-        not gone missing for INFO_GRACE): their processes ended. A gone mark is undone by the
-        agent itself if it was wrong (it writes its state again), so it waits less; not in the
-        server's first DISCOVERY seconds, while the graph still fills."""
+        """(claim holders, described agents) whose processes ended (protocol/absence.py)."""
         holders = {c.agent for c in self.core.claims.all()}
         described = {a for a, state in agent_states(self.core.graph).items() if state != GONE}
-        if not holders and not described:
-            self._missing_since.clear()
-            return [], []
-        graph = self.get_node_names_and_namespaces()  # one query of the ROS graph per heartbeat
-        live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {name for name, _ in graph}
-        grace = float_param(self, "agent_grace")
-        warm = time.monotonic() - self._started >= DISCOVERY
-        claims_gone, info_gone = [], []
-        for agent in holders | described:
-            if agent in live:
-                self._missing_since.pop(agent, None)
-                continue
-            missing = now - self._missing_since.setdefault(agent, now)
-            if agent in described and warm and missing >= INFO_GRACE:
-                info_gone.append(agent)
-            if agent in holders and missing >= grace:
-                claims_gone.append(agent)
-            if missing >= grace or (agent not in holders and agent in info_gone):
-                del self._missing_since[agent]
-        return claims_gone, info_gone
+        live: set[str] = set()
+        if holders or described:  # one query of the ROS graph per heartbeat, when it matters
+            graph = self.get_node_names_and_namespaces()
+            live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {n for n, _ in graph}
+        return self._absences.update(
+            holders,
+            described,
+            live,
+            now,
+            grace=float_param(self, "agent_grace"),
+            info_grace=INFO_GRACE,
+            warm=time.monotonic() - self._started >= DISCOVERY,
+        )
 
     # ------------------------------------------------------------------ services
     def on_get_attribute(self, request: GetAttribute.Request, response: GetAttribute.Response):
