@@ -103,7 +103,7 @@ def test_what_the_patient_said_is_on_rep_155_s_voice_topic_as_the_asr_heard_it(r
 
 def test_the_recording_rebuilds_the_server_graph_at_the_end(recorded_run):
     from dsr_graph.formats import dsr_json
-    from dsr_graph.formats.mcap_recording import replay_history
+    from dsr_graph.protocol.replay import replay_history
 
     history = replay_history(recorded_run / "run.mcap")
     rebuilt = json.loads(json.dumps(dsr_json.to_json(history.graph, "snapshot", seq=history.seq)))
@@ -155,7 +155,7 @@ def test_the_recording_replays_in_the_viewer(recorded_run, tmp_path):
 
 
 def test_a_killed_recorder_leaves_what_it_flushed(ros, tmp_path):
-    from dsr_graph.formats.mcap_recording import replay_history
+    from dsr_graph.protocol.replay import replay_history
 
     ros.procs.start_server(tmp_path / "state", world=WORLD)
     ros.procs.start(

@@ -21,8 +21,8 @@ from functools import lru_cache
 import numpy as np
 
 from clarc_agents.asr.audio import RATE, resample
+from clarc_sim.patient.scenario import NOISES
 
-NOISES = ("white", "babble", "television")
 # what the voices of babble and the television say: ordinary talk, never a test's words
 _TALK = (
     "did you see the match last night it went on and on",

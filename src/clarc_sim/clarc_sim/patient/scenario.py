@@ -74,8 +74,10 @@ from clarc_agents.exceptions import ScenarioError
 from clarc_agents.yaml_lines import compose, fields
 from clarc_agents.yaml_lines import err as _err
 from clarc_agents.yaml_lines import scalar as _scalar
-from clarc_sim.devices.sound import NOISES
 from clarc_sim.patient.gait_motion import Motion
+
+# the room's noises a scenario may name (devices/sound.py makes each)
+NOISES = ("white", "babble", "television")
 
 TIMED = "get_up_and_go"
 MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")

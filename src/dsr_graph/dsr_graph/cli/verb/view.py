@@ -45,7 +45,8 @@ def _replay(args: argparse.Namespace) -> int:
 
     from aiohttp import web
 
-    from dsr_graph.formats.mcap_recording import RecordingError, replay_history
+    from dsr_graph.exceptions import RecordingError
+    from dsr_graph.protocol.replay import replay_history
     from dsr_graph.web.events import Broadcaster
     from dsr_graph.web.guard import LOOPBACK, new_token
     from dsr_graph.web.viewer_app import make_app
