@@ -3,8 +3,8 @@
 from pathlib import Path
 
 import pytest
+from barthel_items import DEFINITION
 
-from clarc_agents.barthel.items import DEFINITION
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea import high_to_low
 from clarc_agents.questionnaire.sentences import ask, sit_down

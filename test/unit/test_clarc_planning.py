@@ -2,8 +2,8 @@
 the start and from each kind of deviation."""
 
 import pytest
+from barthel_items import DEFINITION, ORDER
 
-from clarc_agents.barthel.items import DEFINITION, ORDER
 from clarc_agents.pelea import monitoring
 from clarc_agents.pelea.decision_support import NoPlan, initial_state, plan
 

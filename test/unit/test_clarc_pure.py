@@ -4,8 +4,8 @@ script, and the results store."""
 import sqlite3
 
 import pytest
+from barthel_items import BY_KEY, DEFINITION, ITEMS, MAX_TOTAL, ORDER, band
 
-from clarc_agents.barthel.items import BY_KEY, DEFINITION, ITEMS, MAX_TOTAL, ORDER, band
 from clarc_agents.exceptions import InvalidResult, ScenarioError
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.record import QuestionnaireRecord

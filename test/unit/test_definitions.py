@@ -2,8 +2,8 @@
 file, and a file with a mistake is refused naming the line."""
 
 import pytest
+from barthel_items import BY_KEY, DEFINITION, ORDER, band
 
-from clarc_agents.barthel.items import BY_KEY, DEFINITION, ORDER, band
 from clarc_agents.definitions import load, parse
 from clarc_agents.exceptions import DefinitionError
 from clarc_agents.questionnaire import sentences

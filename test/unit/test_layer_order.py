@@ -25,7 +25,7 @@ LEVELS = {
         ("exceptions", "sentence", "topics", "data", "grammars"),
         ("yaml_lines",),
         ("definitions",),
-        ("questionnaire", "gug", "barthel"),
+        ("questionnaire", "gug"),
         ("asr", "behaviours", "humans", "grammar_files"),
         ("pelea",),
         ("course",),

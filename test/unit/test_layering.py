@@ -106,9 +106,9 @@ def test_clarc_logic_is_pure_too(module):
 @pytest.mark.parametrize(
     ("module", "not_of"),
     [
-        ("hle", ("questionnaire", "gug", "barthel", "definitions")),
+        ("hle", ("questionnaire", "gug", "definitions")),
         ("questionnaire_executive", ("gug",)),
-        ("gug_executive", ("questionnaire", "barthel", "definitions")),
+        ("gug_executive", ("questionnaire", "definitions")),
     ],
 )
 def test_each_test_is_a_user_of_the_executive_core_and_of_no_other_test(module, not_of):

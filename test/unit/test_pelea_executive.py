@@ -6,9 +6,9 @@ import contextlib
 from pathlib import Path
 
 import pytest
+from barthel_items import BY_KEY, ORDER
 from pyperplan.pddl.parser import Parser
 
-from clarc_agents.barthel.items import BY_KEY, ORDER
 from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive

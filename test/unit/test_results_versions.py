@@ -228,7 +228,8 @@ def without_version_5(found):
 
 
 def barthel_result(**changes):
-    from clarc_agents.barthel.items import DEFINITION, ORDER
+    from barthel_items import DEFINITION, ORDER
+
     from clarc_agents.questionnaire.record import QuestionnaireRecord
 
     r = QuestionnaireRecord(DEFINITION, "Carlos", "2026-11-24T10:00:00")
