@@ -6,9 +6,10 @@ import sqlite3
 import pytest
 from barthel_items import BY_KEY, DEFINITION, ITEMS, MAX_TOTAL, ORDER, band
 
-from clarc_agents.exceptions import InvalidResult, ScenarioError
+from clarc_agents.exceptions import ScenarioError
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.record import QuestionnaireRecord
+from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.results_store import ResultsStore
 from clarc_sim.patient.scenario import parse
 from clarc_sim.patient.script import ASK, GARBLED, PatientScript

@@ -8,6 +8,7 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 HOMES = {
     SRC / "dsr_graph" / "dsr_graph" / "exceptions.py",
     SRC / "clarc_agents" / "clarc_agents" / "exceptions.py",
+    SRC / "clarc_sim" / "clarc_sim" / "exceptions.py",
 }
 BUILTIN_ERRORS = {
     "Exception",
@@ -42,9 +43,10 @@ def test_errors_live_in_the_exceptions_modules():
 
 def test_every_error_derives_from_dsr_error():
     import clarc_agents.exceptions as clarc
+    import clarc_sim.exceptions as stand_ins
     import dsr_graph.exceptions as dsr
 
-    for module in (dsr, clarc):
+    for module in (dsr, clarc, stand_ins):
         for name in dir(module):
             value = getattr(module, name)
             if isinstance(value, type) and issubclass(value, Exception):

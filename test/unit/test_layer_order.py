@@ -31,7 +31,12 @@ LEVELS = {
         ("course",),
         ("nodes",),
     ),
-    "clarc_sim": (("sim_topics",), ("patient",), ("devices", "hospital"), ("console",)),
+    "clarc_sim": (
+        ("exceptions", "sim_topics"),
+        ("patient",),
+        ("devices", "hospital"),
+        ("console",),
+    ),
 }
 
 

@@ -9,9 +9,10 @@ import pytest
 
 from clarc_agents import definitions
 from clarc_agents.definitions import parse
-from clarc_agents.exceptions import DefinitionError, InvalidResult, ScenarioError
+from clarc_agents.exceptions import DefinitionError, ScenarioError
 from clarc_agents.questionnaire.answers import touched_in_order, understand
 from clarc_agents.questionnaire.orientation import values
+from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.results_store import ResultsStore
 from clarc_sim.patient.answering import touches_for, words_for
 from clarc_sim.patient.scenario import parse as parse_scenario

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from clarc_agents.exceptions import InvalidResult
+from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital import results_store
 from clarc_sim.hospital.results_store import VERSION, ResultsStore
 

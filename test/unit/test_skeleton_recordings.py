@@ -11,11 +11,12 @@ import numpy as np
 import pytest
 from gug_checks import F77_READ, F77_TOTAL, boundaries_as_read
 
-from clarc_agents.exceptions import ScenarioError, SkeletonRecordingError
+from clarc_agents.exceptions import ScenarioError
 from clarc_agents.gug.phases import sample, time_trial
 from clarc_agents.gug.skeleton import parse_skeleton
 from clarc_sim.console.clarc_cli import main as clarc
 from clarc_sim.devices.skeleton_frames import KinectModel, TrialPlace, recorded
+from clarc_sim.exceptions import SkeletonRecordingError
 from clarc_sim.patient.gait_motion import SEATED_X
 from clarc_sim.patient.scenario import load
 from clarc_sim.patient.skeleton_import import import_recording

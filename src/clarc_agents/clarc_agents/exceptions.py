@@ -1,6 +1,6 @@
-"""Every error of the CLARC packages (agents and stand-ins), in one place. Each derives from
-``dsr_graph.exceptions.DsrError``, the base of every error of the suite, so a node's main turns
-any of them into one fatal line and exit code 1."""
+"""Every error of CLARC's agents, in one place (the stand-ins' are in ``clarc_sim.exceptions``).
+Each derives from ``dsr_graph.exceptions.DsrError``, the base of every error of the suite, so a
+node's main turns any of them into one fatal line and exit code 1."""
 
 from __future__ import annotations
 
@@ -28,36 +28,6 @@ class ModelError(DsrError):
 class DefinitionError(DsrError, ValueError):
     """A test definition file is not usable; the message names the file, the line and what is
     wrong."""
-
-
-class InvalidResult(DsrError, ValueError):
-    """A result that does not describe a test (Barthel or Get Up & Go); the message says what is
-    wrong."""
-
-
-class UnknownTest(InvalidResult):
-    """No stored test has that id."""
-
-
-class UnknownPatient(InvalidResult):
-    """No patient record has that id."""
-
-
-class AlreadyValidated(InvalidResult):
-    """A clinician validated this result already; the message says who and when."""
-
-
-class ResultChanged(InvalidResult):
-    """A result changed (a score) since the version a clinician validates."""
-
-
-class AccountError(InvalidResult):
-    """A user account cannot be made or changed as asked; the message says why."""
-
-
-class SkeletonRecordingError(ScenarioError):
-    """A skeleton recording that cannot be read, imported or placed; the message names the
-    file, the line and what is wrong."""
 
 
 class NotATrial(DsrError, ValueError):

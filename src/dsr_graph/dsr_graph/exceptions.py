@@ -1,6 +1,7 @@
 """Every error of dsr_graph, in one place. Each derives from ``DsrError`` (so does every error of
-the CLARC packages, in ``clarc_agents.exceptions``): a node's main turns any of them into one
-fatal line and exit code 1. A rejection names the element and the rule it broke."""
+the CLARC packages, in ``clarc_agents.exceptions`` and ``clarc_sim.exceptions``): a node's main
+turns any of them into one fatal line and exit code 1. A rejection names the element and the
+rule it broke."""
 
 from __future__ import annotations
 

@@ -9,7 +9,7 @@ import sys
 
 import numpy as np
 
-from clarc_agents.exceptions import SkeletonRecordingError
+from clarc_sim.exceptions import SkeletonRecordingError
 from clarc_sim.patient import skeleton_import, skeleton_recording
 
 

@@ -16,7 +16,7 @@ import getpass
 import os
 import sys
 
-from clarc_agents.exceptions import AccountError
+from clarc_sim.exceptions import AccountError
 from clarc_sim.hospital import accounts
 from clarc_sim.hospital.results_store import ROLES, ResultsStore, default_db
 

@@ -20,7 +20,7 @@ from typing import Any
 from argon2 import PasswordHasher
 from argon2.exceptions import InvalidHashError, VerificationError, VerifyMismatchError
 
-from clarc_agents.exceptions import AccountError
+from clarc_sim.exceptions import AccountError
 
 TECHNICIAN, CLINICIAN, ADMIN = "technician", "clinician", "admin"
 MAY = {

@@ -66,7 +66,7 @@ from aiohttp_session.cookie_storage import EncryptedCookieStorage
 
 from clarc_agents import definitions
 from clarc_agents.course import TestView, items_in, position, test_name
-from clarc_agents.exceptions import (
+from clarc_sim.exceptions import (
     AccountError,
     AlreadyValidated,
     InvalidResult,

@@ -38,7 +38,10 @@ from pathlib import Path
 from typing import Any
 
 from clarc_agents import definitions
-from clarc_agents.exceptions import (
+from clarc_agents.gug.phases import PHASES, STILL, fall_risk
+from clarc_agents.gug.phases import band as gug_band
+from clarc_agents.gug.record import UNABLE, UNABLE_BAND
+from clarc_sim.exceptions import (
     AccountError,
     AlreadyValidated,
     InvalidResult,
@@ -46,9 +49,6 @@ from clarc_agents.exceptions import (
     UnknownPatient,
     UnknownTest,
 )
-from clarc_agents.gug.phases import PHASES, STILL, fall_risk
-from clarc_agents.gug.phases import band as gug_band
-from clarc_agents.gug.record import UNABLE, UNABLE_BAND
 from clarc_sim.hospital.result_schema import refusals
 from dsr_graph.formats.default_paths import data_path
 

@@ -27,8 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_agents.gug.skeleton import JOINTS
+from clarc_sim.exceptions import SkeletonRecordingError
 from clarc_sim.patient.skeleton_recording import Recording, csv_rows, floor_at_zero
 
 # rotations taking the source's up axis to +z (right-handed, a turn, never a mirror)

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from clarc_agents.exceptions import SkeletonRecordingError
 from clarc_agents.gug.skeleton import JOINTS
+from clarc_sim.exceptions import SkeletonRecordingError
 from clarc_sim.patient.gait_motion import SEATED_X
 
 MAGIC = "# clarc-skeleton 1"
