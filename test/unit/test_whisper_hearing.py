@@ -40,6 +40,10 @@ def test_the_expected_answers_are_the_decoder_s_context_and_no_test_is_named():
     # the prompt is what the robot said: recall's never names the objects to recall
     recall = expectation_for(mmse.item("recall"))
     assert recall.kind == "words" and "apple" not in recall.prompt.lower()
+    # ... the answer worth every point is only a rival a lower score must beat, never a prompt
+    assert recall.full_marks == ("apple", "table", "penny")
+    assert recall.meaning(", ".join(recall.full_marks)) == ("answer", 3)
+    assert expected.full_marks == ()  # a choose item's options are its candidates already
     assert expectation_for(mmse.item("attention")).meaning("93, 86, 79") == ("answer", 3)
     assert expectation_for(mmse.item("command")) is None  # touched, not said
     assert expectation_for(None) is FREE
@@ -119,3 +123,23 @@ def test_clarc_hear_prints_what_whisper_heard_and_its_points(capsys, speech_dir)
     assert main(["hear", str(speech_dir / "sphinx" / "goforward.raw"), "--json"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert "forward" in doc["text"].lower() and doc["search"] == "free" and "points" not in doc
+
+
+def test_a_lower_score_must_beat_the_readings_worth_more():
+    """The rivals of an answer heard worth less than every point: all of it said, and each
+    missing part in place of one of the least sure words (whisper._better_readings)."""
+    from clarc_agents.asr.whisper import _better_readings
+
+    mmse = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
+    naming = expectation_for(mmse.item("naming"))
+    heard = [("Pencil", 0.9), ("under", 0.4), ("wash.", 0.3)]
+    assert _better_readings(heard, naming) == [
+        "pencil, watch",
+        "Pencil under watch",
+        "Pencil watch wash.",
+    ]
+    repetition = expectation_for(mmse.item("repetition"))
+    heard = [("No", 0.9), ("ifs,", 0.8), ("and,", 0.4), ("or", 0.9), ("buts.", 0.7)]
+    assert _better_readings(heard, repetition) == ["no ifs ands or buts"]
+    # worth every point already: nothing to beat
+    assert _better_readings([("Pencil,", 0.9), ("watch.", 0.9)], naming) == []

@@ -12,6 +12,12 @@
 - ``meaning(text)``: what a text would be worth as the answer (``understand``'s kind and
   points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
   add up, hypotheses that mean another one compete.
+- ``full_marks`` (words and serial items): what is worth every point (each part's first
+  word), never given to the decoder: the rivals a heard answer worth less must beat clearly
+  (all of it, or one missing part in place of a word heard), or the robot is not sure of it
+  ("No ifs, and, or buts" heard for "ands", "Pencil under wash" for "watch": scored 0 and 1
+  point, sure, in the benchmark). It only takes certainty away, never gives an answer points
+  it was not heard to be worth.
 """
 
 from __future__ import annotations
@@ -35,6 +41,7 @@ class Expectation:
     prompt: str = ""
     candidates: tuple[str, ...] = ()
     meaning: Callable[[str], Hashable | None] = field(default=lambda text: None, compare=False)
+    full_marks: tuple[str, ...] = ()
 
 
 # no item: hypotheses that are the same words agree
@@ -72,4 +79,7 @@ def expectation_for(item: Item | None) -> Expectation | None:
             tuple(dict.fromkeys([*candidates, *NO_OPTION])),
             meaning,
         )
-    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning)
+    full = tuple(part.keywords[0] for part in item.parts if part.keywords)
+    if meaning(", ".join(full)) != ("answer", item.max):  # no one way to say it all
+        full = ()
+    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning, full)

@@ -6,7 +6,10 @@ each is understood as the item's answer would be (``Expectation.meaning``), and 
 is the probability mass of the hypotheses that mean what the best one means. "Two." and "Two"
 agree; "Two." against "Three." is a coin toss and says so. For words and serial answers, the
 least sure word of the best transcript (each token's probability, forced through the decoder)
-bounds it too (``TOKEN_DOUBT``).
+bounds it too (``TOKEN_DOUBT``); and a words or serial answer heard worth less than every point
+must beat the readings worth more (all of it, or a missing part in place of one of the least
+sure words), forced through the decoder too: one at least a fifth as likely leaves the robot
+unsure, so a misheard "ands" or "watch" goes to the clinician rather than costing a point.
 
 A choose item whose best transcript means nothing ("So.", "City.") is rescored: each way of
 choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
@@ -37,6 +40,7 @@ from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
 from clarc_agents.asr.models import WHISPER_TINY_EN, verified_folder
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.spoken import words
 
 os.environ.setdefault("HF_HUB_OFFLINE", "1")  # a local folder only: never a download
 
@@ -47,11 +51,16 @@ WINDOW_FRAMES = 3000  # Whisper's 30 s window of 10 ms mel frames (shorter ones 
 NO_SPEECH = 0.6
 LOGPROB_FLOOR = -1.0
 # words and serial answers: a word's probability times this bounds the confidence, so that at
-# Speech's 0.5 a words answer needs each word at 0.4 and a serial one each number at 0.5
-# (measured on 88 of the benchmark's synthesised answers at 20 dB: above these no answer was
-# scored wrong; at 0.3 for words, 3.8 to 15% were in the quick benchmark; BENCHMARKS.md
-# section 9)
+# Speech's 0.5 a words answer needs each word at 0.4 and a serial one each number at 0.6
+# (BENCHMARKS.md section 9: at 0.3 for words 3.8 to 15% were scored wrong; at 0.5 for serial,
+# 3 of 92 answers at 20 dB, heard at 0.54-0.59 ("80, 80" for "87, 80"), none at 0.6)
 TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.6}
+# a words or serial answer heard worth less than every point: its confidence is at most this
+# over the odds of the likeliest reading worth more (at Speech's 0.5: such a reading may be at
+# most a fifth as likely as what was heard); checked only for answers sure enough otherwise
+RIVAL_ODDS = 0.1
+CHECKED_ABOVE = 0.3
+RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
 MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
 MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
 # what Whisper writes where there is no speech (its training subtitles' closing lines)
@@ -173,14 +182,37 @@ class WhisperRecogniser:
             # "table and penny"): the least sure word bounds the whole answer
             ids = result.sequences_ids[0]
             aligned = self.model.model.align(encoded, prompt, [ids], frames)[0]
-            sure = [
-                p
-                for token, p in zip(ids, aligned.text_token_probs, strict=False)
-                if any(c.isalnum() for c in self.tokenizer.decode([token]))
-            ]
+            said = self._words_of(ids, aligned.text_token_probs)
             scale = TOKEN_DOUBT[expectation.kind]
-            confidence = min(confidence, min(1.0, scale * min(sure, default=0.0)))
+            confidence = min(confidence, min(1.0, scale * min((p for _, p in said), default=0.0)))
+            if confidence >= CHECKED_ABOVE:
+                rivals = _better_readings(said, expectation)
+                confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
         return Heard(best, confidence, start, end)
+
+    def _words_of(self, ids: list[int], probs: list[float]) -> list[tuple[str, float]]:
+        """The transcript's words (those with a letter or a digit), each with the probability of
+        its least sure token."""
+        out: list[list] = []
+        for token, p in zip(ids, probs, strict=False):
+            piece = self.tokenizer.decode([token])
+            p = p if any(c.isalnum() for c in piece) else 1.0  # a comma is no doubt of a word
+            if piece.startswith(" ") or not out:
+                out.append([piece, p])
+            else:
+                out[-1][0] += piece
+                out[-1][1] = min(out[-1][1], p)
+        return [(w.strip(), p) for w, p in out if any(c.isalnum() for c in w)]
+
+    def _beaten_by(self, encoded, frames, prompt, said, rivals: list[str]) -> float:
+        """A bound on the confidence in the words ``said``: how much less likely than they are
+        the likeliest of ``rivals`` (readings worth more) is, over ``RIVAL_ODDS``."""
+        if not rivals:
+            return 1.0
+        heard = self._forced(encoded, frames, prompt, " ".join(w for w, _ in said))
+        best_rival = max(self._forced(encoded, frames, prompt, text) for text in rivals)
+        odds = math.exp(min(best_rival - heard, 50.0))  # P(rival) / P(heard)
+        return min(1.0, RIVAL_ODDS / odds)
 
     def _rescored(self, encoded, frames, prompt, expectation, free, start, end) -> Heard:
         """The candidates and the free transcript forced through the decoder; the best of them
@@ -202,6 +234,36 @@ class WhisperRecogniser:
         ids = self.tokenizer.encode(spelt)
         aligned = self.model.model.align(encoded, prompt, [ids], frames)[0]
         return float(sum(math.log(max(p, 1e-12)) for p in aligned.text_token_probs))
+
+
+def _better_readings(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
+    """Readings of the words ``said`` worth more than they are: every part said (the full
+    answer), and each missing part in place of one of the ``RIVAL_PLACES`` least sure words."""
+    full = expectation.full_marks
+    text = " ".join(w for w, _ in said)
+    heard = expectation.meaning(text)
+    if not full or heard is None or heard[0] != "answer":
+        return []
+    worth = heard[1]
+    unsure = sorted(range(len(said)), key=lambda k: said[k][1])[:RIVAL_PLACES]
+    heard_words = words(text)
+    missing = [part for part in full if not _within(words(part), heard_words)]
+    readings = [", ".join(full)]
+    for part in missing:
+        for k in unsure:
+            readings.append(
+                " ".join([*(w for w, _ in said[:k]), part, *(w for w, _ in said[k + 1 :])])
+            )
+    better = []
+    for reading in dict.fromkeys(readings):
+        meaning = expectation.meaning(reading)
+        if meaning is not None and meaning[0] == "answer" and meaning[1] > worth:
+            better.append(reading)
+    return better
+
+
+def _within(part: list[str], said: list[str]) -> bool:
+    return any(said[k : k + len(part)] == part for k in range(len(said) - len(part) + 1))
 
 
 def _agreeing(hypotheses: list[tuple[str, float]], meaning) -> float:
