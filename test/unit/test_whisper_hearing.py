@@ -143,3 +143,13 @@ def test_a_lower_score_must_beat_the_readings_worth_more():
     assert _better_readings(heard, repetition) == ["no ifs ands or buts"]
     # worth every point already: nothing to beat
     assert _better_readings([("Pencil,", 0.9), ("watch.", 0.9)], naming) == []
+
+
+def test_a_sentence_said_again_and_again_is_the_decoder_running_away():
+    from clarc_agents.asr.whisper import _looping
+
+    assert _looping("Option three. Option three. Option three.")
+    assert _looping("Two. Okay. Okay! okay.")
+    assert not _looping("Three, three.")  # a patient insisting
+    assert not _looping("Option three. Option three.")
+    assert not _looping("93. 86. 79. 72. 65.")

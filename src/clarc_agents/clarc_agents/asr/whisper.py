@@ -23,7 +23,8 @@ Never an answer (../shared/docs/SPEECH.md): an utterance with less than ``MIN_SP
 voice above the room (``speech_span``); what Whisper writes on silence or noise ("Thank you.",
 "You.") when the decoder itself says there was no speech (no-speech probability over
 ``NO_SPEECH`` and average log-probability under ``LOGPROB_FLOOR``, faster-whisper's own
-thresholds), or any time for its known phrases of silence.
+thresholds), or any time for its known phrases of silence. Never sure: a transcript saying
+one sentence three times in a row (``LOOP``), the decoder running away on noise.
 """
 
 from __future__ import annotations
@@ -61,6 +62,7 @@ TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.6}
 RIVAL_ODDS = 0.1
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
+LOOP = 3  # one sentence this many times in a row is the decoder running away, not an answer
 MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
 MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
 # what Whisper writes where there is no speech (its training subtitles' closing lines)
@@ -173,6 +175,8 @@ class WhisperRecogniser:
             return nothing
         if _said(best) in SILENCE_PHRASES:
             return nothing
+        if _looping(best):  # someone spoke, but this is the decoder's, not theirs
+            return Heard(best, 0.0, start, end)
         meaning = expectation.meaning
         if expectation.kind == "choose" and meaning(best) is None and expectation.candidates:
             return self._rescored(encoded, frames, prompt, expectation, best, start, end)
@@ -260,6 +264,20 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
         if meaning is not None and meaning[0] == "answer" and meaning[1] > worth:
             better.append(reading)
     return better
+
+
+def _looping(text: str) -> bool:
+    """Whether ``text`` says one sentence ``LOOP`` times or more in a row: Whisper's known
+    runaway on noise ("Option three. Option three. Option three." in babble, scored as option
+    three; faster-whisper guards the same with a compression ratio, which a short answer never
+    reaches)."""
+    sentences = [_said(s) for s in re.split(r"[.!?]+", text) if _said(s)]
+    run = 1
+    for before, after in zip(sentences, sentences[1:], strict=False):
+        run = run + 1 if after == before else 1
+        if run >= LOOP:
+            return True
+    return False
 
 
 def _within(part: list[str], said: list[str]) -> bool:
