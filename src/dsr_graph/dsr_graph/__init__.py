@@ -1,6 +1,7 @@
 """dsr_graph: the Deep State Representation graph model, its delta protocol and tools.
 
-The model (graph, transactions, formats) imports no ROS; ROS plumbing lives in the node modules.
+The model, formats, protocol and rules import no ROS; the ROS plumbing lives in ``ros/``, the
+web in ``web/``, the ``dsr`` command in ``cli/`` (docs/explanation/architecture.md, "The house").
 """
 
 from importlib.metadata import PackageNotFoundError, version

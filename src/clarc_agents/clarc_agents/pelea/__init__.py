@@ -5,7 +5,8 @@
 - ``monitoring``: keeps the high-level state and turns deviations into facts for replanning;
 - ``decision_support``: plans with a real automated planner on the PDDL domain of the test;
 - ``high_to_low``: a high-level action as changes to the DSR;
-- ``low_to_high``: the DSR's binary predicates as n-ary facts for Monitoring.
+- ``low_to_high``: the DSR's binary predicates as n-ary facts for Monitoring;
+- ``result_delivery`` (beside them): a finished test's result on its way to CGAmed.
 
-All pure; ``node`` is the ROS plumbing.
+All pure; its ROS node is ``clarc_agents.nodes.pelea_node``.
 """
