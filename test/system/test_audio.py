@@ -12,6 +12,7 @@ import re
 import wave
 from pathlib import Path
 
+import pytest
 from conftest import needs_espeak
 from test_barthel_scenarios import EXPECTED
 
@@ -21,6 +22,10 @@ from clarc_agents.questionnaire.answers import understand
 REPO = Path(__file__).resolve().parents[2]
 
 
+# the launch's own bound is 480 s (a busy machine slows the recogniser and the speaker); the
+# test's wall bound is above it, so that the launch, not the test, says what was late (a loaded
+# clean-clone run was cut at the old 240 s wall bound while the launch still had 250 s)
+@pytest.mark.timeout(660)
 def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
     from ros_processes import launch_scenario
 
@@ -30,7 +35,10 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
     sound = "voice: {name: en-gb, rate: 160, pitch: 40}\nroom: {noise: white, snr_db: 25}\n"
     scenario.write_text(text.replace("items:", sound + "items:", 1))
     run, [stored] = launch_scenario(
-        scenario, tmp_path, "--audio", "--scale", "0.7", "--voice-rate", "450", "--timeout", "480"
+        scenario,
+        tmp_path,
+        *("--audio", "--scale", "0.7", "--voice-rate", "450", "--timeout", "480"),
+        wall=600,
     )
     expected = EXPECTED["default.yaml"]
     for key in ("patient", "total", "band", "unanswered", "person_lost"):

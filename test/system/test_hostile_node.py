@@ -16,6 +16,8 @@ from pathlib import Path
 
 import pytest
 
+from dsr_graph.model.agent_info import AGENT_TYPE, READY
+
 from browser import free_port
 from ros_processes import fresh_domain_id, new_session, snapshot_via, stored_tests, wait_for
 
@@ -183,6 +185,20 @@ def stable_graph(session, seconds=2.0, timeout=60):
     return last
 
 
+def apart_from_presence(snapshot):
+    """(the graph without the agents' info nodes and the sequence number, each agent's state).
+    An info node's state follows its agent's DDS liveliness: on a loaded machine a lease may
+    lapse for a moment, the server marks the agent gone and the agent writes ready again (seen:
+    /gait_analyser out of reach for 0.4 s in a run with both cores busy). That is presence, not
+    a change the hostile input made; the test still wants every agent back as it was."""
+    infos = {n["name"] for n in snapshot["nodes"] if n["type"] == AGENT_TYPE}
+    graph = {k: v for k, v in snapshot.items() if k != "seq"}
+    graph["nodes"] = [n for n in snapshot["nodes"] if n["name"] not in infos]
+    graph["edges"] = [e for e in snapshot["edges"] if not {e["from"], e["to"]} & infos]
+    states = {n["name"]: n["attrs"].get("state") for n in snapshot["nodes"] if n["name"] in infos}
+    return graph, states
+
+
 @pytest.mark.timeout(900)
 def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suite):
     from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -199,6 +215,12 @@ def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suit
     )
     wait_for(lambda: len(suite_endpoints(node)[0]) >= 15, 60, "the suite's subscriptions", session)
     session.spin_for(3.0)  # every node has set itself up
+    wait_for(
+        lambda: set(apart_from_presence(snapshot_via(session))[1].values()) == {READY},
+        60,
+        "every agent ready",
+        session,
+    )
     before_pids = pids(run)
     before_graph = stable_graph(session)
     before_store = stored_tests(db)
@@ -242,8 +264,10 @@ def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suit
     assert not dead, f"killed: {dead}"
     assert pids(run) == before_pids, "a node was restarted"
     assert launch.poll() is None
-    after = stable_graph(session)
-    assert json.dumps(after, sort_keys=True) == json.dumps(before_graph, sort_keys=True)
+    after, agents_after = apart_from_presence(stable_graph(session))
+    before, agents_before = apart_from_presence(before_graph)
+    assert json.dumps(after, sort_keys=True) == json.dumps(before, sort_keys=True)
+    assert agents_after == agents_before and set(agents_after.values()) == {READY}
     assert stored_tests(db) == before_store
     logs = {p.stem: p.read_text(errors="replace") for p in (run / "log").glob("*.log")}
     crashed = [name for name, text in logs.items() if "Traceback" in text]
