@@ -120,13 +120,15 @@ def suite(tmp_path):
     domain = fresh_domain_id()
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
     run = tmp_path / "run"
+    # to a file, not a pipe nobody reads while the test runs (a full pipe would stop the launch)
+    printed = open(tmp_path / "launch.out", "w")  # noqa: SIM115 - closed in the finally below
     launch = subprocess.Popen(
         [
             *(str(REPO / "scripts" / "launch.sh"), "--wait-start", "--timeout", "600"),
             *("--db", str(db), "--run-dir", str(run)),
             *("--viewer-port", str(free_port()), "--dashboard-port", str(free_port())),
         ],
-        stdout=subprocess.PIPE,
+        stdout=printed,
         stderr=subprocess.STDOUT,
         text=True,
         env=env,
@@ -144,6 +146,7 @@ def suite(tmp_path):
             except subprocess.TimeoutExpired:
                 os.killpg(launch.pid, signal.SIGKILL)
                 launch.wait(timeout=10)
+        printed.close()
 
 
 def pids(run):
