@@ -41,6 +41,7 @@ from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
 from clarc_agents.asr.models import WHISPER_TINY_EN, verified_folder
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.answers import find_phrase
 from clarc_agents.questionnaire.spoken import words
 
 os.environ.setdefault("HF_HUB_OFFLINE", "1")  # a local folder only: never a download
@@ -251,7 +252,7 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
     worth = heard[1]
     unsure = sorted(range(len(said)), key=lambda k: said[k][1])[:RIVAL_PLACES]
     heard_words = words(text)
-    missing = [part for part in full if not _within(words(part), heard_words)]
+    missing = [part for part in full if not find_phrase(tuple(words(part)), heard_words)]
     readings = [", ".join(full)]
     for part in missing:
         for k in unsure:
@@ -278,10 +279,6 @@ def _looping(text: str) -> bool:
         if run >= LOOP:
             return True
     return False
-
-
-def _within(part: list[str], said: list[str]) -> bool:
-    return any(said[k : k + len(part)] == part for k in range(len(said) - len(part) + 1))
 
 
 def _agreeing(hypotheses: list[tuple[str, float]], meaning) -> float:

@@ -86,7 +86,7 @@ class Understanding:
     why: tuple[str, ...] = field(default=())  # what was not credited, and why
 
 
-def _find(phrase: tuple[str, ...], said: list[str]) -> list[int]:
+def find_phrase(phrase: tuple[str, ...], said: list[str]) -> list[int]:
     """Where ``phrase`` starts in ``said`` (token positions)."""
     n = len(phrase)
     return [i for i in range(len(said) - n + 1) if n and tuple(said[i : i + n]) == phrase]
@@ -96,7 +96,7 @@ def _strip(said: list[str], phrases) -> list[str]:
     """``said`` without any of ``phrases``."""
     out = list(said)
     for phrase in phrases:
-        for i in reversed(_find(phrase, out)):
+        for i in reversed(find_phrase(phrase, out)):
             del out[i : i + len(phrase)]
     return out
 
@@ -106,7 +106,7 @@ def understand(item: Item, text: str) -> Understanding:
     said = self_corrected(words(text), taken_back, _replaces(item))
     if not said:
         return Understanding("not_understood", why=("nothing was said",))
-    if any(_find(s, said) for s in SKIP):
+    if any(find_phrase(s, said) for s in SKIP):
         return Understanding("skip")
     if item.kind in ("words", "serial"):
         if _hesitating(said):
@@ -150,7 +150,7 @@ def _keyword_hits(item: Item, said: list[str]) -> list[int]:
         (len(phrase), i, n, k)
         for n, option in enumerate(item.options)
         for k, phrase in enumerate(tuple(words(kw)) for kw in option.keywords)
-        for i in _find(phrase, said)
+        for i in find_phrase(phrase, said)
         if _negating(phrase[0]) or not _denied(said, i)
     ]
     used: set[int] = set()
@@ -202,7 +202,7 @@ def _words(item: Item, said: list[str]) -> Understanding:
     points, matched, why = 0, [], []
     for part in item.parts:
         phrases = [tuple(words(k)) for k in part.keywords]
-        spans = [(i, len(p)) for p in phrases for i in _find(p, said)]
+        spans = [(i, len(p)) for p in phrases for i in find_phrase(p, said)]
         if not spans:
             continue
         name = " ".join(phrases[0])
