@@ -20,6 +20,8 @@ import orjson
 from dsr_graph.exceptions import JsonRefused
 
 DEFAULT_MAX_BYTES = 4 * 1024 * 1024  # a request, a device message (the server's is a parameter)
+# what a reader of a message raises when it does not have the shape it reads
+READING_ERRORS = (ValueError, KeyError, TypeError, AttributeError, IndexError)
 MAX_DEPTH = 64  # deepest nesting accepted: our formats need about 8
 INT_MIN, INT_MAX = -(2**63), 2**63 - 1
 TWO_63 = float(2**63)

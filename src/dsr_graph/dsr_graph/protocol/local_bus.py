@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
-import json
+import logging
 from collections import deque
 from collections.abc import Callable
 from typing import Any
@@ -30,12 +30,12 @@ from dsr_graph.exceptions import TimedOutError
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
+from dsr_graph.protocol.agent_core import TICK, AgentCore, Listener
 from dsr_graph.protocol.presence import PRESENCE_LEASE
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Rejection, Result, ServerCore
-from dsr_graph.protocol.volatility import is_volatile
 
-Listener = Callable[[list[dict[str, Any]], bool], None]
+LOG = logging.getLogger(__name__)
 MAX_DELIVERIES = 1_000_000  # per run: more means agents answer each other forever
 
 
@@ -61,26 +61,27 @@ class LocalBus:
     def agent(self, name: str) -> LocalAgent:
         """A new agent, synced with the graph as it is now."""
         agent = LocalAgent(self, name, run=len(self.agents))
-        agent.replica.load_snapshot(json.loads(dumps(self.core.snapshot())))
+        agent.core.on_snapshot(self.snapshot_text(), self.now)
         self.agents.append(agent)
         return agent
 
     # ------------------------------------------------------------------ the server's side
-    def submit(self, sender: LocalAgent, doc: dict[str, Any]) -> None:
-        result = self.core.submit(dumps(doc), now=self.now, sender=sender.name)
-        if isinstance(result, Rejection) and result.duplicate_of is not None:
-            verdict = Result(result.id, True, delta={"seq": result.duplicate_of, "id": result.id})
-            self.soon(lambda: sender.rejected(verdict))
+    def snapshot_text(self) -> str:
+        return dumps(self.core.snapshot())
+
+    def submit(self, sender: LocalAgent, text: str, blobs: dict[str, bytes]) -> None:
+        """A request's text (and the bytes of the binary values it references), as sent."""
+        result = self.core.submit(text, now=self.now, sender=sender.name, blobs=blobs.get)
+        if isinstance(result, Rejection):  # to the sender only: the others ignore it
+            wire = dumps(result.to_json())
+            self.soon(lambda: sender.rejected(wire))
             return
-        if isinstance(result, Rejection):
-            verdict = Result(
-                result.id, False, reason=result.violation.to_json(), error=str(result.violation)
-            )
-            self.soon(lambda: sender.rejected(verdict))
-            return
-        wire = dumps(result)
+        self.broadcast(result)
+
+    def broadcast(self, delta: dict[str, Any]) -> None:
+        wire = dumps(delta)
         for agent in list(self.agents):
-            self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
+            self.soon(lambda agent=agent: agent.receive(wire))
 
     # ------------------------------------------------------------------ network cuts
     def cut(self, names: list[str], detect: float = PRESENCE_LEASE) -> None:
@@ -97,9 +98,7 @@ class LocalBus:
             self.reach_losses += 1
             delta = self.core.end_claims_of(away, "unreachable", self.now)
             if delta is not None:
-                wire = dumps(delta)
-                for agent in list(self.agents):
-                    self.soon(lambda agent=agent: agent.receive(json.loads(wire)))
+                self.broadcast(delta)
 
         self.after(detect, told)
 
@@ -133,6 +132,14 @@ class LocalBus:
             self._queue.popleft()()
         return count
 
+    def _arm_ticks(self) -> None:
+        """An agent waiting for something (a verdict during a cut, a delta's duplicate) ticks,
+        as DsrAgent's timer does; an idle one does not, so a run with nothing to do ends."""
+        for agent in self.agents:
+            if not agent.closed and not agent.ticking and agent.core.busy:
+                agent.ticking = True
+                self.after(TICK, agent.tick)
+
     def run(self, until: Callable[[], bool] = lambda: False, limit: float = 3600.0) -> float:
         """Deliver, then advance the clock to the next timer, until ``until()`` holds or nothing
         is left to do; ``TimedOutError`` if ``limit`` virtual seconds pass first. The virtual
@@ -140,6 +147,7 @@ class LocalBus:
         start = self.now
         while True:
             self.deliver()
+            self._arm_ticks()
             if until():
                 return self.now - start
             while self._timers and self._timers[0][2].cancelled:
@@ -155,37 +163,42 @@ class LocalBus:
 
 
 class LocalAgent:
-    """An agent's link to a ``LocalBus``: what ``dsr_graph.ros.agent.DsrAgent`` is over ROS."""
+    """An agent's link to a ``LocalBus``: what ``dsr_graph.ros.agent.DsrAgent`` is over ROS, with
+    the same protocol (``agent_core.py``); the bus's "network" never loses a message."""
 
     def __init__(self, bus: LocalBus, name: str, run: int = 0):
         self.bus = bus
         self.name = name
-        self.run = run  # tells this agent's requests from those of an earlier one of that name
-        self.replica = Replica(bus.core.graph.vocabulary)
-        self._listeners: list[Listener] = []
-        self._pending: dict[str, Callable[[Result], None] | None] = {}
-        self._count = 0
+        self.core = AgentCore(name, self, str(run), vocabulary=bus.core.graph.vocabulary)
         self.closed = False
         self.cut = False
+        self.ticking = False  # a tick is on the bus's clock
+        self._snapshots = 0  # snapshot requests made: an answer to an older one is not given
         self._held_in: list[Callable[[], None]] = []  # what reached the cut, for this agent
-        self._held_out: list[dict[str, Any]] = []  # what this agent sent during a cut
+        self._held_out: list[tuple[str, dict[str, bytes]]] = []  # what it sent during a cut
+
+    @property
+    def replica(self) -> Replica:
+        return self.core.replica
 
     @property
     def graph(self) -> Graph:
-        return self.replica.graph
+        return self.core.graph
 
     @property
     def synced(self) -> bool:
-        return self.replica.synced
+        return self.core.synced
 
     def add_listener(self, listener: Listener) -> None:
-        self._listeners.append(listener)
+        self.core.add_listener(listener)
+
+    def send(self, doc: dict[str, Any], on_done: Callable[[Result], None] | None = None) -> str:
+        return self.core.send(doc, on_done, self.bus.now)
 
     def close(self) -> None:
         """The agent's process died: nothing reaches it any more and nothing it sends arrives."""
         self.closed = True
-        self._listeners.clear()
-        self._pending.clear()
+        self.core.close()
 
     def mend(self) -> None:
         self.cut = False
@@ -193,45 +206,54 @@ class LocalAgent:
         held_out, self._held_out = self._held_out, []
         for deliver in held_in:
             self.bus.soon(deliver)
-        for doc in held_out:
-            self.bus.soon(lambda doc=doc: self.bus.submit(self, doc))
+        for text, blobs in held_out:
+            self.bus.soon(lambda text=text, blobs=blobs: self.bus.submit(self, text, blobs))
 
-    def send(self, doc: dict[str, Any], on_done: Callable[[Result], None] | None = None) -> str:
+    def tick(self) -> None:
+        self.ticking = False
+        self.core.tick(self.bus.now)
+
+    # ------------------------------------------------------------------ what the bus brings
+    def _arrive(self, deliver: Callable[[], None]) -> None:
         if self.closed:
-            return ""
-        doc = dict(doc)
-        doc.setdefault("agent", self.name)
-        self._count += 1
-        doc.setdefault("id", f"{self.name}:{self.run}:{self._count}")
-        self._pending[doc["id"]] = on_done
+            return
         if self.cut:
-            self._held_out.append(doc)
+            self._held_in.append(lambda: self._arrive(deliver))
+            return
+        deliver()
+
+    def receive(self, text: str) -> None:
+        """A delta's text."""
+        self._arrive(lambda: self.core.on_delta(text, self.bus.now))
+
+    def rejected(self, text: str) -> None:
+        """A rejection's text: refused, or accepted earlier (``duplicate_of``)."""
+        self._arrive(lambda: self.core.on_rejection(text, self.bus.now))
+
+    # ------------------------------------------------------------------ the core's link
+    def publish(self, text: str, blobs: dict[str, bytes]) -> None:
+        if self.closed:
+            return
+        if self.cut:
+            self._held_out.append((text, blobs))
         else:
-            self.bus.submit(self, doc)
-        return doc["id"]
+            self.bus.submit(self, text, blobs)
 
-    def receive(self, delta: dict[str, Any]) -> None:
-        if self.closed:
-            return
-        if self.cut:
-            self._held_in.append(lambda: self.receive(delta))
-            return
-        applied = self.replica.receive(delta)
-        if applied:
-            for listener in list(self._listeners):
-                listener(applied, False)
-        if not applied and is_volatile(delta):  # skipped here, accepted all the same
-            applied = [delta]
-        for done in applied:
-            callback = self._pending.pop(done.get("id"), None)
-            if callback is not None:
-                callback(Result(done["id"], True, delta=done))
+    def matched(self) -> bool:
+        return True
 
-    def rejected(self, verdict: Result) -> None:
-        """The verdict of a request that made no new delta: refused, or accepted earlier."""
-        if self.cut:
-            self._held_in.append(lambda: self.rejected(verdict))
-            return
-        callback = self._pending.pop(verdict.id, None)
-        if callback is not None:
-            callback(verdict)
+    def ask_snapshot(self) -> None:
+        self._snapshots += 1
+        asked = self._snapshots
+
+        def answer() -> None:
+            if asked == self._snapshots:
+                self.core.on_snapshot(self.bus.snapshot_text(), self.bus.now)
+
+        self.bus.soon(lambda: self._arrive(answer))
+
+    def withdraw_snapshot(self) -> None:
+        self._snapshots += 1
+
+    def log(self, level: str, message: str) -> None:
+        getattr(LOG, level)(f"{self.name}: {message}")

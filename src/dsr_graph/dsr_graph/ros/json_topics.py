@@ -11,12 +11,10 @@ from rclpy.node import Node
 from rclpy.qos import QoSProfile
 from std_msgs.msg import String
 
-from dsr_graph.formats.safe_json import DEFAULT_MAX_BYTES, loads_object
+from dsr_graph.formats.safe_json import DEFAULT_MAX_BYTES, READING_ERRORS, loads_object
 from dsr_graph.model.binary import dumps
 
 MAX_QUOTED = 200  # characters of a bad message quoted in the warning
-# what a callback raises when a message does not have the shape it reads
-READING_ERRORS = (ValueError, KeyError, TypeError, AttributeError, IndexError)
 
 
 def subscribe_json(

@@ -1,0 +1,268 @@
+"""The agent's protocol (protocol/agent_core.py), the one DsrAgent and LocalAgent both run, over a
+network that loses, repeats and reorders what the server sends, and a server that restarts from
+its journal (ServerCore.restore), losing what was on its way to it. Whatever happens, once the
+network heals: every request has exactly one verdict, each is applied once, an agent's requests
+apply in the order it sent them, and every replica is the server's graph.
+
+What the network may do to requests is what reliable DDS may: lose those in flight when the
+server dies; a restart takes time (a new process), in which the agents see its subscription go
+(as DDS tells them). A second property lets requests too be lost, repeated and reordered at
+will: then only the order is not promised (nothing in a request says what came before it)."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+import pytest
+from hypothesis import HealthCheck, event, given, settings, target
+from hypothesis import strategies as st
+
+from dsr_graph.model.binary import dumps
+from dsr_graph.model.graph import Graph
+from dsr_graph.protocol.agent_core import TICK, AgentCore
+from dsr_graph.protocol.server_core import Rejection, ServerCore
+
+pytestmark = pytest.mark.unit
+
+AGENTS = ("/speech", "/panel")
+HEAL_LIMIT = 120.0  # virtual seconds a healed network has to settle everything
+
+
+@dataclass
+class Message:
+    to: str  # an agent's name, or "server"
+    kind: str  # request | delta | rejection | heartbeat | snapshot
+    text: str
+    sender: str = ""
+    asked: int = 0  # a snapshot's request number (an answer to a withdrawn one is not given)
+
+
+@dataclass
+class Net:
+    """The server's core and the messages on their way, which the test delivers in its order."""
+
+    requests_faulty: bool = False
+    now: float = 0.0
+    up: bool = True
+    boot: int = 0
+    flight: list[Message] = field(default_factory=list)
+    journal: list[dict] = field(default_factory=list)
+    cores: dict[str, AgentCore] = field(default_factory=dict)
+    asked: dict[str, int] = field(default_factory=dict)
+    beat_at: float = 0.0
+
+    def __post_init__(self) -> None:
+        self.start = ServerCore(Graph()).snapshot()
+        self.server = ServerCore.from_snapshot(self.start)
+
+    # -------------------------------------------------------------- the server
+    def restart(self) -> None:
+        """The server dies: what was on its way to it is lost; it comes back from its journal
+        after a second in which the agents see it gone."""
+        self.up = False
+        self.flight = [m for m in self.flight if m.to != "server"]
+        self.advance(1.0)
+        self.server, _, _ = ServerCore.restore(
+            self.start,
+            lambda seq, replay: sum(replay(d) is None for d in self.journal if d["seq"] > seq),
+        )
+        self.up = True
+        self.boot += 1
+        self.beat()
+
+    def beat(self) -> None:
+        text = json.dumps({"seq": self.server.seq, "boot": f"b{self.boot}", "unreachable": []})
+        for name in self.cores:
+            self.flight.append(Message(name, "heartbeat", text))
+        self.beat_at = self.now
+
+    def serve(self, message: Message) -> None:
+        if not self.up:
+            return
+        if message.kind == "snapshot":  # a request for one, answered to its asker
+            text = dumps(self.server.snapshot())
+            self.flight.append(Message(message.sender, "snapshot", text, asked=message.asked))
+            return
+        result = self.server.submit(message.text, now=self.now, sender=message.sender)
+        if isinstance(result, Rejection):
+            text = dumps(result.to_json())
+            self.flight.append(Message(message.sender, "rejection", text))
+            return
+        self.journal.append(json.loads(dumps(result)))
+        for name in self.cores:
+            self.flight.append(Message(name, "delta", dumps(result)))
+
+    # -------------------------------------------------------------- delivery and time
+    def deliver(self, index: int) -> None:
+        message = self.flight.pop(index % len(self.flight))
+        if message.to == "server":
+            self.serve(message)
+            return
+        core = self.cores[message.to]
+        if message.kind == "delta":
+            core.on_delta(message.text, self.now)
+        elif message.kind == "rejection":
+            core.on_rejection(message.text, self.now)
+        elif message.kind == "heartbeat":
+            core.on_heartbeat(message.text, self.now)
+        elif message.asked == self.asked[message.to]:
+            core.on_snapshot(message.text, self.now)
+
+    def advance(self, seconds: float) -> None:
+        end = self.now + seconds
+        while self.now < end:
+            self.now = min(end, self.now + TICK)
+            if self.up and self.now - self.beat_at >= 1.0:
+                self.beat()
+            for core in self.cores.values():
+                core.tick(self.now)
+
+
+class NetLink:
+    def __init__(self, net: Net, name: str):
+        self.net, self.name = net, name
+
+    def publish(self, text: str, blobs: dict[str, bytes]) -> None:
+        self.net.flight.append(Message("server", "request", text, sender=self.name))
+
+    def matched(self) -> bool:
+        return self.net.up
+
+    def ask_snapshot(self) -> None:
+        self.net.asked[self.name] += 1
+        asked = self.net.asked[self.name]
+        self.net.flight.append(Message("server", "snapshot", "", sender=self.name, asked=asked))
+
+    def withdraw_snapshot(self) -> None:
+        self.net.asked[self.name] += 1
+
+    def log(self, level: str, message: str) -> None:
+        pass
+
+
+def network(requests_faulty: bool) -> tuple[Net, dict[str, list]]:
+    net = Net(requests_faulty=requests_faulty)
+    verdicts: dict[str, list] = {}
+    for name in AGENTS:
+        net.asked[name] = 0
+        net.cores[name] = AgentCore(name, NetLink(net, name), run="r")
+        net.cores[name].ask_snapshot(net.now)
+    net.beat()
+    return net, verdicts
+
+
+ACTIONS = st.lists(
+    st.one_of(
+        st.tuples(st.just("send"), st.sampled_from(AGENTS)),
+        st.tuples(st.just("deliver"), st.integers(0, 50)),
+        st.tuples(st.just("drop"), st.integers(0, 50)),
+        st.tuples(st.just("repeat"), st.integers(0, 50)),
+        st.tuples(st.just("wait"), st.sampled_from([0.1, 0.5, 1.0, 3.5])),
+        st.tuples(st.just("restart"), st.none()),
+    ),
+    max_size=60,
+)
+
+
+def play(net: Net, verdicts: dict[str, list], actions, sent: dict[str, list[str]]) -> None:
+    for kind, arg in actions:
+        if kind == "send":
+            name = f"n{sum(len(v) for v in sent.values())}"
+            ident = net.cores[arg].send(
+                {"ops": [{"op": "insert_node", "name": name, "type": "cup"}]},
+                lambda result: verdicts.setdefault(result.id, []).append(result),
+                net.now,
+            )
+            sent[arg].append(ident)
+        elif kind == "restart":
+            net.restart()
+        elif kind == "wait":
+            net.advance(arg)
+        elif net.flight:
+            index = arg % len(net.flight)
+            faulty = net.requests_faulty or net.flight[index].to != "server"
+            if kind == "deliver" and faulty:
+                net.deliver(index)  # any message, out of order
+            elif kind == "deliver":
+                net.deliver(_first_request(net))  # requests stay in the order they were sent
+            elif kind == "drop" and faulty:
+                net.flight.pop(index)
+            elif kind == "repeat" and faulty:
+                net.flight.append(net.flight[index])
+
+
+def _first_request(net: Net) -> int:
+    return next(i for i, m in enumerate(net.flight) if m.to == "server")
+
+
+def heal(net: Net, verdicts: dict[str, list], sent: dict[str, list[str]]) -> None:
+    """Deliver everything in order, with time passing, until all is settled."""
+    expected = {i for ids in sent.values() for i in ids}
+    while net.now < HEAL_LIMIT:
+        while net.flight:
+            net.deliver(0)
+        settled = all(c.replica.seq == net.server.seq and not c.busy for c in net.cores.values())
+        if settled and expected <= set(verdicts):
+            return
+        net.advance(TICK)
+
+
+def check(net: Net, verdicts: dict[str, list], sent: dict[str, list[str]], ordered: bool) -> None:
+    journal_ids = [d["id"] for d in net.journal]
+    assert len(journal_ids) == len(set(journal_ids)), "a request was applied twice"
+    for name, ids in sent.items():
+        for ident in ids:
+            assert len(verdicts.get(ident, [])) == 1, f"{ident}: {verdicts.get(ident)}"
+            assert verdicts[ident][0].accepted, verdicts[ident][0].error
+        assert set(ids) <= set(journal_ids)
+        if ordered:
+            applied = [i for i in journal_ids if i in set(ids)]
+            assert applied == ids, f"{name}'s requests applied out of order"
+    target(float(sum(c.resyncs for c in net.cores.values())), label="resyncs")
+    event(f"resynchronised after a loss: {any(c.resyncs > 1 for c in net.cores.values())}")
+    event(f"server restarted: {net.boot > 0}")
+    names = sorted(n.name for n in net.server.graph.nodes())
+    for core in net.cores.values():
+        assert core.replica.seq == net.server.seq
+        assert sorted(n.name for n in core.graph.nodes()) == names
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(ACTIONS)
+def test_exactly_once_in_order_whatever_the_server_and_its_deltas_go_through(actions):
+    net, verdicts = network(requests_faulty=False)
+    sent = {name: [] for name in AGENTS}
+    play(net, verdicts, actions, sent)
+    heal(net, verdicts, sent)
+    check(net, verdicts, sent, ordered=True)
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(ACTIONS)
+def test_exactly_once_when_requests_too_are_lost_repeated_and_reordered(actions):
+    net, verdicts = network(requests_faulty=True)
+    sent = {name: [] for name in AGENTS}
+    play(net, verdicts, actions, sent)
+    heal(net, verdicts, sent)
+    check(net, verdicts, sent, ordered=False)
+
+
+def test_a_request_the_server_already_applied_is_answered_once_the_replica_has_it():
+    """Its delta lost, its repeat called a duplicate: the verdict comes with the resync."""
+    net, verdicts = network(requests_faulty=False)
+    while net.flight:
+        net.deliver(0)
+    speech = net.cores["/speech"]
+    ident = speech.send(
+        {"ops": [{"op": "insert_node", "name": "cup", "type": "cup"}]},
+        lambda result: verdicts.setdefault(result.id, []).append(result),
+        net.now,
+    )
+    net.deliver(_first_request(net))
+    net.flight = [m for m in net.flight if m.to != "/speech"]  # its delta never comes
+    net.advance(3.5)  # resent, answered "duplicate_of"
+    assert ident not in verdicts
+    heal(net, verdicts, {"/speech": [ident]})
+    assert [v.accepted for v in verdicts[ident]] == [True]
+    assert verdicts[ident][0].seq == 1 and "cup" in speech.graph
