@@ -62,6 +62,7 @@ from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
+from dsr_graph.ros.log_levels import log_at
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_requests, qos_stream
 from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetSnapshot
@@ -263,7 +264,7 @@ class DsrAgent:
             self._snapshot_future = None
 
     def log(self, level: str, message: str) -> None:
-        getattr(self.node.get_logger(), level)(message)
+        log_at(self.node.get_logger(), level, message)
 
     # ------------------------------------------------------------------ receiving
     def _from_server(self, channel: str, text: str) -> str | None:

@@ -65,49 +65,40 @@ import time
 import uuid
 from typing import Any
 
-import orjson
 from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
-from dsr_graph.exceptions import KeystoreError, LookupFailed, StateMismatch, Violation
+from dsr_graph.exceptions import KeystoreError, LookupFailed
 from dsr_graph.formats import dsr_json
 from dsr_graph.formats.default_paths import state_path
-from dsr_graph.formats.state_store import StateStore, origin_conflict, world_origin
-from dsr_graph.formats.world_files import read_world
+from dsr_graph.formats.state_store import StateStore
 from dsr_graph.model import rigid
 from dsr_graph.model.agent_info import GONE
 from dsr_graph.model.agent_info import states as agent_states
-from dsr_graph.model.binary import dumps, to_json_value
-from dsr_graph.model.collector import collector_paused
-from dsr_graph.model.graph import Graph
+from dsr_graph.model.binary import dumps
 from dsr_graph.model.policy import OPEN, Policy
-from dsr_graph.model.rt_history import DEFAULT_MAX_AGE, DEFAULT_MAX_COUNT
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.absence import Absences
-from dsr_graph.protocol.blobs import BlobCache, extract, refs_in_text
+from dsr_graph.protocol.acceptance import journal_then_broadcast, outgoing
+from dsr_graph.protocol.attribution import attribute
+from dsr_graph.protocol.blobs import BlobCache, refs_in_text
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
 from dsr_graph.protocol.security import ENFORCE, OFF, Security
-from dsr_graph.protocol.server_core import (
-    DEFAULT_MAX_LEASE,
-    DEFAULT_MAX_NODES,
-    DEFAULT_MAX_OPS,
-    DEFAULT_MAX_REQUEST_BYTES,
-    DEFAULT_MAX_VALUE_BYTES,
-    Rejection,
-    ServerCore,
-)
-from dsr_graph.protocol.signing import Verified
+from dsr_graph.protocol.server_core import Rejection, ServerCore
+from dsr_graph.protocol.snapshot_text import LAYOUTS, snapshot_text
+from dsr_graph.protocol.state_boot import boot_state
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
-from dsr_graph.protocol.volatility import is_volatile
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.dsr_node import DsrNode, main_for
+from dsr_graph.ros.log_levels import log_at
 from dsr_graph.ros.marker_messages import marker_array
-from dsr_graph.ros.parameters import declare, float_param, param
+from dsr_graph.ros.parameters import float_param, param
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_stream
 from dsr_graph.ros.request_topics import RequestTopics
+from dsr_graph.ros.server_parameters import declare_server_parameters, limits
 from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetAttribute, GetBlob, GetNode, GetSnapshot, GetTransform
@@ -125,135 +116,7 @@ class DsrServer(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(
-            node,
-            "world_file",
-            "",
-            "world file (ours or CORTEX) loaded when state_dir holds no state",
-            read_only=True,
-        )
-        declare(
-            node,
-            "resume",
-            False,
-            "go on with the graph in state_dir even if it was made from another world_file",
-            read_only=True,
-        )
-        declare(
-            node,
-            "vocabulary_file",
-            "",
-            "vocabulary file; empty for the built-in default",
-            read_only=True,
-        )
-        declare(
-            node,
-            "state_dir",
-            state_path("dsr", node.get_name()),
-            "directory where the graph persists (empty: this default)",
-            read_only=True,
-        )
-        declare(
-            node,
-            "compact_every",
-            1000,
-            "journaled deltas between snapshots",
-            read_only=True,
-            minimum=1,
-        )
-        declare(
-            node,
-            "max_request_bytes",
-            DEFAULT_MAX_REQUEST_BYTES,
-            "requests of more UTF-8 bytes are rejected",
-            read_only=True,
-            minimum=1024,
-        )
-        declare(
-            node,
-            "max_ops",
-            DEFAULT_MAX_OPS,
-            "transactions of more operations are rejected",
-            read_only=True,
-            minimum=1,
-        )
-        declare(
-            node,
-            "max_nodes",
-            DEFAULT_MAX_NODES,
-            "a transaction that would grow the graph beyond this many nodes is rejected",
-            read_only=True,
-            minimum=1,
-        )
-        declare(
-            node,
-            "max_lease",
-            DEFAULT_MAX_LEASE,
-            "longest claim lease in seconds; a longer one is rejected",
-            read_only=True,
-            minimum=0.001,
-        )
-        declare(
-            node,
-            "max_value_bytes",
-            DEFAULT_MAX_VALUE_BYTES,
-            "a binary value (bytes, an image) of more bytes is rejected",
-            read_only=True,
-            minimum=1,
-        )
-        declare(
-            node,
-            "publish_poses",
-            True,
-            "publish geometry_msgs/PoseStamped per geometric node",
-            read_only=True,
-        )
-        declare(
-            node,
-            "markers_period",
-            1.0,
-            "seconds between drawings of a changed graph on dsr/markers (0: none)",
-            read_only=True,
-            minimum=0.0,
-        )
-        declare(
-            node,
-            "heartbeat_period",
-            1.0,
-            "seconds between heartbeats and claim housekeeping",
-            read_only=True,
-            minimum=0.01,
-        )
-        declare(
-            node,
-            "agent_grace",
-            3.0,
-            "seconds a claim holder may be absent before its claims are freed",
-            minimum=0.0,
-        )
-        declare(
-            node,
-            "rt_history_seconds",
-            DEFAULT_MAX_AGE,
-            "seconds of each RT edge's past transforms kept for dsr/get_transform's at",
-            read_only=True,
-            minimum=0.001,
-        )
-        declare(
-            node,
-            "rt_history_count",
-            DEFAULT_MAX_COUNT,
-            "past transforms kept per RT edge, at most",
-            read_only=True,
-            minimum=2,
-        )
-        declare(
-            node,
-            "policy_file",
-            "",
-            "YAML: who may write what, and claim priorities (empty: all may, all equal)",
-            read_only=True,
-        )
+        declare_server_parameters(node)
 
     def __init__(self, node_name: str = "", **kwargs: Any):
         super().__init__(node_name, **kwargs)
@@ -289,56 +152,17 @@ class DsrServer(DsrNode):
             compact_every=param(self, "compact_every"),
         )
         self.store.open()
-        snapshot = self.store.load_snapshot()
-        world_file = param(self, "world_file")
-        origin = world_origin(world_file)
-        if snapshot is not None:
-            conflict = origin_conflict(self.store.read_origin(), origin, int(snapshot["seq"]))
-            if conflict and not param(self, "resume"):
-                raise StateMismatch(
-                    f"state_dir {self.store.dir}: {conflict}. Set -p resume:=true to go on with "
-                    "the stored graph, or give another state_dir (or remove this one) to start "
-                    "from the world"
-                )
-            if conflict:
-                self.get_logger().warning(
-                    f"state_dir {self.store.dir}: {conflict}; going on with it (resume:=true)"
-                )
-            self.core, replayed, legacy = ServerCore.restore(
-                snapshot,
-                self.store.replay_journal,
-                vocabulary,
-                policy=policy,
-                **self._limits(),
-            )
-            if legacy:
-                self.store.write_snapshot(self.core.durable_snapshot())
-                self.get_logger().warning(
-                    f"state_dir {self.store.dir} was in millimetres (written before units were "
-                    "declared): converted to metres and stored so"
-                )
-            for warning in self.store.warnings:
-                self.get_logger().warning(warning)
-            self.get_logger().info(
-                f"restored {self.store.dir}: seq {self.core.seq} "
-                f"({replayed} journaled after the snapshot), "
-                f"{len(self.core.graph)} nodes"
-                + (f"; world_file {world_file} not loaded (state exists)" if world_file else "")
-            )
-        else:
-            graph = Graph(vocabulary)
-            if world_file:
-                world = read_world(world_file, vocabulary)
-                for violation in world.violations:
-                    self.get_logger().warning(f"world file: left out: {violation}")
-                graph = world.graph
-            self.core = ServerCore(graph, 0, policy=policy, **self._limits())
-            self.store.write_origin(origin)
-            self.store.write_snapshot(self.core.durable_snapshot())
-            self.get_logger().info(
-                f"new state in {self.store.dir} from {world_file or 'an empty graph'}: "
-                f"{len(graph)} nodes, {graph.edge_count()} edges"
-            )
+        boot = boot_state(
+            self.store,
+            param(self, "world_file"),
+            vocabulary,
+            policy,
+            limits(self),
+            resume=param(self, "resume"),
+        )
+        self.core = boot.core
+        for level, message in boot.notes:
+            log_at(self.get_logger(), level, message)
         self.core.graph.rt_history.limit(
             float_param(self, "rt_history_seconds"), param(self, "rt_history_count")
         )
@@ -416,15 +240,6 @@ class DsrServer(DsrNode):
         text = dumps(doc, separators=(",", ":"))
         publisher.publish(String(data=self.security.sign(channel, text)))
 
-    def _limits(self) -> dict[str, Any]:
-        return {
-            "max_request_bytes": param(self, "max_request_bytes"),
-            "max_ops": param(self, "max_ops"),
-            "max_nodes": param(self, "max_nodes"),
-            "max_lease": float_param(self, "max_lease"),
-            "max_value_bytes": param(self, "max_value_bytes"),
-        }
-
     def close(self) -> None:
         if self.store is not None:
             self.store.close()
@@ -454,29 +269,17 @@ class DsrServer(DsrNode):
             self._accept(accepted)
 
     def _attribute(self, text: str, sender: Sender, topic: str):
-        """(the agent a request is from or None, the refusal if None, the request's text).
-        Signed: the signer, who must be the topic's owner; unsigned or forged: refused under
-        enforce, the ROS graph's word (with a warning) under permissive or off."""
-        if self.security.mode != OFF:
-            signed = self.security.request(text)
-            owner = self.requests.owner_of(topic)
-            if isinstance(signed, Verified):
-                if owner is None or signed.signer.rsplit("/", 1)[-1] == owner:
-                    if owner is not None:
-                        self.requests.signers[topic] = signed.signer
-                    return signed.signer, None, signed.payload
-                problem = f"signed by {signed.signer}, but published on {owner!r}'s topic"
-                self._alarm(topic, "identity", problem, (signed.signer,))
-                return None, Violation("identity", topic, problem), signed.payload
-            problem = f"a request on {topic} is refused: {signed}"
-            if self.security.mode == ENFORCE:
-                self._alarm(topic, "signature", problem, self.requests.strangers(topic))
-                return None, Violation("signature", topic, problem), text
-            self._alarm(topic, "signature", problem, (), refused=False)
-        if sender.agent is None:
-            self._alarm(topic, "identity", sender.problem, sender.intruders)
-            return None, Violation("identity", topic, sender.problem), text
-        return sender.agent, None, text
+        """(the agent a request is from or None, the refusal if None, the request's text):
+        protocol/attribution.py's rule, with its alarms raised here."""
+        owner = self.requests.owner_of(topic)
+        found = attribute(
+            self.security, text, sender, topic, owner, lambda: self.requests.strangers(topic)
+        )
+        if found.proven_signer is not None:
+            self.requests.signers[topic] = found.proven_signer
+        for alarm in found.alarms:
+            self._alarm(topic, alarm.kind, alarm.message, alarm.intruders, alarm.refused)
+        return found.agent, found.refusal, found.payload
 
     def _alarm(
         self, topic: str, kind: str, message: str, intruders: tuple[str, ...], refused=True
@@ -495,38 +298,26 @@ class DsrServer(DsrNode):
         self._publish(self._alarms, topic_names.ALARMS, alarm)
 
     def _accept(self, deltas: list[dict[str, Any]]) -> None:
-        """Make deltas durable, then broadcast them. If the disk fails, stop: a restart from what
-        is on disk is consistent, an accepted change that is not on disk would not be. Volatile
-        deltas (sensor data) are broadcast at once and never journalled: a crash loses the
-        latest of them, never a symbol."""
-        durable = [delta for delta in deltas if not is_volatile(delta)]
+        """On disk, then broadcast (protocol/acceptance.py); if the disk fails, stop."""
         try:
-            for delta in durable:
-                self.store.append(delta)
-            if durable:
-                self.store.flush()
+            compact = journal_then_broadcast(self.store, deltas, self._broadcast)
         except OSError as e:
             self.get_logger().fatal(
                 f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)"
             )
             raise SystemExit(3) from e
-        for delta in deltas:
-            doc, blobs = extract(delta, known=self.blobs.digest_of_kept)
-            for digest, data in blobs.items():  # the bytes first: a reader holds the delta
-                # Bytes an agent sent went to every reader that wants them on the agent's own
-                # dsr/blobs/<name>: sent again here they cost the server a 2 MB copy a camera
-                # frame (bench camera). Only bytes the wire has not carried yet go out.
-                carried = digest in self.blobs
-                self.blobs.put(digest, data, verified=True)
-                if not carried:
-                    self._blob_pub.publish(blob_message(digest, data))
-            self._publish(self._deltas, topic_names.DELTAS, doc)
-            self._tf.on_delta(self.core.graph, delta)
-            if self._publish_poses:
-                for name in moved_nodes(delta):
-                    self._publish_pose(name)
-        if self.store.needs_compaction():
+        if compact:
             self.store.write_snapshot(self.core.durable_snapshot())
+
+    def _broadcast(self, delta: dict[str, Any]) -> None:
+        doc, blobs = outgoing(delta, self.blobs)
+        for digest, data in blobs.items():  # the bytes first: a reader holds the delta
+            self._blob_pub.publish(blob_message(digest, data))
+        self._publish(self._deltas, topic_names.DELTAS, doc)
+        self._tf.on_delta(self.core.graph, delta)
+        if self._publish_poses:
+            for name in moved_nodes(delta):
+                self._publish_pose(name)
 
     def on_discover(self) -> None:
         """Agents that appeared: their request and blob topics, from one look at the ROS graph."""
@@ -679,7 +470,7 @@ class DsrServer(DsrNode):
 
     def on_get_snapshot(self, request: GetSnapshot.Request, response: GetSnapshot.Response):
         layout = request.layout
-        if layout not in ("", dsr_json.COLUMNS):
+        if layout not in LAYOUTS:
             # the srv has no error field: an empty snapshot_json says nothing was given
             self.get_logger().warning(
                 f"dsr/get_snapshot: unknown layout {layout!r} ('' or {dsr_json.COLUMNS!r})",
@@ -690,12 +481,7 @@ class DsrServer(DsrNode):
         # Late joiners often come together (a launch): encode each state's snapshot once a layout.
         version = self._version()
         if self._snapshot_cache.get(layout, (None,))[0] != version:
-            # large binary values (a camera's images) by reference, their bytes on dsr/blobs
-            with collector_paused():
-                snapshot, blobs = extract(self.core.snapshot(), known=self.blobs.digest_of_kept)
-                if layout == dsr_json.COLUMNS:
-                    snapshot = dsr_json.to_columns(snapshot, _element_text)
-                text = orjson.dumps(snapshot, default=to_json_value).decode()
+            text, blobs = snapshot_text(self.core, layout, known=self.blobs.digest_of_kept)
             signed = self.security.sign(topic_names.GET_SNAPSHOT, text)
             self._snapshot_cache[layout] = (version, self.core.seq, signed, blobs)
         _, response.seq, response.snapshot_json, blobs = self._snapshot_cache[layout]
@@ -708,10 +494,6 @@ class DsrServer(DsrNode):
         """What the graph holds now: its seq, and the volatile changes since it started (they
         change it without a seq of their own)."""
         return self.core.seq, self.core.volatile_count
-
-
-def _element_text(item: dict[str, Any]) -> str:
-    return orjson.dumps(item, default=to_json_value).decode()
 
 
 main = main_for(DsrServer)
