@@ -228,24 +228,18 @@ def check(net: Net, verdicts: dict[str, list], sent: dict[str, list[str]], order
         assert sorted(n.name for n in core.graph.nodes()) == names
 
 
+@pytest.mark.parametrize(
+    "requests_faulty", [False, True], ids=["requests-in-order", "requests-lost-and-reordered"]
+)
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(ACTIONS)
-def test_exactly_once_in_order_whatever_the_server_and_its_deltas_go_through(actions):
-    net, verdicts = network(requests_faulty=False)
+@given(actions=ACTIONS)
+def test_exactly_once_whatever_the_network_and_the_server_go_through(requests_faulty, actions):
+    """In order too, unless requests themselves are lost and reordered."""
+    net, verdicts = network(requests_faulty)
     sent = {name: [] for name in AGENTS}
     play(net, verdicts, actions, sent)
     heal(net, verdicts, sent)
-    check(net, verdicts, sent, ordered=True)
-
-
-@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(ACTIONS)
-def test_exactly_once_when_requests_too_are_lost_repeated_and_reordered(actions):
-    net, verdicts = network(requests_faulty=True)
-    sent = {name: [] for name in AGENTS}
-    play(net, verdicts, actions, sent)
-    heal(net, verdicts, sent)
-    check(net, verdicts, sent, ordered=False)
+    check(net, verdicts, sent, ordered=not requests_faulty)
 
 
 def test_a_request_the_server_already_applied_is_answered_once_the_replica_has_it():
