@@ -21,7 +21,8 @@ from clarc_agents.pelea.hle import Times
 from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire import confirmation, orientation
-from clarc_sim.hospital.results_store import InvalidResult, check_result
+from clarc_sim.exceptions import InvalidResult
+from clarc_sim.hospital.result_checks import check_result
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.protocol.local_bus import LocalBus

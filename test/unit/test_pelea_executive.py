@@ -87,7 +87,7 @@ def test_words_never_understood_leave_the_item_to_the_clinician_with_its_clips()
     """Never a confident wrong score: an item the robot could not understand twice is no 0
     points but the clinician's to score, from what was heard and the clips; the result has no
     band until then, only the range the total lies in."""
-    from clarc_sim.hospital.results_store import check_result
+    from clarc_sim.hospital.result_checks import check_result
 
     robot = Robot(Patient(answers={"bathing": ["garbled", "garbled"]}))
     result = robot.run_test()

@@ -10,8 +10,9 @@ from pathlib import Path
 import pytest
 
 from clarc_sim.exceptions import InvalidResult
-from clarc_sim.hospital import results_store
-from clarc_sim.hospital.results_store import VERSION, ResultsStore
+from clarc_sim.hospital import store_schema
+from clarc_sim.hospital.results_store import ResultsStore
+from clarc_sim.hospital.store_schema import VERSION
 
 BEFORE_VERSIONS = Path(__file__).resolve().parents[1] / "fixtures" / "cgamed_before_versions.sqlite"
 # written by the code of version 2 (before patients were records): two Barthel results, one of
@@ -59,8 +60,8 @@ def test_a_migration_that_fails_leaves_the_store_as_it_was(tmp_path, monkeypatch
     path = tmp_path / "cgamed.sqlite"
     shutil.copy(BEFORE_VERSIONS, path)
     before = rows(path)
-    broken = {**results_store.MIGRATIONS, 1: [*results_store.MIGRATIONS[1][:3], "NOT SQL"]}
-    monkeypatch.setattr(results_store, "MIGRATIONS", broken)
+    broken = {**store_schema.MIGRATIONS, 1: [*store_schema.MIGRATIONS[1][:3], "NOT SQL"]}
+    monkeypatch.setattr(store_schema, "MIGRATIONS", broken)
     with pytest.raises(sqlite3.OperationalError):
         ResultsStore(path)
     assert rows(path) == before

@@ -29,12 +29,8 @@ from clarc_sim.console import (
     understand_cli,
     user_cli,
 )
-from clarc_sim.hospital.results_store import (
-    ResultsStore,
-    default_db,
-    tests_known,
-    waiting_for_clinician,
-)
+from clarc_sim.hospital.result_checks import tests_known, waiting_for_clinician
+from clarc_sim.hospital.results_store import ResultsStore, default_db
 from clarc_sim.patient.scenario import load
 from dsr_graph.cli.api import split_ros_args
 from dsr_graph.formats.private_files import set_private_umask

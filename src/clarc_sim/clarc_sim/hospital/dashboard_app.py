@@ -75,7 +75,8 @@ from clarc_sim.exceptions import (
     UnknownTest,
 )
 from clarc_sim.hospital import accounts
-from clarc_sim.hospital.results_store import ResultsStore, tests_known
+from clarc_sim.hospital.result_checks import tests_known
+from clarc_sim.hospital.results_store import ResultsStore
 from dsr_graph.formats.private_files import write_private
 from dsr_graph.web.events import Broadcaster
 from dsr_graph.web.guard import LOOPBACK, protect

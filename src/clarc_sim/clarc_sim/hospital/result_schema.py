@@ -1,7 +1,7 @@
 """The shape of a result that CGAmed accepts on ``clarc/cgamed/store_result``, as JSON Schema
 (checked with jsonschema before anything else reads it): every field a test's result carries,
 its type and its bounds, and nothing else. What the numbers mean (a score the item allows, a
-total that adds up, a band that matches) is checked after it, in ``results_store.check_result``.
+total that adds up, a band that matches) is checked after it, in ``result_checks.check_result``.
 """
 
 from __future__ import annotations

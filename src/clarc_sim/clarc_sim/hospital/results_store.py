@@ -9,19 +9,8 @@ Tables: patients (a record per patient: id and name), tests (one row per test: w
 with its whole result as JSON), items (one row per item of a questionnaire, in test order) and
 notifications (what the clinician was told).
 
-The schema is versioned (SQLite's ``user_version``): a store written by an older version is
-migrated when it is opened, in one transaction, keeping every row (``MIGRATIONS``). Version 0 is
-the store before versions (Barthel only); 1 adds ``tests.test`` and lets a test have no total
-(a timed test, the Get Up & Go, has a time instead); 2 adds the clinician's validation
-(``validated_by``, ``validated_at``), after which a result cannot change; 3 adds patients as
-records (``patients``, ``tests.patient_id``: one record per name already stored); 4 adds who may
-do what: the dashboard's accounts (``users``: name, role, Argon2 password hash, disabled), an
-append-only audit trail (``audit``: SQLite triggers refuse any UPDATE or DELETE), every score a
-clinician gave (``scores``: a re-score keeps the earlier one) and a version per result
-(``tests.version``, one more at each score) that a validation names; 5 gives every Get Up & Go
-result its ``outcome`` (timed or unable), ``reaction_seconds``, time standing still (``phases``
-``still``) and ``void_reasons`` (a result stored before was timed, with no pauses, and its
-reaction is what its phases leave of the total).
+The schema and its versions: ``store_schema.py``; the checks a result passes before it is
+stored: ``result_checks.py``.
 
 Questionnaire results are checked against their test definition (any test in
 clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinician's score
@@ -38,9 +27,6 @@ from pathlib import Path
 from typing import Any
 
 from clarc_agents import definitions
-from clarc_agents.gug.phases import PHASES, STILL, fall_risk
-from clarc_agents.gug.phases import band as gug_band
-from clarc_agents.gug.record import UNABLE, UNABLE_BAND
 from clarc_sim.exceptions import (
     AccountError,
     AlreadyValidated,
@@ -49,296 +35,26 @@ from clarc_sim.exceptions import (
     UnknownPatient,
     UnknownTest,
 )
-from clarc_sim.hospital.result_schema import refusals
+from clarc_sim.hospital.result_checks import (
+    TIMED,
+    band_of,
+    check_result,
+    provisional,
+    waiting_for_clinician,
+)
+from clarc_sim.hospital.store_schema import migrate
 from dsr_graph.formats.default_paths import data_path
 
-VERSION = 5
 ROLES = ("technician", "clinician", "admin")
-TIMED = "get_up_and_go"
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
 # data files, and whether the clinician scores them (an answer the robot could not understand)
 ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts", "needs_clinician")}
 EVIDENCE = ("heard", "audio")  # an item's, listed whenever it has them
-PATIENTS = """CREATE TABLE IF NOT EXISTS patients (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    name TEXT NOT NULL,
-    created TEXT NOT NULL
-)"""
-SCHEMA = f"""
-{PATIENTS};
-CREATE TABLE IF NOT EXISTS tests (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    test TEXT NOT NULL DEFAULT 'barthel',
-    patient TEXT NOT NULL,
-    started TEXT NOT NULL,
-    finished TEXT,
-    total INTEGER,
-    band TEXT NOT NULL,
-    clinician_called INTEGER NOT NULL,
-    person_lost INTEGER NOT NULL,
-    result_json TEXT NOT NULL,
-    stored TEXT NOT NULL,
-    validated_by TEXT,
-    validated_at TEXT,
-    patient_id INTEGER REFERENCES patients(id),
-    version INTEGER NOT NULL DEFAULT 1,
-    UNIQUE (patient, started)
-);
-CREATE TABLE IF NOT EXISTS items (
-    test_id INTEGER NOT NULL REFERENCES tests(id),
-    position INTEGER NOT NULL,
-    item TEXT NOT NULL,
-    points INTEGER,
-    via TEXT,
-    attempts INTEGER NOT NULL,
-    PRIMARY KEY (test_id, position)
-);
-CREATE TABLE IF NOT EXISTS notifications (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    time TEXT NOT NULL,
-    kind TEXT NOT NULL,
-    message TEXT NOT NULL,
-    test_id INTEGER REFERENCES tests(id)
-);
-{{ACCOUNTS}}
-"""
-ACCOUNTS = """CREATE TABLE IF NOT EXISTS users (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    name TEXT NOT NULL UNIQUE,
-    role TEXT NOT NULL CHECK (role IN ('technician', 'clinician', 'admin')),
-    password_hash TEXT NOT NULL,
-    disabled INTEGER NOT NULL DEFAULT 0,
-    created TEXT NOT NULL
-);
-CREATE TABLE IF NOT EXISTS audit (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    time TEXT NOT NULL,
-    user TEXT NOT NULL,
-    action TEXT NOT NULL,
-    test_id INTEGER,
-    detail TEXT NOT NULL DEFAULT ''
-);
-CREATE TRIGGER IF NOT EXISTS audit_no_update BEFORE UPDATE ON audit
-    BEGIN SELECT RAISE(ABORT, 'the audit trail is append-only'); END;
-CREATE TRIGGER IF NOT EXISTS audit_no_delete BEFORE DELETE ON audit
-    BEGIN SELECT RAISE(ABORT, 'the audit trail is append-only'); END;
-CREATE TABLE IF NOT EXISTS scores (
-    id INTEGER PRIMARY KEY AUTOINCREMENT,
-    test_id INTEGER NOT NULL REFERENCES tests(id),
-    item TEXT NOT NULL,
-    points INTEGER NOT NULL,
-    scored_by TEXT NOT NULL,
-    scored_at TEXT NOT NULL,
-    version INTEGER NOT NULL
-)"""
-SCHEMA = SCHEMA.replace("{ACCOUNTS}", ACCOUNTS)
-
-
-# version reached -> the statements that reach it from the one before (run in one transaction)
-MIGRATIONS = {
-    1: [
-        """CREATE TABLE tests_v1 (
-            id INTEGER PRIMARY KEY AUTOINCREMENT,
-            test TEXT NOT NULL DEFAULT 'barthel',
-            patient TEXT NOT NULL,
-            started TEXT NOT NULL,
-            finished TEXT,
-            total INTEGER,
-            band TEXT NOT NULL,
-            clinician_called INTEGER NOT NULL,
-            person_lost INTEGER NOT NULL,
-            result_json TEXT NOT NULL,
-            stored TEXT NOT NULL,
-            UNIQUE (patient, started))""",
-        """INSERT INTO tests_v1 (id, test, patient, started, finished, total, band,
-            clinician_called, person_lost, result_json, stored)
-            SELECT id, 'barthel', patient, started, finished, total, band, clinician_called,
-            person_lost, result_json, stored FROM tests""",
-        "DROP TABLE tests",
-        "ALTER TABLE tests_v1 RENAME TO tests",
-    ],
-    2: [
-        "ALTER TABLE tests ADD COLUMN validated_by TEXT",
-        "ALTER TABLE tests ADD COLUMN validated_at TEXT",
-    ],
-    3: [
-        PATIENTS,
-        "ALTER TABLE tests ADD COLUMN patient_id INTEGER REFERENCES patients(id)",
-        """INSERT INTO patients (name, created)
-            SELECT patient, MIN(stored) FROM tests GROUP BY patient ORDER BY MIN(id)""",
-        "UPDATE tests SET patient_id = (SELECT id FROM patients WHERE name = tests.patient)",
-    ],
-    4: [
-        "ALTER TABLE tests ADD COLUMN version INTEGER NOT NULL DEFAULT 1",
-        # (users, audit and scores come with SCHEMA's CREATE ... IF NOT EXISTS)
-    ],
-    # Get Up & Go results say their outcome and reaction, and the phases their time standing
-    # still: every result before was timed, its phases contiguous from the start of the rise
-    # (so the reaction is the rest of the total) and without pauses
-    5: [
-        """UPDATE tests SET result_json = json_set(result_json,
-            '$.outcome', 'timed',
-            '$.reaction_seconds', round(json_extract(result_json, '$.tug_seconds')
-                - json_extract(result_json, '$.phases.rise')
-                - json_extract(result_json, '$.phases.walk_out')
-                - json_extract(result_json, '$.phases.turn')
-                - json_extract(result_json, '$.phases.walk_back')
-                - json_extract(result_json, '$.phases.sit'), 2),
-            '$.phases.still', 0.0,
-            '$.void_reasons', json('[]'))
-            WHERE test = 'get_up_and_go' AND json_extract(result_json, '$.outcome') IS NULL""",
-    ],
-}
-
-
-def statements(script: str) -> list[str]:
-    """A SQL script's statements, each whole (a trigger's body holds semicolons of its own)."""
-    found, current = [], ""
-    for piece in script.split(";"):
-        current += piece + ";"
-        if sqlite3.complete_statement(current):
-            if current.strip(" \n;"):
-                found.append(current.strip())
-            current = ""
-    return found
 
 
 def default_db() -> str:
     """$XDG_DATA_HOME/clarc/cgamed.sqlite"""
     return data_path("clarc", "cgamed.sqlite")
-
-
-def tests_known() -> tuple[str, ...]:
-    return definitions.tests() + (TIMED,)
-
-
-def check_result(result: Any) -> dict[str, Any]:
-    """Refuse a result whose numbers do not add up, before it reaches the clinician."""
-    if not isinstance(result, dict):
-        raise InvalidResult("a result is a JSON object")
-    test = result.get("test", "barthel")
-    if test not in tests_known():
-        raise InvalidResult(f"unknown test {test!r}; the tests are {', '.join(tests_known())}")
-    try:  # NaN and Infinity are not JSON: stored, they would break every reader of the store
-        json.dumps(result, allow_nan=False)
-    except ValueError:
-        raise InvalidResult("a number in the result is not finite (NaN or Infinity)") from None
-    broken = refusals(result, timed=test == TIMED)
-    if broken:
-        raise InvalidResult("; ".join(broken))
-    if test == TIMED:
-        return check_timed_result(result)
-    for key in ("patient", "started", "items", "total", "band"):
-        if key not in result:
-            raise InvalidResult(f"missing {key!r}")
-    definition = definitions.load(test)
-    items = result["items"]
-    if not isinstance(items, list) or [
-        i.get("item") if isinstance(i, dict) else None for i in items
-    ] != list(definition.order):
-        raise InvalidResult(
-            f"items must be the {len(definition.items)} {definition.title} items in order: "
-            f"{', '.join(definition.order)}"
-        )
-    for i in items:
-        spec = definition.item(i["item"])
-        points, via = i.get("points"), i.get("via")
-        if points is not None and (isinstance(points, bool) or points not in spec.points):
-            raise InvalidResult(f"{i['item']}: {points!r} is not a score of it {spec.points}")
-        waiting = spec.needs_clinician and points is None and via is not None
-        if via not in spec.via + (None,) or ((points is None) != (via is None) and not waiting):
-            raise InvalidResult(
-                f"{i['item']}: via must be {' or '.join(spec.via)} for an answer, null otherwise"
-            )
-    total = sum(i["points"] for i in items if i["points"] is not None)
-    band = _band(definition, items)
-    if result["total"] != total or result["band"] != band:
-        raise InvalidResult(
-            f"total/band {result['total']}/{result['band']} do not match the items ({total}/{band})"
-        )
-    for key, value in _provisional(definition, items).items():
-        if key in result and result[key] != value:
-            raise InvalidResult(f"{key} {result[key]!r} does not match the items ({value!r})")
-    return result
-
-
-def doubtful(definition, items: list[dict[str, Any]]) -> list[str]:
-    """Items the robot could not understand (flagged ``needs_clinician`` though the clinician
-    does not score their kind) that wait for the clinician's score."""
-    return [
-        i["item"]
-        for i in items
-        if i.get("needs_clinician")
-        and i["points"] is None
-        and not definition.item(i["item"]).needs_clinician
-    ]
-
-
-def _band(definition, items: list[dict[str, Any]]) -> str | None:
-    """The band of the items' total; none while doubtful items wait (it could be another)."""
-    if doubtful(definition, items):
-        return None
-    return definition.band(sum(i["points"] for i in items if i["points"] is not None))
-
-
-def _provisional(definition, items: list[dict[str, Any]]) -> dict[str, Any]:
-    """``provisional`` and the ``total_range`` the doubtful items leave open."""
-    total = sum(i["points"] for i in items if i["points"] is not None)
-    waiting = doubtful(definition, items)
-    open_points = sum(definition.item(k).max for k in waiting)
-    return {"provisional": bool(waiting), "total_range": [total, total + open_points]}
-
-
-def check_timed_result(result: dict[str, Any]) -> dict[str, Any]:
-    """A Get Up & Go result: timed (its time, its reaction and phases adding up to it, and the
-    band and fall risk of that time) or unable to perform (no time, each void trial's reason)."""
-    if result["outcome"] == UNABLE:
-        if result["tug_seconds"] is not None or result["phases"] is not None:
-            raise InvalidResult("a result unable to perform has no tug_seconds and no phases")
-        if result["band"] != UNABLE_BAND or result.get("fall_risk") is not True:
-            raise InvalidResult(f"unable to perform is band {UNABLE_BAND!r}, fall_risk true")
-        if not result.get("void_reasons"):
-            raise InvalidResult("unable to perform needs the reason of each void trial")
-        return result
-    tug, phases, reaction = result["tug_seconds"], result["phases"], result.get("reaction_seconds")
-    if not isinstance(tug, (int, float)) or isinstance(tug, bool) or not tug > 0:
-        raise InvalidResult(f"tug_seconds must be a positive number of seconds, got {tug!r}")
-    if not isinstance(phases, dict) or list(phases) != [*PHASES, STILL]:
-        raise InvalidResult(f"phases must give {', '.join((*PHASES, STILL))} in that order")
-    if not isinstance(reaction, (int, float)) or isinstance(reaction, bool):
-        raise InvalidResult("a timed result needs reaction_seconds")
-    if abs(reaction + sum(phases.values()) - tug) > 0.05:
-        raise InvalidResult(
-            f"reaction_seconds and the phases add up to {reaction + sum(phases.values()):.2f} s, "
-            f"not tug_seconds {tug}"
-        )
-    if result["band"] != gug_band(tug) or result.get("fall_risk") != fall_risk(tug):
-        raise InvalidResult(
-            f"band/fall_risk {result['band']}/{result.get('fall_risk')} do not match {tug} s "
-            f"({gug_band(tug)}/{fall_risk(tug)})"
-        )
-    return result
-
-
-def migrate(db: sqlite3.Connection) -> int:
-    """Bring the store to ``VERSION``; the version it had."""
-    had = db.execute("PRAGMA user_version").fetchone()[0]
-    if had > VERSION:
-        raise InvalidResult(f"store schema version {had} is newer than this CLARC's ({VERSION})")
-    fresh = db.execute("SELECT 1 FROM sqlite_master WHERE name = 'tests'").fetchone() is None
-    steps = [] if fresh else [m for v in range(had + 1, VERSION + 1) for m in MIGRATIONS[v]]
-    steps += statements(SCHEMA)  # and the tables a version added
-    # one transaction, DDL included (Python's sqlite3 would commit DDL on its own)
-    db.execute("BEGIN IMMEDIATE")
-    try:
-        for statement in steps:
-            db.execute(statement)
-        db.execute(f"PRAGMA user_version = {VERSION}")
-        db.execute("COMMIT")
-    except BaseException:
-        db.execute("ROLLBACK")
-        raise
-    return had
 
 
 class ResultsStore:
@@ -486,8 +202,8 @@ class ResultsStore:
             entry = result["items"][definition.order.index(item)]
             entry.update(points=points, scored_by=clinician, scored_at=when)
             result["total"] = sum(i["points"] for i in result["items"] if i["points"] is not None)
-            result["band"] = _band(definition, result["items"])
-            result |= _provisional(definition, result["items"])
+            result["band"] = band_of(definition, result["items"])
+            result |= provisional(definition, result["items"])
             result["complete"] = not waiting_for_clinician(definition, result["items"])
             if result.get("unanswered") and entry.get("via") is None:
                 result["unanswered"] = [k for k in result["unanswered"] if k != item]
@@ -648,16 +364,6 @@ class ResultsStore:
         ]
 
 
-def waiting_for_clinician(definition, items: list[dict[str, Any]]) -> list[str]:
-    """The items of a result that wait for the clinician's score."""
-    return [
-        i["item"]
-        for i in items
-        if i["points"] is None
-        and (definition.item(i["item"]).needs_clinician or i.get("needs_clinician"))
-    ]
-
-
 def _item_fields(definition, item: dict[str, Any]) -> dict[str, Any]:
     """An item of a stored result with its maximum and whether the clinician scores it (a
     result stored before items said so gets them from its definition)."""
@@ -718,7 +424,7 @@ def _as_listed(row: tuple) -> dict[str, Any]:
         "total": result["total"],
         "max_total": definition.max_total,
         "band": result["band"],
-        **_provisional(definition, items),
+        **provisional(definition, items),
         "complete": complete,
         "items": items,
         "unanswered": result.get("unanswered", []),
