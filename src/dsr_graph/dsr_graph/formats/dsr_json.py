@@ -22,7 +22,8 @@ from dsr_graph.formats import safe_json, units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import provenance, rigid
 from dsr_graph.model.collector import collector_paused
-from dsr_graph.model.graph import SNAPSHOT_COLUMNS, Graph
+from dsr_graph.model.graph import Graph
+from dsr_graph.model.trusted_loading import SNAPSHOT_COLUMNS
 from dsr_graph.model.vocabulary import Vocabulary
 
 FORMAT = "dsr-graph"

@@ -16,17 +16,14 @@ Paper, Section II-A. Rules enforced here (each violation names its rule id):
 The graph keeps the nodes, the edges and their indexes, and checks every mutation; the RT tree
 and its kinematic chains are in ``rt_tree.RtTree``; every mutation records its undo step in
 ``undo_log.UndoLog`` while ``atomic()`` is active, so that a failing transaction is rolled back
-to exactly the state it started from.
+to exactly the state it started from. Nodes and edges are ``elements.py``'s; loading a server's
+snapshot without checking it again is ``trusted_loading.py``'s.
 """
 
 from __future__ import annotations
 
-import sys
-from collections import deque
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from functools import partial
-from operator import itemgetter
 from typing import Any
 
 import numpy as np
@@ -34,105 +31,24 @@ import numpy as np
 from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Violation
 from dsr_graph.model import rigid
 from dsr_graph.model.collector import collector_paused
-from dsr_graph.model.lazy_nodes import LazyNodes
+from dsr_graph.model.elements import Edge, EdgeKey, Node, NodeRef
 from dsr_graph.model.rt_history import RtHistory
 from dsr_graph.model.rt_tree import RtTree
+from dsr_graph.model.trusted_loading import EDGE_INDEXES, SNAPSHOT_COLUMNS, TrustedLoading
 from dsr_graph.model.undo_log import UndoLog
-from dsr_graph.model.values import BINARY, UINT64_MAX, coerce
+from dsr_graph.model.values import UINT64_MAX, coerce
 from dsr_graph.model.vocabulary import RT, Vocabulary
 
-NodeRef = int | str  # a node id (int) or name (str)
-EdgeKey = tuple[int, int, str]  # (from id, to id, type)
+__all__ = ["SNAPSHOT_COLUMNS", "Edge", "EdgeKey", "Graph", "Node", "NodeRef"]
 
 MAX_NAME_LENGTH = 256
-
-
-class Node:
-    # prov: attribute name -> (time, agent) of its last write (model/provenance.py)
-    __slots__ = ("id", "name", "type", "attrs", "version", "prov")
-
-    def __init__(
-        self,
-        id: int,
-        name: str,
-        type: str,
-        attrs: dict[str, Any],
-        version: int = 1,
-        prov: dict[str, tuple[float, str]] | None = None,
-    ):
-        self.id = id
-        self.name = name
-        self.type = type
-        self.attrs = attrs
-        self.version = version
-        self.prov = {} if prov is None else prov
-
-    def __repr__(self) -> str:
-        return f"Node({self.id}, {self.name!r}, {self.type!r}, v{self.version})"
-
-
-class Edge:
-    __slots__ = ("src", "dst", "type", "attrs", "version", "rt", "prov")
-
-    def __init__(
-        self,
-        src: int,
-        dst: int,
-        type: str,
-        attrs: dict[str, Any],
-        rt: np.ndarray | None = None,
-        version: int = 1,
-        prov: dict[str, tuple[float, str]] | None = None,
-    ):
-        self.src = src
-        self.dst = dst
-        self.type = type
-        self.attrs = attrs
-        self.rt = rt
-        self.version = version
-        self.prov = {} if prov is None else prov
-
-    @property
-    def key(self) -> EdgeKey:
-        return (self.src, self.dst, self.type)
-
-    def __repr__(self) -> str:
-        return f"Edge({self.src}->{self.dst} {self.type!r}, v{self.version})"
-
-
-def _prov(stamps: Mapping[str, Any]) -> dict[str, tuple[float, str]]:
-    """A trusted snapshot element's stamps (lists in JSON) as the graph keeps them."""
-    return {name: (t, sys.intern(a)) for name, (t, a) in stamps.items()}
-
-
-def _node_of(decode: Callable[[dict[str, Any]], dict[str, Any]], n: Mapping[str, Any]) -> Node:
-    """A trusted snapshot's node (its attributes through ``decode``)."""
-    stamps = n.get("provenance")
-    return Node(
-        n["id"],
-        n["name"],
-        n["type"],
-        decode(n.get("attrs") or {}),
-        n.get("version", 1),
-        _prov(stamps) if stamps else None,
-    )
-
-
-# the lists of a columnar snapshot's "nodes" and "edges" (formats/dsr_json.py, to_columns)
-SNAPSHOT_COLUMNS = {
-    "nodes": ("id", "name", "type", "rest"),
-    "edges": ("from", "to", "type", "rest"),
-}
-
-# what a lazily restored graph builds when an edge is first used
-_EDGE_INDEXES = ("_edges", "_out", "_in", "_by_type", "_tree")
 
 
 def _fail(rule: str, element: str, message: str) -> None:
     raise RuleViolation(Violation(rule=rule, element=element, message=message))
 
 
-class Graph:
+class Graph(TrustedLoading):
     """The graph model. Pure Python: no ROS import anywhere below this package's node modules."""
 
     def __init__(self, vocabulary: Vocabulary | None = None):
@@ -579,183 +495,9 @@ class Graph:
         if edge.type == RT:
             self._tree.unlink(edge)
 
-    # ------------------------------------------------------------------ trusted loading
-    def restore(
-        self,
-        nodes: Sequence[Mapping[str, Any]],
-        edges: Sequence[Mapping[str, Any]],
-        lazy: bool = False,
-        attrs_hook: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
-    ) -> None:
-        """Load a snapshot written by a DSR server, which only ever holds a valid graph, into this
-        new graph without checking each element again (a late joiner of a 100k-node graph would
-        spend seconds on it). The attribute dicts of the freshly parsed document are taken over,
-        not copied. ``attrs_hook`` (a replica's: binary values by reference) rewrites each
-        element's attributes; then the binary values, base64 in the document, are decoded.
-
-        ``lazy`` (a replica): only the nodes' ids and names are indexed now and each node is
-        built when first used (``LazyNodes``); the edges, their indexes and the RT tree when any
-        edge is first used (``_EdgesPending``). The document's structure is checked now all the
-        same (ids, names, types, edge ends): a malformed one is refused here, not later."""
-        if self._nodes or self._ids:
-            raise ValueError("restore loads a new, empty graph")
-        decode = self._attrs_decoder(attrs_hook)
-        if not lazy:
-            for n in nodes:
-                node = _node_of(decode, n)
-                self._nodes[node.id] = node
-                self._ids[node.name] = node.id
-            self._next_id = max(self._nodes, default=0) + 1
-            self._add_edges(edges, decode)
-            return
-        ids = list(map(itemgetter("id"), nodes))
-        names = list(map(itemgetter("name"), nodes))
-        deque(map(itemgetter("type"), nodes), maxlen=0)  # KeyError now for a node without one
-        deque(map(itemgetter("type"), edges), maxlen=0)  # the same for an edge
-        self._restore_lazily(
-            ids,
-            names,
-            dict(zip(ids, nodes, strict=True)),
-            partial(_node_of, decode),
-            map(itemgetter("from"), edges),
-            map(itemgetter("to"), edges),
-            (edges, decode),
-        )
-
-    def restore_columns(
-        self,
-        nodes: Mapping[str, Sequence[Any]],
-        edges: Mapping[str, Sequence[Any]],
-        parse: Callable[[str], dict[str, Any]],
-        attrs_hook: Callable[[dict[str, Any]], dict[str, Any]] | None = None,
-    ) -> None:
-        """``restore(lazy=True)`` of a columnar snapshot (``dsr_json.to_columns``): the nodes'
-        ``id``, ``name``, ``type`` and ``rest`` as four lists, the edges' ``from``, ``to``,
-        ``type`` and ``rest``; ``rest`` is the JSON text of an element's other fields, given to
-        ``parse`` only when that element is built. A late joiner so never makes the objects of
-        the elements it does not use (parsing a 100k-node snapshot took 0.19 s as rows, 0.06 s
-        as columns)."""
-        if self._nodes or self._ids:
-            raise ValueError("restore loads a new, empty graph")
-        decode = self._attrs_decoder(attrs_hook)
-        ids, names, types, rests = (nodes[k] for k in SNAPSHOT_COLUMNS["nodes"])
-        froms, tos, edge_types, edge_rests = (edges[k] for k in SNAPSHOT_COLUMNS["edges"])
-        for group, columns in (
-            ("nodes", (ids, names, types, rests)),
-            ("edges", (froms, tos, edge_types, edge_rests)),
-        ):
-            if not all(isinstance(c, list) for c in columns) or len(set(map(len, columns))) != 1:
-                raise ValueError(f"the {group} columns must be lists of one length")
-        if not set(map(type, types)) | set(map(type, edge_types)) <= {str}:
-            raise TypeError("element types must be strings")
-        if not set(map(type, rests)) | set(map(type, edge_rests)) <= {str}:
-            raise TypeError("each element's rest must be a JSON text (a string)")
-
-        def node_of(row: tuple[int, str, str, str]) -> Node:
-            item = parse(row[3])
-            item["id"], item["name"], item["type"] = row[:3]
-            return _node_of(decode, item)
-
-        def edge_items() -> Iterator[dict[str, Any]]:
-            for src, dst, kind, rest in zip(froms, tos, edge_types, edge_rests, strict=True):
-                item = parse(rest)
-                item["from"], item["to"], item["type"] = src, dst, kind
-                yield item
-
-        self._restore_lazily(
-            ids,
-            names,
-            dict(zip(ids, zip(ids, names, types, rests, strict=True), strict=True)),
-            node_of,
-            froms,
-            tos,
-            (edge_items(), decode),
-        )
-
-    def _restore_lazily(self, ids, names, raw_nodes, build, froms, tos, pending_edges) -> None:
-        """The lazy restore: ids and names indexed and the structure checked now, each node built
-        from ``raw_nodes[id]`` by ``build`` when first used, the edges from ``pending_edges``
-        when one is first used."""
-        self._ids.update(zip(names, ids, strict=True))
-        if len(self._ids) != len(ids) or len(set(ids)) != len(ids):
-            raise ValueError("node ids or names repeat")
-        if not set(map(type, ids)) <= {int} or not set(map(type, names)) <= {str}:
-            raise TypeError("node ids must be integers and names strings")
-        unknown = set(froms).difference(self._ids) | set(tos).difference(self._ids)
-        if unknown:
-            raise KeyError(f"edges join nodes not in the snapshot: {sorted(map(str, unknown))[:3]}")
-        self._nodes = LazyNodes(raw_nodes, build)
-        self._next_id = max(ids, default=0) + 1
-        for name in _EDGE_INDEXES:  # built on first use (_EdgesPending)
-            delattr(self, name)
-        self._pending_edges = pending_edges
+    def _defer_edges(self) -> None:
+        """The edges wait for their first use (trusted_loading.py's lazy restore)."""
         self.__class__ = _EdgesPending
-
-    def _add_edges(self, edges: Sequence[Mapping[str, Any]], decode) -> None:
-        """A trusted snapshot's edges and their indexes (one pass, everything inlined)."""
-        ids = self._ids
-        edges_by_key, out, into, by_type = self._edges, self._out, self._in, self._by_type
-        for e in edges:
-            rt = e.get("rt")
-            stamps = e.get("provenance")
-            edge = Edge(
-                ids[e["from"]],
-                ids[e["to"]],
-                e["type"],
-                decode(e.get("attrs") or {}),
-                None if rt is None else np.array(rt["matrix"], dtype=float),
-                e.get("version", 1),
-                _prov(stamps) if stamps else None,
-            )
-            key = (edge.src, edge.dst, edge.type)
-            edges_by_key[key] = edge
-            if edge.src in out:
-                out[edge.src].add(key)
-            else:
-                out[edge.src] = {key}
-            if edge.dst in into:
-                into[edge.dst].add(key)
-            else:
-                into[edge.dst] = {key}
-            if edge.type in by_type:
-                by_type[edge.type].add(key)
-            else:
-                by_type[edge.type] = {key}
-            if edge.type == RT:
-                self._tree.link(edge)
-
-    def _attrs_decoder(self, hook: Callable[[dict[str, Any]], dict[str, Any]] | None):
-        """attrs -> attrs rewritten by ``hook``, then with their binary values decoded."""
-        decode = self._binary_decoder(
-            {name for name, kind in self.vocabulary.attributes.items() if kind in BINARY}
-        )
-        if hook is None:
-            return decode
-        return lambda attrs: decode(hook(attrs))
-
-    def _binary_decoder(self, names: set[str]):
-        """attrs -> attrs with the binary values among ``names`` decoded (the same dict)."""
-        if not names:
-            return lambda attrs: attrs
-        kinds = self.vocabulary.attributes  # not self: a lazy graph keeps this, and no cycle
-
-        def decode(attrs: dict[str, Any]) -> dict[str, Any]:
-            if not names.isdisjoint(attrs):
-                for name in names.intersection(attrs):
-                    attrs[name] = coerce(kinds[name], attrs[name])
-            return attrs
-
-        return decode
-
-    # ------------------------------------------------------------------ versions (snapshots)
-    def restore_versions(
-        self, node_versions: Mapping[int, int], edge_versions: Mapping[EdgeKey, int]
-    ) -> None:
-        """Set versions as read from a snapshot (loading is not a change)."""
-        for node_id, version in node_versions.items():
-            self._nodes[node_id].version = version
-        for key, version in edge_versions.items():
-            self._edges[key].version = version
 
 
 class _EdgesPending(Graph):
@@ -766,7 +508,7 @@ class _EdgesPending(Graph):
 
     def __getattr__(self, name: str) -> Any:
         # only reached for an attribute the instance lacks
-        if name not in _EDGE_INDEXES:
+        if name not in EDGE_INDEXES:
             raise AttributeError(f"'Graph' object has no attribute {name!r}")
         edges, decode = self._pending_edges
         del self._pending_edges
