@@ -202,29 +202,31 @@ def clip_path(folder: str | Path | None, named: str) -> Path | None:
     return clip if clip.is_relative_to(root) and clip.is_file() else None
 
 
-def make_app(
-    db_path: str,
-    status: TestStatus,
-    events: Broadcaster,
-    press_start: PressStart,
-    secret_key: bytes,
-    hosts: frozenset[str] = LOOPBACK,
-    idle: float = DEFAULT_IDLE,
-    throttle: accounts.LoginThrottle | None = None,
-    clips_dir: str | Path | None = None,
-) -> web.Application:
-    """``secret_key``: 32 bytes that encrypt the session cookies (CGAmed keeps it in a file, so
-    a restart keeps everyone logged in). ``clips_dir``: the only folder whose clips are played
-    (None: none is)."""
-    store: dict[str, ResultsStore] = {}
-    throttle = throttle or accounts.LoginThrottle()
+class Dashboard:
+    """The dashboard's request handlers (``make_app`` routes them) and what they share: the
+    results store, the running test's status, the events, Start and the login throttle."""
 
-    def db() -> ResultsStore:
-        if "db" not in store:  # this thread's own connection (SQLite connections are per thread)
-            store["db"] = ResultsStore(db_path)
-        return store["db"]
+    def __init__(
+        self,
+        db_path: str,
+        status: TestStatus,
+        events: Broadcaster,
+        press_start: PressStart,
+        idle: float,
+        throttle: accounts.LoginThrottle,
+        clips_dir: str | Path | None,
+    ):
+        self.db_path, self.status, self.events = db_path, status, events
+        self.press_start, self.idle, self.throttle = press_start, idle, throttle
+        self.clips_dir = clips_dir
+        self._db: ResultsStore | None = None
 
-    async def body(request: web.Request, *keys: str) -> list[Any]:
+    def db(self) -> ResultsStore:
+        if self._db is None:  # this thread's own connection (SQLite connections are per thread)
+            self._db = ResultsStore(self.db_path)
+        return self._db
+
+    async def body(self, request: web.Request, *keys: str) -> list[Any]:
         try:
             doc = await request.json()
             return [doc[k] for k in keys]
@@ -234,17 +236,17 @@ def make_app(
 
     # ------------------------------------------------------------------ sessions
     @web.middleware
-    async def logged_in(request: web.Request, handler):
+    async def logged_in(self, request: web.Request, handler):
         """A session for everything but the login; the CSRF token for every change."""
         if request.path in OPEN_PATHS:
             return await handler(request)
         session = await get_session(request)
         now = time.time()
         user = session.get("user")
-        if user is not None and now - session.get("seen", 0) > idle:
+        if user is not None and now - session.get("seen", 0) > self.idle:
             session.invalidate()
             user = None
-        account = db().user(user["name"]) if user is not None else None
+        account = self.db().user(user["name"]) if user is not None else None
         if account is None or account["disabled"]:  # disabling a user ends their sessions
             if request.path.startswith("/api/"):
                 raise web.HTTPUnauthorized(text="log in first (your session ended, or never began)")
@@ -257,84 +259,86 @@ def make_app(
         request[USER] = user
         return await handler(request)
 
-    def allowed(request: web.Request, action: str) -> dict[str, Any]:
+    def allowed(self, request: web.Request, action: str) -> dict[str, Any]:
         user = request[USER]
         if not accounts.may(user["role"], action):
             raise web.HTTPForbidden(text=f"a {user['role']} may not {action.replace('_', ' ')}")
         return user
 
-    def audit(request: web.Request, action: str, test_id: int | None = None, detail="") -> None:
-        db().audit(request[USER]["name"], action, test_id, detail)
+    def audit(
+        self, request: web.Request, action: str, test_id: int | None = None, detail=""
+    ) -> None:
+        self.db().audit(request[USER]["name"], action, test_id, detail)
 
-    async def login_page(request: web.Request) -> web.FileResponse:
+    async def login_page(self, request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "login.html")
 
-    async def login(request: web.Request) -> web.Response:
-        name, password = await body(request, "name", "password")
+    async def login(self, request: web.Request) -> web.Response:
+        name, password = await self.body(request, "name", "password")
         name = str(name)
         keys = [f"name:{name}", f"address:{request.remote}"]
-        wait = throttle.wait(keys)
+        wait = self.throttle.wait(keys)
         if wait > 0:
             raise web.HTTPTooManyRequests(
                 text=f"too many failed logins: try again in {wait:.0f} s",
                 headers={"Retry-After": str(int(wait) + 1)},
             )
-        account = db().user(name)
+        account = self.db().user(name)
         outcome = accounts.verify_login(account, password)
         if outcome.user is None:
-            throttle.failed(keys)
-            db().audit(name[:100], "login failed", None, f"from {request.remote}")
+            self.throttle.failed(keys)
+            self.db().audit(name[:100], "login failed", None, f"from {request.remote}")
             raise web.HTTPUnauthorized(text="wrong name or password (or the account is disabled)")
-        throttle.succeeded(keys[0])
+        self.throttle.succeeded(keys[0])
         if outcome.new_hash is not None:
-            db().set_password(name, outcome.new_hash)
+            self.db().set_password(name, outcome.new_hash)
         session = await new_session(request)  # a new session id: no fixation
         csrf = secrets.token_urlsafe(32)
         session.update(user=outcome.user, csrf=csrf, seen=time.time())
-        db().audit(name, "logged in", None, f"from {request.remote}")
+        self.db().audit(name, "logged in", None, f"from {request.remote}")
         return web.json_response({**outcome.user, "csrf": csrf})
 
-    async def logout(request: web.Request) -> web.Response:
-        audit(request, "logged out")
+    async def logout(self, request: web.Request) -> web.Response:
+        self.audit(request, "logged out")
         (await get_session(request)).invalidate()
         return web.json_response({"logged_out": True})
 
-    async def me(request: web.Request) -> web.Response:
+    async def me(self, request: web.Request) -> web.Response:
         session = await get_session(request)
         return web.json_response({**request[USER], "csrf": session["csrf"]})
 
     # ------------------------------------------------------------------ pages
-    async def index(request: web.Request) -> web.FileResponse:
+    async def index(self, request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "dashboard.html")
 
-    async def report(request: web.Request) -> web.FileResponse:
+    async def report(self, request: web.Request) -> web.FileResponse:
         return web.FileResponse(WEB / "report.html")
 
-    async def page_file(request: web.Request) -> web.FileResponse:
+    async def page_file(self, request: web.Request) -> web.FileResponse:
         name = request.match_info["name"]
         if name not in PAGE_FILES:
             raise web.HTTPNotFound()
         return web.FileResponse(WEB / name)
 
     # ------------------------------------------------------------------ the test
-    async def get_tests(request: web.Request) -> web.Response:
+    async def get_tests(self, request: web.Request) -> web.Response:
         return web.json_response(tests_offered())
 
-    async def get_patients(request: web.Request) -> web.Response:
-        return web.json_response(db().patients())
+    async def get_patients(self, request: web.Request) -> web.Response:
+        return web.json_response(self.db().patients())
 
-    async def add_patient(request: web.Request) -> web.Response:
-        allowed(request, "add_patient")
-        [name] = await body(request, "name")
+    async def add_patient(self, request: web.Request) -> web.Response:
+        self.allowed(request, "add_patient")
+        [name] = await self.body(request, "name")
         try:
-            patient = db().add_patient(str(name))
+            patient = self.db().add_patient(str(name))
         except InvalidResult as e:
             raise web.HTTPBadRequest(text=str(e)) from None
-        audit(request, "added a patient", None, f"record {patient['id']}")
+        self.audit(request, "added a patient", None, f"record {patient['id']}")
         return web.json_response(patient, status=201)
 
-    async def start(request: web.Request) -> web.Response:
-        allowed(request, "start")
+    async def start(self, request: web.Request) -> web.Response:
+        self.allowed(request, "start")
         try:
             doc = await request.json()
             test = str(doc.get("test", "barthel"))
@@ -350,7 +354,7 @@ def make_app(
             )
         if patient_id not in (None, ""):
             try:
-                name = db().patient(int(patient_id))["name"]
+                name = self.db().patient(int(patient_id))["name"]
             except (ValueError, TypeError, OverflowError):
                 raise web.HTTPBadRequest(
                     text=f"a patient id is a number, got {patient_id!r}"
@@ -360,20 +364,20 @@ def make_app(
             patient_id = int(patient_id)
         else:
             patient_id = None
-        if status.running:
-            raise web.HTTPConflict(text=f"a test with {status.patient} is running")
-        press_start(name, test, patient_id)
-        audit(request, "started", None, f"{test} for record {patient_id}")
+        if self.status.running:
+            raise web.HTTPConflict(text=f"a test with {self.status.patient} is running")
+        self.press_start(name, test, patient_id)
+        self.audit(request, "started", None, f"{test} for record {patient_id}")
         return web.json_response({"started": name, "test": test, "patient_id": patient_id})
 
     # ------------------------------------------------------------------ results
-    def test_id(request: web.Request) -> int:
+    def test_id(self, request: web.Request) -> int:
         try:
             return int(request.match_info["id"])
         except ValueError:
             raise web.HTTPNotFound(text=f"no test {request.match_info['id']!r}") from None
 
-    def clinician_change(change: Callable[[], Any]) -> Any:
+    def clinician_change(self, change: Callable[[], Any]) -> Any:
         """A change the clinician asked of a stored result, as the store answers it: 404 no such
         test, 409 validated already or changed since, 400 anything else wrong."""
         try:
@@ -385,84 +389,102 @@ def make_app(
         except InvalidResult as e:
             raise web.HTTPBadRequest(text=str(e)) from None
 
-    async def score(request: web.Request) -> web.Response:
-        clinician = allowed(request, "score")["name"]
-        item, points = await body(request, "item", "points")
-        number = test_id(request)
-        done = clinician_change(lambda: db().score(number, str(item), points, clinician))
-        audit(request, "scored", number, f"{item} = {points} (version {done['version']})")
+    async def score(self, request: web.Request) -> web.Response:
+        clinician = self.allowed(request, "score")["name"]
+        item, points = await self.body(request, "item", "points")
+        number = self.test_id(request)
+        done = self.clinician_change(lambda: self.db().score(number, str(item), points, clinician))
+        self.audit(request, "scored", number, f"{item} = {points} (version {done['version']})")
         return web.json_response(done)
 
-    async def validate(request: web.Request) -> web.Response:
-        clinician = allowed(request, "validate")["name"]
-        [version] = await body(request, "version")
+    async def validate(self, request: web.Request) -> web.Response:
+        clinician = self.allowed(request, "validate")["name"]
+        [version] = await self.body(request, "version")
         if isinstance(version, bool) or not isinstance(version, int):
             raise web.HTTPBadRequest(text="send the version of the result you saw (a number)")
-        number = test_id(request)
-        done = clinician_change(lambda: db().validate(number, clinician, version=version))
-        audit(request, "validated", number, f"version {version}")
+        number = self.test_id(request)
+        done = self.clinician_change(lambda: self.db().validate(number, clinician, version=version))
+        self.audit(request, "validated", number, f"version {version}")
         return web.json_response(done)
 
-    async def get_status(request: web.Request) -> web.Response:
-        return web.json_response(status.to_json())
+    async def get_status(self, request: web.Request) -> web.Response:
+        return web.json_response(self.status.to_json())
 
-    async def get_results(request: web.Request) -> web.Response:
-        return web.json_response(db().tests())
+    async def get_results(self, request: web.Request) -> web.Response:
+        return web.json_response(self.db().tests())
 
-    async def get_audio(request: web.Request) -> web.FileResponse:
-        number, item = test_id(request), request.match_info["item"]
+    async def get_audio(self, request: web.Request) -> web.FileResponse:
+        number, item = self.test_id(request), request.match_info["item"]
         try:
             k = int(request.match_info["k"])
-            entry = next(i for i in db().test(number)["items"] if i["item"] == item)
+            entry = next(i for i in self.db().test(number)["items"] if i["item"] == item)
             named = entry.get("audio", [])[k]
         except (UnknownTest, StopIteration, IndexError, ValueError):
             raise web.HTTPNotFound(
                 text=f"test {number} has no clip {item}/{request.match_info['k']}"
             ) from None
-        clip = clip_path(clips_dir, named)
+        clip = clip_path(self.clips_dir, named)
         if clip is None:
             raise web.HTTPNotFound(text="that clip is not in the robot's clips folder") from None
-        audit(request, "listened", number, f"{item} clip {k}")
+        self.audit(request, "listened", number, f"{item} clip {k}")
         return web.FileResponse(clip, headers={"Content-Type": "audio/wav"})
 
     # ------------------------------------------------------------------ users, audit
-    async def get_users(request: web.Request) -> web.Response:
-        allowed(request, "manage_users")
-        return web.json_response(db().users())
+    async def get_users(self, request: web.Request) -> web.Response:
+        self.allowed(request, "manage_users")
+        return web.json_response(self.db().users())
 
-    async def add_user(request: web.Request) -> web.Response:
-        allowed(request, "manage_users")
-        name, role, password = await body(request, "name", "role", "password")
+    async def add_user(self, request: web.Request) -> web.Response:
+        self.allowed(request, "manage_users")
+        name, role, password = await self.body(request, "name", "role", "password")
         try:
-            made = db().add_user(str(name), str(role), accounts.hash_password(password))
+            made = self.db().add_user(str(name), str(role), accounts.hash_password(password))
         except AccountError as e:
             raise web.HTTPBadRequest(text=str(e)) from None
-        audit(request, "added a user", None, f"{made['name']} ({made['role']})")
+        self.audit(request, "added a user", None, f"{made['name']} ({made['role']})")
         return web.json_response({k: made[k] for k in ("name", "role", "created")}, status=201)
 
-    async def set_user(request: web.Request) -> web.Response:
-        allowed(request, "manage_users")
+    async def set_user(self, request: web.Request) -> web.Response:
+        self.allowed(request, "manage_users")
         name, disable = request.match_info["name"], request.match_info["change"] == "disable"
         if disable and name == request[USER]["name"]:
             raise web.HTTPBadRequest(text="you cannot disable yourself")
         try:
-            db().set_disabled(name, disable)
+            self.db().set_disabled(name, disable)
         except AccountError as e:
             raise web.HTTPNotFound(text=str(e)) from None
-        audit(request, "disabled a user" if disable else "enabled a user", None, name)
+        self.audit(request, "disabled a user" if disable else "enabled a user", None, name)
         return web.json_response({"name": name, "disabled": disable})
 
-    async def get_audit(request: web.Request) -> web.Response:
-        allowed(request, "read_audit")
-        return web.json_response(db().audit_trail())
+    async def get_audit(self, request: web.Request) -> web.Response:
+        self.allowed(request, "read_audit")
+        return web.json_response(self.db().audit_trail())
 
-    async def stream(request: web.Request) -> web.StreamResponse:
-        return await events.stream(request, first=lambda: [("status", status.to_json())])
+    async def stream(self, request: web.Request) -> web.StreamResponse:
+        return await self.events.stream(request, first=lambda: [("status", self.status.to_json())])
 
-    async def close(app: web.Application) -> None:
-        if "db" in store:
-            store["db"].close()
+    async def close(self, app: web.Application) -> None:
+        if self._db is not None:
+            self._db.close()
 
+
+def make_app(
+    db_path: str,
+    status: TestStatus,
+    events: Broadcaster,
+    press_start: PressStart,
+    secret_key: bytes,
+    hosts: frozenset[str] = LOOPBACK,
+    idle: float = DEFAULT_IDLE,
+    throttle: accounts.LoginThrottle | None = None,
+    clips_dir: str | Path | None = None,
+) -> web.Application:
+    """``secret_key``: 32 bytes that encrypt the session cookies (CGAmed keeps it in a file, so
+    a restart keeps everyone logged in). ``clips_dir``: the only folder whose clips are played
+    (None: none is)."""
+    dashboard = Dashboard(
+        db_path, status, events, press_start, idle, throttle or accounts.LoginThrottle(), clips_dir
+    )
     app = web.Application(client_max_size=64 * 1024)  # no request of ours is larger
     protect(app, hosts)
     storage = EncryptedCookieStorage(
@@ -473,27 +495,27 @@ def make_app(
         max_age=int(idle),  # the cookie (and its encrypted stamp) ends with the idle time
     )
     setup_sessions(app, storage)
-    app.middlewares.append(logged_in)
-    app.router.add_get("/login", login_page)
-    app.router.add_post("/api/login", login)
-    app.router.add_post("/api/logout", logout)
-    app.router.add_get("/api/me", me)
-    app.router.add_get("/", index)
-    app.router.add_get("/report/{id}", report)
-    app.router.add_get("/static/{name}", page_file)
-    app.router.add_get("/api/tests", get_tests)
-    app.router.add_get("/api/patients", get_patients)
-    app.router.add_post("/api/patients", add_patient)
-    app.router.add_post("/api/start", start)
-    app.router.add_get("/api/status", get_status)
-    app.router.add_get("/api/results", get_results)
-    app.router.add_get("/api/results/{id}/audio/{item}/{k}", get_audio)
-    app.router.add_post("/api/results/{id}/score", score)
-    app.router.add_post("/api/results/{id}/validate", validate)
-    app.router.add_get("/api/users", get_users)
-    app.router.add_post("/api/users", add_user)
-    app.router.add_post(r"/api/users/{name}/{change:disable|enable}", set_user)
-    app.router.add_get("/api/audit", get_audit)
-    app.router.add_get("/api/events", stream)
-    app.on_cleanup.append(close)
+    app.middlewares.append(dashboard.logged_in)
+    app.router.add_get("/login", dashboard.login_page)
+    app.router.add_post("/api/login", dashboard.login)
+    app.router.add_post("/api/logout", dashboard.logout)
+    app.router.add_get("/api/me", dashboard.me)
+    app.router.add_get("/", dashboard.index)
+    app.router.add_get("/report/{id}", dashboard.report)
+    app.router.add_get("/static/{name}", dashboard.page_file)
+    app.router.add_get("/api/tests", dashboard.get_tests)
+    app.router.add_get("/api/patients", dashboard.get_patients)
+    app.router.add_post("/api/patients", dashboard.add_patient)
+    app.router.add_post("/api/start", dashboard.start)
+    app.router.add_get("/api/status", dashboard.get_status)
+    app.router.add_get("/api/results", dashboard.get_results)
+    app.router.add_get("/api/results/{id}/audio/{item}/{k}", dashboard.get_audio)
+    app.router.add_post("/api/results/{id}/score", dashboard.score)
+    app.router.add_post("/api/results/{id}/validate", dashboard.validate)
+    app.router.add_get("/api/users", dashboard.get_users)
+    app.router.add_post("/api/users", dashboard.add_user)
+    app.router.add_post(r"/api/users/{name}/{change:disable|enable}", dashboard.set_user)
+    app.router.add_get("/api/audit", dashboard.get_audit)
+    app.router.add_get("/api/events", dashboard.stream)
+    app.on_cleanup.append(dashboard.close)
     return app
