@@ -13,14 +13,13 @@ from pathlib import Path
 from typing import Any
 
 from clarc_agents import definitions
-from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.behaviours.panel import PanelBehaviour
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.grammar_files import load_grammar
-from clarc_agents.pelea.hle import Times
-from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
+from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive, QuestionnaireTimes
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire import confirmation, orientation
+from clarc_agents.questionnaire.item_options import awaited_item
 from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.result_checks import check_result
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
@@ -165,7 +164,9 @@ class Robot:
         )
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link)
-        self.hle = QuestionnaireExecutive(self.port, Times(), log, definitions.load(test))
+        self.hle = QuestionnaireExecutive(
+            self.port, QuestionnaireTimes(), log, definitions.load(test)
+        )
         self.pelea_restarts = 0
         self.dsr_boot = "boot-1"  # a test changes it to stand for a restarted DSR server
         for runner in (self.person, self.speech_runner, self.panel_runner):
@@ -241,7 +242,9 @@ class Robot:
         self.pelea_restarts += 1
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link, events=self.port.events, stored=self.port.stored)
-        self.hle = QuestionnaireExecutive(self.port, Times(), log, definitions.load(self.test))
+        self.hle = QuestionnaireExecutive(
+            self.port, QuestionnaireTimes(), log, definitions.load(self.test)
+        )
         self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
         self.hle.on_graph(self.pelea_link.graph)  # its first snapshot
 

@@ -67,7 +67,7 @@ def test_a_questionnaire_scenario_through_the_launch(scenario, tmp_path):
 
 
 def test_pelea_drops_a_start_for_a_test_it_does_not_run_saying_so(ros):
-    from clarc_agents.pelea.high_to_low import request_start
+    from clarc_agents.test_node import request_start
 
     from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
 

@@ -7,6 +7,7 @@ from barthel_items import DEFINITION
 
 from clarc_agents.grammar_files import load_grammar
 from clarc_agents.pelea import high_to_low
+from clarc_agents.questionnaire.high_to_low import open_answer
 from clarc_agents.questionnaire.sentences import ask, sit_down
 from dsr_graph.exceptions import TransactionRejected
 from dsr_graph.formats.world_files import read_world
@@ -91,7 +92,7 @@ def test_speech_does_not_stop_for_a_sentence_meant_for_nobody(room):
 
 def test_listening_and_a_tap_race_for_one_answer(room):
     speech, panel = engine("speech"), engine("panel")
-    run(room, high_to_low.open_answer(room, "feeding"))
+    run(room, open_answer(room, "feeding"))
     listen = fire(speech, room, "waiting_answer")
     [tap] = panel.signal(room, "tap", {"points": 5})
     run(room, tap.during_tx())
@@ -122,8 +123,8 @@ def test_panel_shows_each_sentence_and_clears_when_the_person_leaves(room):
 
 
 def test_a_window_left_open_by_a_lost_close_is_replaced_when_the_next_opens(room):
-    run(room, high_to_low.open_answer(room, "feeding"))
+    run(room, open_answer(room, "feeding"))
     fire(engine("speech"), room, "waiting_answer")  # can -> waiting; the close never came
-    run(room, high_to_low.open_answer(room, "bathing"))
+    run(room, open_answer(room, "bathing"))
     assert room.edge("person", "answer", "waiting") is None
     assert room.edge("person", "answer", "can").attrs == {"item": "bathing"}

@@ -4,8 +4,10 @@ the start and from each kind of deviation."""
 import pytest
 from barthel_items import DEFINITION, ORDER
 
-from clarc_agents.pelea import monitoring
-from clarc_agents.pelea.decision_support import NoPlan, initial_state, plan
+from clarc_agents.pelea.decision_support import NoPlan
+from clarc_agents.pelea.questionnaire_executive import plan
+from clarc_agents.questionnaire import monitoring
+from clarc_agents.questionnaire.planning import initial_state
 
 
 def names(steps):

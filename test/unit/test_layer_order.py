@@ -24,7 +24,7 @@ LEVELS = {
     "clarc_agents": (
         ("exceptions", "sentence", "topics", "data", "grammars"),
         ("yaml_lines",),
-        ("definitions",),
+        ("definitions", "test_node"),
         ("questionnaire", "gug"),
         ("asr", "behaviours", "humans", "grammar_files"),
         ("pelea",),

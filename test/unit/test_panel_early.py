@@ -3,8 +3,8 @@ robot to finish asking, or the window's opening was slow on a busy machine) is k
 and answers the window of the item on the screen: a tap, a drawing, or the shapes touched."""
 
 from clarc_agents import definitions
-from clarc_agents.behaviours.item_options import answer_attrs, item_node
 from clarc_agents.behaviours.panel import PanelBehaviour
+from clarc_agents.questionnaire.item_options import answer_attrs, item_node
 from dsr_graph.model.graph import Graph
 
 

@@ -9,9 +9,9 @@ import pytest
 from barthel_items import BY_KEY, ORDER
 from pyperplan.pddl.parser import Parser
 
-from clarc_agents.pelea import high_to_low
 from clarc_agents.pelea.decision_support import domain_path
 from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
+from clarc_agents.test_node import request_start
 from dsr_graph.exceptions import TimedOutError
 
 from local_clarc import EVERY_PATH, Patient, Robot
@@ -28,7 +28,7 @@ def items(result):
 
 
 def test_every_action_of_the_domain_has_a_handler_and_no_handler_is_extra():
-    parser = Parser(domain_path())
+    parser = Parser(domain_path("questionnaire"))
     domain = parser.parse_domain()
     assert set(QuestionnaireExecutive.ACTIONS) == set(domain.actions)
     for name, action in domain.actions.items():  # each handler takes the action's parameters
@@ -317,9 +317,9 @@ def test_a_start_request_in_the_dsr_starts_the_test_and_a_second_is_refused():
     # its replica still shows the request PELEA took: not a second Start
     robot.pelea_link.add_listener(lambda d, r: robot.hle.on_graph(robot.pelea_link.graph))
     link = robot.bus.agent("/clarc_cli")
-    link.send(high_to_low.request_start("Carlos", "2026-11-24T10:00:00+00:00"))
+    link.send(request_start("Carlos", "2026-11-24T10:00:00+00:00"))
     robot.bus.run(until=lambda: robot.hle.running, limit=10)
-    link.send(high_to_low.request_start("Someone else", "2026-11-24T10:00:05+00:00"))
+    link.send(request_start("Someone else", "2026-11-24T10:00:05+00:00"))
     robot.bus.run(until=robot.finished)
     assert [r["patient"] for r in robot.port.stored] == ["Carlos"]
     assert [w for w in warned if "refused" in w] == [

@@ -31,8 +31,9 @@ from typing import Any
 from clarc_agents import definitions
 from clarc_agents.definitions import Definition
 from clarc_agents.gug.record import GugRecord, gait, result
-from clarc_agents.pelea.low_to_high import person_present, record
+from clarc_agents.questionnaire.low_to_high import record
 from clarc_agents.questionnaire.record import ItemResult
+from clarc_agents.test_node import person_present
 from dsr_graph.model.graph import Graph
 
 TIMED = "get_up_and_go"  # the test that is timed, not a questionnaire

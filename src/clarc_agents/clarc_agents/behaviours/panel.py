@@ -16,8 +16,8 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
-from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.questionnaire.answers import touched_in_order
+from clarc_agents.questionnaire.item_options import awaited_item
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
 

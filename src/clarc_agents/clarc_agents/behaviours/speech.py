@@ -15,8 +15,8 @@ from collections.abc import Callable
 from typing import Protocol
 
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
-from clarc_agents.behaviours.item_options import item_in
 from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.item_options import item_in
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 

@@ -35,8 +35,8 @@ from clarc_agents.asr.audio_topics import qos_audio, samples_of
 from clarc_agents.asr.clips import Clips, default_folder
 from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
 from clarc_agents.asr.utterances import RobotSpeech, Utterance, Utterances
-from clarc_agents.behaviours.item_options import awaited_item, item_in
 from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.item_options import awaited_item, item_in
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json

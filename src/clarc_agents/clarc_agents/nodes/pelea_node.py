@@ -27,11 +27,9 @@ from typing import Any
 
 from std_msgs.msg import String
 
-from clarc_agents import definitions, topics
-from clarc_agents.pelea import high_to_low, low_to_high
+from clarc_agents import definitions, test_node, topics
 from clarc_agents.pelea.gug_executive import GugExecutive
-from clarc_agents.pelea.hle import Times
-from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive
+from clarc_agents.pelea.questionnaire_executive import QuestionnaireExecutive, QuestionnaireTimes
 from clarc_agents.pelea.result_delivery import NOT_YET, REFUSED, STORED
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, place_values
 from dsr_graph.formats.default_paths import state_path
@@ -88,7 +86,7 @@ class PeleaNode(DsrNode):
     def __init__(self):
         super().__init__()
         self.dsr = DsrAgent()
-        times = Times(
+        times = QuestionnaireTimes(
             scale=float_param(self, "time_scale"),
             answer_timeout=float_param(self, "answer_timeout"),
         )
@@ -124,10 +122,10 @@ class PeleaNode(DsrNode):
         """A Start for a test none of the executives runs is dropped, saying so, rather than
         left waiting for an executive that will never come."""
         graph = self.dsr.graph
-        patient = low_to_high.start_request(graph)
+        patient = test_node.start_request(graph)
         if patient is None:
             return
-        test = low_to_high.requested_test(graph)
+        test = test_node.requested_test(graph)
         request = (patient, graph.node("test").attrs.get("requested"))
         if test in {e.KIND for e in self.executives} or request in self._refused:
             return
@@ -135,7 +133,7 @@ class PeleaNode(DsrNode):
         kinds = ", ".join(e.KIND for e in self.executives)
         self.get_logger().error(f"Start for {patient}: no test {test!r} here ({kinds}); refused")
         self.event(event="error", message=f"unknown test {test!r}: Start refused")
-        self.dsr.send(high_to_low.refuse_start(graph, patient))
+        self.dsr.send(test_node.refuse_start(graph, patient))
 
     # ------------------------------------------------------------------ the HLE's port
     def send(self, tx: dict[str, Any], on_done=None) -> None:

@@ -34,12 +34,12 @@ from typing import Any
 
 from clarc_agents import topics
 from clarc_agents.behaviours.closed_eyes import ClosedEyes
-from clarc_agents.behaviours.item_options import awaited_item
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import SENSOR, frames_tx, heading, parse_skeleton
 from clarc_agents.humans import Absence, Pinhole
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import PersonHumans
+from clarc_agents.questionnaire.item_options import awaited_item
 from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json

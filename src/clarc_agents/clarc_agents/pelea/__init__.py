@@ -8,5 +8,12 @@
 - ``low_to_high``: the DSR's binary predicates as n-ary facts for Monitoring;
 - ``result_delivery`` (beside them): a finished test's result on its way to CGAmed.
 
+The core knows no test: here are the parts every test shares (sentences, the person coming and
+going; the test node is ``clarc_agents/test_node.py``). Each test kind has one home for its DSR
+layout, its HighToLow, LowToHigh, Monitoring and planning problem: ``clarc_agents/questionnaire/``
+(``high_to_low``, ``low_to_high``, ``monitoring``, ``planning``, ``item_options``) and
+``clarc_agents/gug/`` (``high_to_low``, ``planning``, ``record``); its executive gives the core
+its flags (``PROGRESS_FLAGS``, ``NEEDS``, ``CLOSING``) and its times (``QuestionnaireTimes``).
+
 All pure; its ROS node is ``clarc_agents.nodes.pelea_node``.
 """

@@ -16,11 +16,9 @@ from pyperplan import grounding, search
 from pyperplan.heuristics.relaxation import hFFHeuristic
 from pyperplan.pddl.parser import Parser
 
-from clarc_agents.definitions import Definition
 from clarc_agents.exceptions import NoPlan
 
 Fact = str  # "(current feeding)"
-GOAL = ("(result-stored)",)
 
 
 PLANS_KEPT = 512  # plans remembered by their problem's text (each a few kB)
@@ -42,32 +40,9 @@ class Step:
         return (state - self.delete) | self.add
 
 
-def domain_path(name: str = "questionnaire") -> str:
+def domain_path(name: str) -> str:
+    """The PDDL domain of a test kind, shipped in ``clarc_agents/data``."""
     return str(resources.files("clarc_agents").joinpath(f"data/{name}_domain.pddl"))
-
-
-def problem_pddl(state: Iterable[Fact], definition: Definition, goal: Iterable[Fact] = GOAL) -> str:
-    items = list(definition.order)
-    static = [f"(next {a} {b})" for a, b in zip(items, items[1:], strict=False)] + [
-        f"(last {items[-1]})"
-    ]
-    static += [
-        f"({'has-options' if i.kind == 'choose' else 'no-options'} {i.key})"
-        for i in definition.items
-    ]
-    init = sorted(set(state) | set(static))
-    return (
-        f"(define (problem {definition.test}-run) (:domain questionnaire)\n"
-        f"  (:objects {' '.join(items)} - item)\n"
-        f"  (:init {' '.join(init)})\n"
-        f"  (:goal (and {' '.join(goal)})))\n"
-    )
-
-
-def plan(state: Iterable[Fact], definition: Definition, goal: Iterable[Fact] = GOAL) -> list[Step]:
-    """The planner's plan from ``state`` through ``definition``'s items; ``NoPlan`` if there is
-    none."""
-    return solve(domain_path(), problem_pddl(state, definition, goal), state, goal)
 
 
 def solve(domain: str, problem: str, state: Iterable[Fact], goal: Iterable[Fact]) -> list[Step]:
@@ -99,13 +74,3 @@ def _plan(domain: str, problem: str) -> tuple[Step, ...] | None:
         name, *args = op.name.strip("()").split()
         steps.append(Step(name, tuple(args), frozenset(op.add_effects), frozenset(op.del_effects)))
     return tuple(steps)
-
-
-def initial_state(person_present: bool, definition: Definition) -> frozenset[Fact]:
-    """The state when the clinician presses Start."""
-    items = definition.order
-    facts = {"(started)", "(clinician-ok)", f"(current {items[0]})"} | {
-        f"(pending {i})" for i in items
-    }
-    facts.add("(person-present)" if person_present else "(person-absent)")
-    return frozenset(facts)

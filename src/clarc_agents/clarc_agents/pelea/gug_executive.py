@@ -20,11 +20,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from clarc_agents import test_node
 from clarc_agents.gug import sentences
+from clarc_agents.gug.high_to_low import start_test, time_trial, void_trial
 from clarc_agents.gug.phases import WITHIN
+from clarc_agents.gug.planning import GOAL, initial_state, problem_pddl
 from clarc_agents.gug.record import GugRecord, gait, result
 from clarc_agents.gug.skeleton import latest_frame_time
-from clarc_agents.pelea import decision_support, high_to_low, low_to_high
+from clarc_agents.pelea import decision_support, low_to_high
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import HighLevelExecutive, PersonWait
 from clarc_agents.sentence import Sentence
@@ -37,7 +40,6 @@ MAX_TRIALS = 3
 # with no verdict (no analyser)
 VERDICT_WAIT = 30.0
 ABSENT_TIMEOUT = 60.0  # s of a session the patient may stay away before the clinician is called
-GOAL = ("(said-goodbye)",)
 
 
 @dataclass(frozen=True)
@@ -48,70 +50,11 @@ class GaitWait:
     token: int
 
 
-def problem_pddl(state: frozenset[str]) -> str:
-    return (
-        "(define (problem gug-run) (:domain get-up-and-go)\n"
-        f"  (:init {' '.join(sorted(state))})\n"
-        f"  (:goal (and {' '.join(GOAL)})))\n"
-    )
-
-
-def initial_state(person_present: bool) -> frozenset[str]:
-    present = "(person-present)" if person_present else "(person-absent)"
-    return frozenset({"(started)", "(unexplained)", "(trials-left)", present})
-
-
-# ------------------------------------------------------------------ HighToLow for the trial
-def start_test(graph: Graph, patient: str, started: str) -> dict[str, Any]:
-    """The test node says a Get Up & Go test runs; a fresh gait node (a previous test's result
-    goes). Takes the Start request for ``patient`` (CAS)."""
-    forget, patient_id = high_to_low.patient_attrs(graph)
-    checks, ops = high_to_low.take_request(graph, patient)
-    ops = forget + ops
-    if "finished" in graph.node("test").attrs:
-        ops.append({"op": "remove_node_attrs", "node": "test", "names": ["finished"]})
-    attrs = {
-        **patient_id,
-        "patient": patient,
-        "kind": GugExecutive.KIND,
-        "status": "running",
-        "started": started,
-        "explained": False,
-        "said_goodbye": False,
-        "clinician_called": False,
-        "person_lost_count": 0,
-        "void_reasons": [],
-    }
-    ops.append({"op": "set_node_attrs", "node": "test", "attrs": attrs})
-    if "gait" in graph:
-        ops.append({"op": "delete_node", "node": "gait"})
-    gait = {"status": "idle", "trial": 0, "phase": ""}
-    ops.append({"op": "insert_node", "name": "gait", "type": "gait", "attrs": gait})
-    ops.append({"op": "insert_edge", "from": "test", "to": "gait", "type": "has"})
-    return {"preconditions": checks, "ops": ops}
-
-
-def time_trial(trial: int, go_at: float) -> dict[str, Any]:
-    """Trial ``trial`` begins: the gait analyser times it from ``go_at`` (epoch seconds)."""
-    attrs = {"status": "timing", "trial": trial, "go_at": go_at, "phase": "waiting"}
-    return {"ops": [{"op": "set_node_attrs", "node": "gait", "attrs": attrs}]}
-
-
-def void_trial(trial: int) -> dict[str, Any]:
-    """Trial ``trial`` is abandoned, unless the analyser timed it first (CAS)."""
-    return {
-        "preconditions": [
-            {"check": "attr_equals", "node": "gait", "attr": "trial", "value": trial},
-            {"check": "attr_equals", "node": "gait", "attr": "status", "value": "timing"},
-        ],
-        "ops": [{"op": "set_node_attrs", "node": "gait", "attrs": {"status": "void"}}],
-    }
-
-
 class GugExecutive(HighLevelExecutive):
     KIND = "get_up_and_go"
     CLOSING = ("store-result", "say-goodbye", "call-clinician", "end-untimed")
     NEEDS = ("speak", "track the person", "time a Get Up & Go")  # speech, person, gait_analyser
+    PROGRESS_FLAGS = {"explain": "explained", "say-goodbye": "said_goodbye"}
 
     def __init__(self, port, times, log):
         super().__init__(port, times, log)
@@ -124,7 +67,7 @@ class GugExecutive(HighLevelExecutive):
     def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
         self.trials, self.void_reasons = 0, []
         self.record = GugRecord(patient, self.port.now())
-        self.state = initial_state(low_to_high.person_present(graph))
+        self.state = initial_state(test_node.person_present(graph))
         return start_test(graph, patient, self.record.started)
 
     def _restore(self, graph: Graph) -> dict[str, Any]:
@@ -139,7 +82,7 @@ class GugExecutive(HighLevelExecutive):
         self.trials = int(g.get("trial", 0))
         self.void_reasons = [str(r) for r in t.get("void_reasons", [])]
         facts = {"(started)"}
-        facts.add("(person-present)" if low_to_high.person_present(graph) else "(person-absent)")
+        facts.add("(person-present)" if test_node.person_present(graph) else "(person-absent)")
         if not t.get("explained"):
             facts.add("(unexplained)")
         status = g.get("status")
@@ -174,7 +117,7 @@ class GugExecutive(HighLevelExecutive):
         if self.trials:
             self.port.send(void_trial(self.trials))
             self.void_reasons.append(f"trial {self.trials}: {reason}")
-            self.port.send(high_to_low.record_test(void_reasons=list(self.void_reasons)))
+            self.port.send(test_node.record_test(void_reasons=list(self.void_reasons)))
         state = state - {"(go-said)", "(trials-left)", "(ready)", "(to-seat)"}
         facts = self._trials_facts()
         if "(trials-left)" in facts:
@@ -229,7 +172,7 @@ class GugExecutive(HighLevelExecutive):
             return
         self.log.warning("the patient did not come back: calling the clinician")
         self.void_reasons.append("the patient did not come back")
-        self.port.send(high_to_low.record_test(void_reasons=list(self.void_reasons)))
+        self.port.send(test_node.record_test(void_reasons=list(self.void_reasons)))
         self.trials = MAX_TRIALS
         state = self.state - {"(trials-left)", "(trial-void)", "(sit-requested)"}
         self._complete(token, frozenset(state | {"(trials-exhausted)"}))

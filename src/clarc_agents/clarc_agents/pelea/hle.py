@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
+from clarc_agents import test_node
 from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.result_delivery import STORED, deliver
@@ -42,7 +43,6 @@ class Times:
     """Every time of the flow, in seconds of a real session; ``scale`` shrinks them together."""
 
     scale: float = 1.0
-    answer_timeout: float = 8.0  # an answer window
     words_per_second: float = 2.5  # to bound how long a sentence may take
     sentence_slack: float = 5.0
     store_retry: float = 2.0
@@ -82,8 +82,6 @@ REACH_RECHECK = 0.5  # seconds between looks at whether agents out of reach are 
 # seconds for what agents sent during a cut to arrive once it ends (DDS delivers what it held at
 # once; an agent sends again a request unanswered for 3 s)
 CUT_SETTLE = 4.0
-# Steps whose completion is written on the test node (the other steps leave their own trace).
-PROGRESS_FLAGS = {"greet": "greeted", "explain": "explained", "say-goodbye": "said_goodbye"}
 
 
 class Timer(Protocol):
@@ -112,6 +110,9 @@ class HighLevelExecutive(ABC):
     # what the test needs agents ready for (their can_do): no step begins without them, so the
     # robot never asks while nobody listens (a Speech still starting, restarting, gone)
     NEEDS: ClassVar[tuple[str, ...]] = ()
+    # the steps whose completion is written on the test node, each with its flag there (the
+    # other steps leave their own trace), so that a restarted executive does not redo them
+    PROGRESS_FLAGS: ClassVar[dict[str, str]] = {}
 
     def __init__(self, port: Port, times: Times, log):
         self.port = port
@@ -194,20 +195,20 @@ class HighLevelExecutive(ABC):
     def on_graph(self, graph: Graph) -> None:
         """The replica changed (or was reloaded)."""
         self.graph = graph
-        requested = low_to_high.start_request(graph)
+        requested = test_node.start_request(graph)
         request = (requested, graph.node("test").attrs.get("requested"))
         if requested is not None and request in self._handled:
             requested = None
         if not self.running:
             # one executive per test: each takes the Starts of its own test, and the one running
             # a test refuses every other Start
-            running = low_to_high.test_running(graph)
-            ours = low_to_high.running_test(graph) == self.KIND
+            running = test_node.test_running(graph)
+            ours = test_node.running_test(graph) == self.KIND
             if running and ours and not self._stuck:
                 self.resume(graph)
             elif (
                 requested is not None
-                and low_to_high.requested_test(graph) == self.KIND
+                and test_node.requested_test(graph) == self.KIND
                 and not (running and not ours)
             ):
                 self._handled.add(request)
@@ -216,7 +217,7 @@ class HighLevelExecutive(ABC):
         if requested is not None:
             self._handled.add(request)
             self.log.warning(f"Start for {requested} while a test runs: refused")
-            self.port.send(high_to_low.refuse_start(graph, requested))
+            self.port.send(test_node.refuse_start(graph, requested))
         self._watch_person(graph)
         if (
             self._pending_say is not None
@@ -274,8 +275,8 @@ class HighLevelExecutive(ABC):
         self._clear_wait()
         if state is None:
             self.state = step.apply(self.state)
-            if step.name in PROGRESS_FLAGS:  # so that a restarted executive does not redo it
-                self.port.send(high_to_low.record_test(**{PROGRESS_FLAGS[step.name]: True}))
+            if step.name in self.PROGRESS_FLAGS:
+                self.port.send(test_node.record_test(**{self.PROGRESS_FLAGS[step.name]: True}))
             deviation = self._monitor()
             if deviation:
                 self._replan(deviation)
@@ -344,17 +345,17 @@ class HighLevelExecutive(ABC):
             if low_to_high.sentence_done(graph, wait.sid):
                 self._complete(wait.token)
         elif isinstance(wait, PersonWait):
-            if low_to_high.person_present(graph):
+            if test_node.person_present(graph):
                 self.port.event(event="person_back")
                 self._complete(wait.token)
         elif wait is not None:
             self._check_test_wait(graph, wait)
 
     def _watch_person(self, graph: Graph) -> None:
-        present = low_to_high.person_present(graph)
+        present = test_node.person_present(graph)
         if "(person-present)" in self.state and not present:
             self.record.person_lost_count += 1
-            self.port.send(high_to_low.record_test(person_lost_count=self.record.person_lost_count))
+            self.port.send(test_node.record_test(person_lost_count=self.record.person_lost_count))
             self.port.event(event="person_lost")
             if self.current is not None and self.current.name in self.CLOSING:
                 self.state = (self.state - {"(person-present)"}) | {"(person-absent)"}
@@ -444,7 +445,7 @@ class HighLevelExecutive(ABC):
         self.record.clinician_called = True
         self.port.notify_clinician(message)
         self.port.event(event="clinician_called", unanswered=unanswered)
-        self.port.send(high_to_low.call_clinician(self.graph))
+        self.port.send(test_node.call_clinician(self.graph))
 
     def _store_result(self, step: Step) -> None:
         """The result to CGAmed; the step completes once it is stored (or refused)."""
@@ -474,7 +475,7 @@ class HighLevelExecutive(ABC):
             doc = self._result()
 
             def stored(outcome: str) -> None:
-                self.port.send(high_to_low.finish_test(self.graph))
+                self.port.send(test_node.finish_test(self.graph))
                 ended(doc, outcome)
 
             deliver(
@@ -487,4 +488,4 @@ class HighLevelExecutive(ABC):
                 self._set_timer,
             )
 
-        self.port.send(high_to_low.record_test(finished=finished), written)
+        self.port.send(test_node.record_test(finished=finished), written)

@@ -1,23 +1,17 @@
-"""LowToHigh: the DSR's binary predicates as the n-ary facts Monitoring reasons about (pure).
-
-Each fact is read with the grammar's pattern matcher, so the symbols PELEA relies on are
-declared here, in one place, as data."""
+"""LowToHigh of the core (pure): the sentences as the DSR shows them, Speech and Panel taking and
+finishing them, read with the grammar's pattern matcher, so the symbols PELEA relies on are
+declared here as data. Each test reads its own layout (``questionnaire/low_to_high.py``, the
+Get Up & Go's gait node), and the test node every test shares is ``test_node.py``."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
-from clarc_agents.behaviours.item_options import item_node
-from clarc_agents.definitions import Definition
-from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.matching import match
 from dsr_graph.rules.syntax import Pattern
 
 PATTERNS = {
-    "person_present": [Pattern("edge", "person", "robot", "is_with")],
-    "answer": [Pattern("edge", "person", "answer", "got", {"item": "$item"})],
     "speech_finished": [Pattern("edge", "robot", "speaking", "finish", {"sentence_id": "$sid"})],
     "panel_finished": [Pattern("edge", "robot", "showing", "finish", {"sentence_id": "$sid"})],
     "busy_speaking": [Pattern("edge", "robot", "speaking", "is")],
@@ -25,58 +19,8 @@ PATTERNS = {
 }
 
 
-@dataclass(frozen=True)
-class Answer:
-    """answer(item, outcome, points, via, heard): outcome is answered, skip, not_understood or
-    unsure (an option heard, not for sure: ``points`` is the option, to confirm).
-    A drawing is answered without points (the clinician scores it)."""
-
-    item: str
-    outcome: str
-    points: int | None = None
-    via: str | None = None
-    heard: str = ""
-    drawing: str = ""
-    audio: str = ""  # the clip of what was said (voice), if the recogniser kept one
-
-
 def _first(graph: Graph, name: str) -> dict[str, Any] | None:
     return next(match(graph, PATTERNS[name]), None)
-
-
-def person_present(graph: Graph) -> bool:
-    return _first(graph, "person_present") is not None
-
-
-def answer(graph: Graph) -> Answer | None:
-    found = _first(graph, "answer")
-    if found is None:
-        return None
-    attrs = graph.edge("person", "answer", "got").attrs
-    heard, audio = str(attrs.get("heard", "")), str(attrs.get("audio", ""))
-    if attrs.get("skip"):
-        return Answer(found["$item"], "skip", heard=heard, audio=audio)
-    if attrs.get("unsure") and isinstance(attrs.get("answer"), (int, float)):
-        points = int(attrs["answer"])
-        return Answer(found["$item"], "unsure", points, "voice", heard, audio=audio)
-    if not attrs.get("understood", False):
-        return Answer(found["$item"], "not_understood", heard=heard, audio=audio)
-    points = int(attrs["answer"]) if "answer" in attrs else None
-    return Answer(
-        found["$item"],
-        "answered",
-        points,
-        attrs.get("via"),
-        heard,
-        str(attrs.get("drawing", "")),
-        audio,
-    )
-
-
-def window_interrupted(graph: Graph) -> bool:
-    """The agent listening to the patient was restarted during the open answer window."""
-    edge = graph.edge("person", "answer", "waiting")
-    return edge is not None and bool(edge.attrs.get("interrupted"))
 
 
 def sentence_done(graph: Graph, sid: int) -> bool:
@@ -101,29 +45,6 @@ def sentence_taken(graph: Graph, sid: int) -> bool:
     return not channels_idle(graph) or any(f and f["$sid"] == sid for f in finished)
 
 
-def touched_so_far(graph: Graph) -> tuple[int, str] | None:
-    """The points and shapes of a three-stage command under way in the open window (Panel keeps
-    them there), or None."""
-    edge = graph.edge("person", "answer", "waiting")
-    if edge is None or "touched_points" not in edge.attrs:
-        return None
-    return int(edge.attrs["touched_points"]), str(edge.attrs.get("touched", ""))
-
-
-def hearing_since(graph: Graph) -> float | None:
-    """When the patient began to speak in the open answer window (epoch s), if they did: their
-    words may still be on their way through the recogniser."""
-    edge = graph.edge("person", "answer", "waiting")
-    stamp = edge.attrs.get("hearing") if edge is not None else None
-    return float(stamp) if isinstance(stamp, (int, float)) else None
-
-
-def window_untaken(graph: Graph) -> bool:
-    """The answer window is open but no agent started listening (``can`` still there): no one
-    could have heard the patient."""
-    return graph.edge("person", "answer", "can") is not None
-
-
 def channels_idle(graph: Graph) -> bool:
     """Neither Speech nor Panel is in the middle of an action (a new sentence may be written)."""
     return _first(graph, "busy_speaking") is None and _first(graph, "busy_showing") is None
@@ -132,70 +53,3 @@ def channels_idle(graph: Graph) -> bool:
 def last_sentence_id(graph: Graph) -> int:
     edge = graph.edge("test", "test_part", "is_in")
     return int(edge.attrs.get("sentence_id", 0)) if edge is not None else 0
-
-
-# ------------------------------------------------------------------ the test as the DSR holds it
-def start_request(graph: Graph) -> str | None:
-    """The patient for whom Start was pressed and not yet taken, if any."""
-    test = graph.find("test")
-    return None if test is None else test.attrs.get("requested_patient")
-
-
-def requested_test(graph: Graph) -> str:
-    """Which test the pending Start is for (a request without one is for the Barthel test)."""
-    return str(graph.node("test").attrs.get("requested_test", "barthel"))
-
-
-def running_test(graph: Graph) -> str:
-    """Which test the test node holds (written before tests had kinds: the Barthel test)."""
-    return str(graph.node("test").attrs.get("kind", "barthel"))
-
-
-def test_running(graph: Graph) -> bool:
-    test = graph.find("test")
-    return test is not None and test.attrs.get("status") == "running"
-
-
-def record(graph: Graph, definition: Definition) -> QuestionnaireRecord:
-    """The running (or last) test as its record, read from the test node and the item nodes."""
-    test = graph.node("test").attrs
-    rec = QuestionnaireRecord(
-        definition, str(test.get("patient", "")), str(test.get("started", ""))
-    )
-    rec.finished = test.get("finished")
-    rec.patient_id = int(test["patient_id"]) if "patient_id" in test else None
-    rec.clinician_called = bool(test.get("clinician_called", False))
-    rec.person_lost_count = int(test.get("person_lost_count", 0))
-    for key in definition.order:
-        node = graph.find(item_node(key))
-        if node is None:
-            continue
-        result = rec.items[key]
-        result.attempts = int(node.attrs.get("attempts", 0))
-        result.outcomes = list(node.attrs.get("outcomes", []))
-        result.heard = str(node.attrs.get("heard", ""))
-        result.audio = [str(a) for a in node.attrs.get("audio_clips", [])]
-        status = node.attrs.get("status")
-        if status == "answered":
-            result.answered, result.via = True, node.attrs.get("via")
-            result.points = int(node.attrs["answer"]) if "answer" in node.attrs else None
-            result.drawing = str(node.attrs.get("drawing", ""))
-        result.closed = status in ("answered", "unanswered")
-    return rec
-
-
-def facts(graph: Graph, definition: Definition) -> frozenset[str]:
-    """The high-level state of a running test, read from the DSR: what a restarted PELEA plans
-    from. An item not closed yet (the one in progress) is pending: it is asked again."""
-    test = graph.node("test").attrs
-    rec = record(graph, definition)
-    state = {"(started)", f"(current {test.get('item', definition.order[0])})"}
-    state.add("(person-present)" if person_present(graph) else "(person-absent)")
-    for flag in ("greeted", "explained", "said-goodbye"):
-        if test.get(flag.replace("-", "_")):
-            state.add(f"({flag})")
-    for key in definition.order:
-        state.add(f"(closed {key})" if rec.items[key].closed else f"(pending {key})")
-    needed = not rec.clinician_called and len(rec.unanswered) >= 2
-    state.add("(clinician-needed)" if needed else "(clinician-ok)")
-    return frozenset(state)

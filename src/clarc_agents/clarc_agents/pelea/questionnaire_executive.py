@@ -16,9 +16,9 @@ from dataclasses import dataclass
 from datetime import datetime
 from typing import Any
 
-from clarc_agents import definitions
+from clarc_agents import definitions, test_node
 from clarc_agents.definitions import Definition
-from clarc_agents.pelea import decision_support, high_to_low, low_to_high, monitoring
+from clarc_agents.pelea import decision_support
 from clarc_agents.pelea.decision_support import Step
 from clarc_agents.pelea.hle import (
     CUT_SETTLE,
@@ -27,10 +27,33 @@ from clarc_agents.pelea.hle import (
     Port,
     Times,
 )
-from clarc_agents.questionnaire import confirmation, orientation, sentences
+from clarc_agents.questionnaire import (
+    confirmation,
+    high_to_low,
+    low_to_high,
+    monitoring,
+    orientation,
+    planning,
+    sentences,
+)
 from clarc_agents.questionnaire.record import QuestionnaireRecord
 from dsr_graph.model.graph import Graph
 from dsr_graph.protocol.presence import PRESENCE_LEASE
+
+
+@dataclass
+class QuestionnaireTimes(Times):
+    """The core's times and a questionnaire's own."""
+
+    answer_timeout: float = 8.0  # an answer window
+
+
+def plan(state: frozenset[str], definition: Definition) -> list[Step]:
+    """Decision Support's plan from ``state`` through ``definition``'s items (``NoPlan`` if
+    there is none)."""
+    problem = planning.problem_pddl(state, definition, planning.GOAL)
+    domain = decision_support.domain_path("questionnaire")
+    return decision_support.solve(domain, problem, state, planning.GOAL)
 
 
 @dataclass(frozen=True)
@@ -70,11 +93,12 @@ class QuestionnaireExecutive(HighLevelExecutive):
     KIND = "barthel"  # by default; else the definition's test
     CLOSING = ("say-goodbye", "store-result")
     NEEDS = ("speak", "hear", "show", "take taps")  # nodes/speech_node.py, nodes/panel_node.py
+    PROGRESS_FLAGS = {"greet": "greeted", "explain": "explained", "say-goodbye": "said_goodbye"}
 
     def __init__(
         self,
         port: Port,
-        times: Times,
+        times: QuestionnaireTimes,
         log,
         definition: Definition | None = None,
         place: tuple[str, ...] = orientation.DEFAULT_PLACE,
@@ -95,9 +119,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
     def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
         self.definition = self._today()
         self.record = QuestionnaireRecord(self.definition, patient, self.port.now())
-        self.state = decision_support.initial_state(
-            low_to_high.person_present(graph), self.definition
-        )
+        self.state = planning.initial_state(test_node.person_present(graph), self.definition)
         return high_to_low.start_test(graph, patient, self.record.started, self.definition)
 
     def _restore(self, graph: Graph) -> dict[str, Any]:
@@ -120,7 +142,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
         return self.template.filled(orientation.values(today, self.place))
 
     def _plan(self, state: frozenset[str]) -> list[Step]:
-        return decision_support.plan(state, self.definition)
+        return plan(state, self.definition)
 
     def _person_lost_state(self) -> frozenset[str]:
         """The item in progress starts over when they are back; its answer window closes."""

@@ -137,7 +137,7 @@ def scenario(args: argparse.Namespace) -> int:
 def start(args: argparse.Namespace) -> int:
     """Press Start: a request for the patient on the DSR's test node, which PELEA takes as soon
     as it runs (a request made while PELEA is down or restarting waits there)."""
-    from clarc_agents.pelea.high_to_low import request_start
+    from clarc_agents.test_node import request_start
     from dsr_graph.exceptions import DsrError
     from dsr_graph.ros.agent import DsrAgent
     from dsr_graph.ros.session import RosSession

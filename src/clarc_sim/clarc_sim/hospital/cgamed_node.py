@@ -25,7 +25,7 @@ from std_msgs.msg import String
 from clarc_agents import topics
 from clarc_agents.asr.clips import default_folder
 from clarc_agents.course import Course, band_words, test_name
-from clarc_agents.pelea.high_to_low import request_start
+from clarc_agents.test_node import request_start
 from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.dashboard_app import DEFAULT_IDLE, TestStatus, make_app, session_key
 from clarc_sim.hospital.results_store import ResultsStore, default_db
