@@ -15,6 +15,7 @@ from dsr_graph import __version__
 from dsr_graph.cli import verb
 from dsr_graph.cli.api import split_ros_args
 from dsr_graph.formats.private_files import set_private_umask
+from dsr_graph.ros import process_gc
 
 
 def _verbs():
@@ -40,6 +41,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     set_private_umask()  # recordings, saved graphs, keystores: the user's alone
+    process_gc.use_dsr_policy()  # whole graphs read and written
     own, ros_args = split_ros_args(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(own)
     args.ros_args = ros_args

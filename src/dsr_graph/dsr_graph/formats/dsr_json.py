@@ -21,7 +21,6 @@ from dsr_graph.exceptions import FormatError, Violation
 from dsr_graph.formats import safe_json, units
 from dsr_graph.formats.world_builder import WorldBuilder
 from dsr_graph.model import provenance, rigid
-from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.trusted_loading import SNAPSHOT_COLUMNS
 from dsr_graph.model.vocabulary import Vocabulary
@@ -250,11 +249,10 @@ def snapshot_from_json(
         doc = units.in_metres(doc, "snapshot")
         graph = Graph(vocabulary)
         try:
-            with collector_paused():
-                if columnar:
-                    graph.restore_columns(doc["nodes"], doc["edges"], _trusted_json, attrs_hook)
-                else:
-                    graph.restore(doc.get("nodes", []), doc.get("edges", []), lazy, attrs_hook)
+            if columnar:
+                graph.restore_columns(doc["nodes"], doc["edges"], _trusted_json, attrs_hook)
+            else:
+                graph.restore(doc.get("nodes", []), doc.get("edges", []), lazy, attrs_hook)
         except (KeyError, TypeError, ValueError) as e:
             raise FormatError(f"snapshot is not a valid graph: {e!r}") from e
     else:

@@ -30,7 +30,6 @@ import numpy as np
 
 from dsr_graph.exceptions import LookupFailed, RuleViolation, ValueTypeError, Violation
 from dsr_graph.model import rigid
-from dsr_graph.model.collector import collector_paused
 from dsr_graph.model.elements import Edge, EdgeKey, Node, NodeRef
 from dsr_graph.model.rt_history import RtHistory
 from dsr_graph.model.rt_tree import RtTree
@@ -515,6 +514,5 @@ class _EdgesPending(Graph):
         self.__class__ = Graph
         self._edges, self._out, self._in, self._by_type = {}, {}, {}, {}
         self._tree = RtTree()
-        with collector_paused():
-            self._add_edges(edges, decode)
+        self._add_edges(edges, decode)
         return getattr(self, name)

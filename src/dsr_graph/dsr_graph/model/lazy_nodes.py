@@ -11,8 +11,6 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
-from dsr_graph.model.collector import collector_paused
-
 
 class LazyNodes(dict):
     """Built nodes are the dict's own items; the others wait in ``_raw`` (id -> JSON object)."""
@@ -52,8 +50,7 @@ class LazyNodes(dict):
     def _build_all(self) -> None:
         if self._raw:  # in one go: a walk of every node is how most of them get built
             build = self._build
-            with collector_paused():
-                dict.update(self, {node_id: build(raw) for node_id, raw in self._raw.items()})
+            dict.update(self, {node_id: build(raw) for node_id, raw in self._raw.items()})
             self._raw.clear()
 
     def __iter__(self) -> Iterator[int]:

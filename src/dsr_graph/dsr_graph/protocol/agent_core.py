@@ -32,7 +32,6 @@ from typing import Any, Protocol
 
 from dsr_graph.formats.safe_json import READING_ERRORS, loads_object
 from dsr_graph.model.binary import dumps
-from dsr_graph.model.collector import collector_paused, settle
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol.blobs import REF, BlobCache, attrs_resolver, extract, refs_in_text, resolve
 from dsr_graph.protocol.replica import Replica
@@ -385,9 +384,8 @@ class AgentCore:
         if self.closed:
             return
         try:
-            with collector_paused():  # restored as trusted: not walked (safe_json.loads)
-                snapshot = loads_object(text, None, walk=False)
-                settle()  # its dicts become the replica's (model/collector.py)
+            # restored as trusted: not walked (safe_json.loads)
+            snapshot = loads_object(text, None, walk=False)
         except READING_ERRORS as e:
             self.link.log("warning", f"snapshot failed, will retry: {e!r}")
             return
@@ -403,7 +401,6 @@ class AgentCore:
         except Exception as e:  # a bad snapshot, whatever it broke: the tick asks again
             self.link.log("warning", f"snapshot failed, will retry: {e!r}")
             return
-        settle()  # the replica is most of this process now (model/collector.py)
         self.resyncs += 1
         self._gap_since = None
         if self.resyncs > 1:  # the first is the start; later ones mean deltas were missed

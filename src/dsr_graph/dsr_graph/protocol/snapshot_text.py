@@ -11,7 +11,6 @@ import orjson
 
 from dsr_graph.formats import dsr_json
 from dsr_graph.model.binary import to_json_value
-from dsr_graph.model.collector import collector_paused
 from dsr_graph.protocol.blobs import extract
 from dsr_graph.protocol.server_core import ServerCore
 
@@ -25,11 +24,10 @@ def snapshot_text(
     bytes already kept (BlobCache.digest_of_kept), so that none is hashed twice."""
     if layout not in LAYOUTS:
         raise ValueError(f"unknown layout {layout!r} ('' or {dsr_json.COLUMNS!r})")
-    with collector_paused():
-        snapshot, blobs = extract(core.snapshot(), known=known)
-        if layout == dsr_json.COLUMNS:
-            snapshot = dsr_json.to_columns(snapshot, _element_text)
-        return orjson.dumps(snapshot, default=to_json_value).decode(), blobs
+    snapshot, blobs = extract(core.snapshot(), known=known)
+    if layout == dsr_json.COLUMNS:
+        snapshot = dsr_json.to_columns(snapshot, _element_text)
+    return orjson.dumps(snapshot, default=to_json_value).decode(), blobs
 
 
 def _element_text(item: dict[str, Any]) -> str:

@@ -61,6 +61,7 @@ from dsr_graph.protocol.agent_core import (
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
+from dsr_graph.ros import process_gc
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.log_levels import log_at
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_requests, qos_stream
@@ -137,6 +138,8 @@ class DsrAgent:
                 f"no DSR server answered on {topic_names.GET_SNAPSHOT} within {timeout_sec} s "
                 "(is dsr_server running with the same ROS_DOMAIN_ID?)"
             )
+        # the replica is most of this process after each snapshot (ros/process_gc.py)
+        self.core.add_listener(lambda deltas, resynced: resynced and process_gc.settle())
         node.create_timer(TICK, self._tick)
         self.core.ask_snapshot(time.monotonic())
 

@@ -35,7 +35,7 @@ from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
-from dsr_graph.ros import dds_teardown
+from dsr_graph.ros import dds_teardown, process_gc
 from dsr_graph.ros.exit_timer import exit_if_stuck
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals
@@ -121,6 +121,7 @@ class DsrNode(Node):
 
 def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) -> int:
     set_private_umask()  # whatever the node writes is its user's alone
+    process_gc.use_dsr_policy()
     stops = StopSignals().install()  # before rclpy.init, which chains to it
     rclpy.init(args=args)
     node: DsrNode | None = None
