@@ -15,7 +15,8 @@ GUG scenario through launch.sh, quiet and loaded), camera (640x480 colour and de
 another process's replica, a Speech change's latency against the quiet figure, and what one hop
 costs a frame as base64 JSON or as blobs), signed (what signing the DSR's traffic
 costs: latency, throughput with one agent and the Barthel run's CPU, with DSR_SECURITY=enforce
-next to off).
+next to off), gc (a snapshot encoded and loaded with the DSR processes' collector policy next to
+CPython's default thresholds, in interleaved rounds).
 
 Each section is a module of its own beside this one.
 """
@@ -71,6 +72,7 @@ def main() -> int:
             "speech_loop",
             "provenance",
             "rt_history",
+            "gc",
         ]
     )
     domain = 10 + os.getpid() % 90
@@ -128,6 +130,10 @@ def main() -> int:
             from cortex import bench_rt_history
 
             report["rt_history"] = bench_rt_history([2, 10, 50], 2000 if quick else 20000)
+        if "gc" in sections:
+            from gc_policy import bench_gc_policy
+
+            report["gc"] = bench_gc_policy(10000 if quick else 100000, 5 if quick else 10)
         if "speech" in sections:
             from speech import bench_speech
 

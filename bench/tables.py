@@ -12,6 +12,10 @@ def table(report: dict[str, Any]) -> str:
         from speech import table as speech_table
 
         lines += speech_table(report["speech"])
+    if report.get("gc"):
+        from gc_policy import table as gc_table
+
+        lines += gc_table(report["gc"])
     lat = report.get("latency")
     if lat:
         lines.append("change-to-visible latency (2 hops)    p50        p90        p99")
