@@ -18,7 +18,8 @@ import sys
 
 from clarc_sim.exceptions import AccountError
 from clarc_sim.hospital import accounts
-from clarc_sim.hospital.results_store import ROLES, ResultsStore, default_db
+from clarc_sim.hospital.accounts_table import ROLES
+from clarc_sim.hospital.results_store import ResultsStore, default_db
 
 
 def add_parser(sub) -> None:

@@ -10,7 +10,8 @@ with its whole result as JSON), items (one row per item of a questionnaire, in t
 notifications (what the clinician was told).
 
 The schema and its versions: ``store_schema.py``; the checks a result passes before it is
-stored: ``result_checks.py``.
+stored: ``result_checks.py``; the patients' records: ``patients_table.py``; the accounts and the
+audit trail: ``accounts_table.py`` (both parts of ``ResultsStore``).
 
 Questionnaire results are checked against their test definition (any test in
 clarc_agents/definitions); an item that ``needs_clinician`` waits for the clinician's score
@@ -28,13 +29,13 @@ from typing import Any
 
 from clarc_agents import definitions
 from clarc_sim.exceptions import (
-    AccountError,
     AlreadyValidated,
     InvalidResult,
     ResultChanged,
-    UnknownPatient,
     UnknownTest,
 )
+from clarc_sim.hospital.accounts_table import AccountsTable
+from clarc_sim.hospital.patients_table import PatientsTable
 from clarc_sim.hospital.result_checks import (
     TIMED,
     band_of,
@@ -45,7 +46,6 @@ from clarc_sim.hospital.result_checks import (
 from clarc_sim.hospital.store_schema import migrate
 from dsr_graph.formats.default_paths import data_path
 
-ROLES = ("technician", "clinician", "admin")
 # The Barthel test's items keep the fields they had in `clarc results --json` before tests were
 # data files, and whether the clinician scores them (an answer the robot could not understand)
 ITEM_FIELDS = {"barthel": ("item", "points", "via", "attempts", "needs_clinician")}
@@ -57,7 +57,7 @@ def default_db() -> str:
     return data_path("clarc", "cgamed.sqlite")
 
 
-class ResultsStore:
+class ResultsStore(PatientsTable, AccountsTable):
     def __init__(self, path: str, shared: bool = False):
         """``shared``: the connection is made in one thread and used in another (CGAmed makes it
         at start-up and uses it from its ROS thread); it is still used by one thread at a time."""
@@ -117,49 +117,6 @@ class ResultsStore:
                 ],
             )
         return test_id
-
-    # ------------------------------------------------------------------ patients
-    def _patient_of(self, result: dict[str, Any], now: str) -> int:
-        """The record a result is for: its ``patient_id`` if the Start named one, else the first
-        record with its name, else a new one."""
-        given = result.get("patient_id")
-        if isinstance(given, int) and not isinstance(given, bool):
-            row = self.db.execute("SELECT name FROM patients WHERE id = ?", (given,)).fetchone()
-            if row is not None:
-                return given
-        row = self.db.execute(
-            "SELECT id FROM patients WHERE name = ? ORDER BY id LIMIT 1", (result["patient"],)
-        ).fetchone()
-        if row is not None:
-            return row[0]
-        cur = self.db.execute(
-            "INSERT INTO patients (name, created) VALUES (?, ?)", (result["patient"], now)
-        )
-        return cur.lastrowid
-
-    def add_patient(self, name: str) -> dict[str, Any]:
-        """A new patient record; ``InvalidResult`` for an empty name."""
-        name = " ".join(str(name).split())
-        if not name:
-            raise InvalidResult("a patient needs a name")
-        now = datetime.now(UTC).isoformat(timespec="seconds")
-        with self.db:
-            cur = self.db.execute("INSERT INTO patients (name, created) VALUES (?, ?)", (name, now))
-        return {"id": cur.lastrowid, "name": name, "created": now}
-
-    def patients(self) -> list[dict[str, Any]]:
-        return [
-            {"id": i, "name": n, "created": c}
-            for i, n, c in self.db.execute("SELECT id, name, created FROM patients ORDER BY id")
-        ]
-
-    def patient(self, patient_id: int) -> dict[str, Any]:
-        row = self.db.execute(
-            "SELECT id, name, created FROM patients WHERE id = ?", (patient_id,)
-        ).fetchone()
-        if row is None:
-            raise UnknownPatient(f"no patient {patient_id}")
-        return {"id": row[0], "name": row[1], "created": row[2]}
 
     # ------------------------------------------------------------------ the clinician
     def score(
@@ -257,78 +214,6 @@ class ResultsStore:
                 (clinician, when, test_id),
             )
         return {"validated_by": clinician, "validated_at": when, "version": result["version"]}
-
-    # ------------------------------------------------------------------ who may do what
-    def add_user(self, name: str, role: str, password_hash: str) -> dict[str, Any]:
-        """A dashboard account (the hash from ``accounts.hash_password``); ``AccountError`` for
-        a taken name, an unknown role, or a name that is not one."""
-        name = " ".join(str(name).split())
-        if not name or len(name) > 100:
-            raise AccountError("a user needs a name (at most 100 characters)")
-        if role not in ROLES:
-            raise AccountError(f"role {role!r}: it is one of {', '.join(ROLES)}")
-        now = datetime.now(UTC).isoformat(timespec="seconds")
-        try:
-            with self.db:
-                self.db.execute(
-                    "INSERT INTO users (name, role, password_hash, created) VALUES (?, ?, ?, ?)",
-                    (name, role, password_hash, now),
-                )
-        except sqlite3.IntegrityError:
-            raise AccountError(f"there is a user {name!r} already") from None
-        return self.user(name)
-
-    def user(self, name: str) -> dict[str, Any] | None:
-        """An account with its hash (for logging in), None if there is none."""
-        row = self.db.execute(
-            "SELECT name, role, password_hash, disabled, created FROM users WHERE name = ?",
-            (name,),
-        ).fetchone()
-        if row is None:
-            return None
-        return dict(zip(("name", "role", "password_hash", "disabled", "created"), row, strict=True))
-
-    def users(self) -> list[dict[str, Any]]:
-        return [
-            {"name": n, "role": r, "disabled": bool(d), "created": c}
-            for n, r, d, c in self.db.execute(
-                "SELECT name, role, disabled, created FROM users ORDER BY id"
-            )
-        ]
-
-    def set_disabled(self, name: str, disabled: bool = True) -> None:
-        with self.db:
-            changed = self.db.execute(
-                "UPDATE users SET disabled = ? WHERE name = ?", (int(disabled), name)
-            ).rowcount
-        if not changed:
-            raise AccountError(f"there is no user {name!r}")
-
-    def set_password(self, name: str, password_hash: str) -> None:
-        """A new hash (Argon2's parameters changed since it was made)."""
-        with self.db:
-            self.db.execute(
-                "UPDATE users SET password_hash = ? WHERE name = ?", (password_hash, name)
-            )
-
-    def audit(self, user: str, action: str, test_id: int | None = None, detail: str = "") -> None:
-        """One more line of the audit trail (append-only: the store's triggers refuse any
-        change or deletion of a line)."""
-        with self.db:
-            self.db.execute(
-                "INSERT INTO audit (time, user, action, test_id, detail) VALUES (?, ?, ?, ?, ?)",
-                (datetime.now(UTC).isoformat(timespec="seconds"), user, action, test_id, detail),
-            )
-
-    def audit_trail(self, limit: int = 1000) -> list[dict[str, Any]]:
-        """The latest lines of the audit trail, newest first."""
-        return [
-            {"time": t, "user": u, "action": a, "test_id": i, "detail": d}
-            for t, u, a, i, d in self.db.execute(
-                "SELECT time, user, action, test_id, detail FROM audit ORDER BY id DESC LIMIT ?",
-                (limit,),
-            )
-        ]
 
     def notify(self, kind: str, message: str, test_id: int | None = None) -> None:
         with self.db:
