@@ -33,7 +33,7 @@ from dsr_graph.model import rigid
 from dsr_graph.model.elements import Edge, EdgeKey, Node, NodeRef
 from dsr_graph.model.rt_history import RtHistory
 from dsr_graph.model.rt_tree import RtTree
-from dsr_graph.model.trusted_loading import EDGE_INDEXES, SNAPSHOT_COLUMNS, TrustedLoading
+from dsr_graph.model.trusted_loading import SNAPSHOT_COLUMNS, TrustedLoading
 from dsr_graph.model.undo_log import UndoLog
 from dsr_graph.model.values import UINT64_MAX, coerce
 from dsr_graph.model.vocabulary import RT, Vocabulary
@@ -493,26 +493,3 @@ class Graph(TrustedLoading):
         self._by_type[edge.type].discard(key)
         if edge.type == RT:
             self._tree.unlink(edge)
-
-    def _defer_edges(self) -> None:
-        """The edges wait for their first use (trusted_loading.py's lazy restore)."""
-        self.__class__ = _EdgesPending
-
-
-class _EdgesPending(Graph):
-    """A lazily restored graph until an edge is first used: then its edges, their indexes and
-    the RT tree are built, and it is a plain ``Graph`` again. (Not ``Graph.__getattr__``: CPython
-    does not specialise attribute access on a class that has one, which made every change to a
-    server's graph 15% slower.)"""
-
-    def __getattr__(self, name: str) -> Any:
-        # only reached for an attribute the instance lacks
-        if name not in EDGE_INDEXES:
-            raise AttributeError(f"'Graph' object has no attribute {name!r}")
-        edges, decode = self._pending_edges
-        del self._pending_edges
-        self.__class__ = Graph
-        self._edges, self._out, self._in, self._by_type = {}, {}, {}, {}
-        self._tree = RtTree()
-        self._add_edges(edges, decode)
-        return getattr(self, name)
