@@ -155,6 +155,14 @@ def new_session(domain_id, name="test_client"):
     return RosSession(name=name, domain_id=domain_id)
 
 
+def start_synced(ros, cortex_dir=None, world="Robot_viriato.json", **params):
+    """A DSR server of the test's own (a CORTEX world from ``cortex_dir``, or empty), and its
+    first snapshot: (its state folder, the snapshot)."""
+    state = ros.tmp / "state"
+    ros.procs.start_server(state, world=(cortex_dir / world) if cortex_dir else None, **params)
+    return state, snapshot_via(ros.session, timeout=20)
+
+
 def agent_in_session(ros, timeout=15):
     """A DsrAgent in the test's own ROS session, synced and matched both ways."""
     from dsr_graph.ros.agent import DsrAgent

@@ -1,30 +1,21 @@
 """The DSR server and agents as real processes over ROS 2: apply/get/graph/watch/save/ros,
-ordering, late join, kill -9 and restart, hostile input, poses, claims, racing rules."""
+ordering, late join, kill -9 and restart, hostile input, claims, racing rules. What the server
+shows ROS tools (poses, tf, markers, echo and param) is test_ros_server_views.py."""
 
 import json
-import math
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from geometry_msgs.msg import PoseStamped
 from std_msgs.msg import String
 
 from dsr_graph.formats import dsr_json
 from dsr_graph.formats.world_files import read_world
-from dsr_graph.model import rigid
 from dsr_graph.ros.agent import DsrAgent
-from dsr_graph.ros.qos import qos_latched, qos_stream
+from dsr_graph.ros.qos import qos_stream
 
-from ros_processes import agent_in_session, send_and_wait, snapshot_via, wait_for
-
-
-def start(ros, cortex_dir=None, world="Robot_viriato.json", **params):
-    state = ros.tmp / "state"
-    ros.procs.start_server(state, world=(cortex_dir / world) if cortex_dir else None, **params)
-    snap = snapshot_via(ros.session, timeout=20)
-    return state, snap
+from ros_processes import agent_in_session, send_and_wait, snapshot_via, start_synced, wait_for
 
 
 def canonical(doc):
@@ -33,7 +24,7 @@ def canonical(doc):
 
 @pytest.mark.smoke  # dsr_graph's (scripts/test.sh --quick)
 def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
-    start(ros, cortex_dir)
+    start_synced(ros, cortex_dir)
     tx = tmp_path / "tx.json"
     tx.write_text(
         json.dumps(
@@ -113,7 +104,7 @@ def test_cli_apply_get_graph_save_ros(ros, cortex_dir, tmp_path):
 
 
 def test_watch_prints_deltas_in_order(ros):
-    start(ros)
+    start_synced(ros)
     watch = ros.procs.start("watch", ["dsr", "watch", "--count", "3", "--duration", "30"])
     agent = agent_in_session(ros)
     # Like `ros2 topic echo`, watch sees what is published once it is matched: keep writing
@@ -134,7 +125,7 @@ def test_watch_prints_deltas_in_order(ros):
 
 
 def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
-    start(ros)
+    start_synced(ros)
     agent = agent_in_session(ros)
     seen = []
     agent.add_listener(lambda deltas, resynced: seen.extend(d["seq"] for d in deltas))
@@ -160,7 +151,7 @@ def test_deltas_are_totally_ordered_across_writers_and_replicas_converge(ros):
 
 
 def test_late_joiner_gets_the_same_graph(ros, cortex_dir):
-    start(ros, cortex_dir, world="autonomyLab_complete.simscene.json")
+    start_synced(ros, cortex_dir, world="autonomyLab_complete.simscene.json")
     early = agent_in_session(ros)
     for i in range(20):
         send_and_wait(
@@ -191,7 +182,7 @@ def test_late_joiner_gets_the_same_graph(ros, cortex_dir):
 
 
 def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
-    state, _ = start(ros, cortex_dir, compact_every=7)
+    state, _ = start_synced(ros, cortex_dir, compact_every=7)
     agent = agent_in_session(ros)
     accepted = 0
     for i in range(25):  # crosses several compactions
@@ -215,7 +206,7 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
 def test_kill9_while_sensor_data_streams_loses_no_symbol(ros):
     """Volatile frames (not journalled) stream between symbols; kill -9 mid-stream: every symbol
     accepted comes back, at the same seq, and the stream goes on after the restart."""
-    state, _ = start(ros, compact_every=20)
+    state, _ = start_synced(ros, compact_every=20)
     agent = agent_in_session(ros)
     person = {"translation": [1.0, 0.0, 0.0], "rotation_euler_xyz": [0.0, 0.0, 0.0]}
     setup = [
@@ -276,7 +267,7 @@ def test_kill9_while_sensor_data_streams_loses_no_symbol(ros):
 
 
 def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
-    start(ros, max_request_bytes=100000)
+    start_synced(ros, max_request_bytes=100000)
     rejections = []
     node = ros.session.node
     node.create_subscription(
@@ -309,51 +300,6 @@ def test_hostile_messages_get_rejections_and_the_server_stays_up(ros):
     assert snapshot_via(ros.session)["seq"] == 0
 
 
-def test_pose_topics_match_the_kinematic_chain(ros, cortex_dir):
-    start(ros, cortex_dir)
-    world = read_world(cortex_dir / "Robot_viriato.json").graph
-    poses = {}
-    node = ros.session.node
-    for name in ("viriato_mesh", "laser1", "viriato_head_camera_tilt_joint"):
-        node.create_subscription(
-            PoseStamped,
-            f"dsr/pose/{name}",
-            lambda m, n=name: poses.__setitem__(n, m),
-            qos_latched(),
-        )
-    wait_for(lambda: len(poses) == 3, 15, "three latched poses", ros.session)
-    for name, msg in poses.items():
-        parent = world.rt_parent(name).name
-        assert msg.header.frame_id == parent
-        t = world.transform(parent, name)
-        p, q = msg.pose.position, msg.pose.orientation
-        assert np.allclose([p.x, p.y, p.z], t[:3, 3])
-        from dsr_graph.model.rigid import from_translation_quaternion
-
-        assert np.allclose(
-            from_translation_quaternion([p.x, p.y, p.z], [q.w, q.x, q.y, q.z]), t, atol=1e-9
-        )
-    agent = agent_in_session(ros)
-    poses.clear()
-    send_and_wait(
-        ros,
-        agent,
-        {
-            "ops": [
-                {
-                    "op": "set_rt",
-                    "from": "laser_pose",
-                    "to": "laser1",
-                    "rt": {"translation": [1, 2, 3], "rotation_euler_xyz": [0, 0, math.pi / 2]},
-                }
-            ]
-        },
-    )
-    wait_for(lambda: "laser1" in poses, 10, "the moved pose", ros.session)
-    q = poses["laser1"].pose.orientation
-    assert np.allclose([q.w, q.z], [math.cos(math.pi / 4), math.sin(math.pi / 4)])
-
-
 CLAIMS_POLICY = """
 version: 1
 agents:  # dsr apply's nodes outrank this test's own node
@@ -365,7 +311,7 @@ agents:  # dsr apply's nodes outrank this test's own node
 def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
     policy = tmp_path / "policy.yaml"
     policy.write_text(CLAIMS_POLICY)
-    start(ros, agent_grace=0.5, heartbeat_period=0.2, policy_file=policy)
+    start_synced(ros, agent_grace=0.5, heartbeat_period=0.2, policy_file=policy)
     agent = agent_in_session(ros)
     assert send_and_wait(
         ros,
@@ -426,7 +372,7 @@ def test_claims_priorities_preemption_and_release_on_death(ros, tmp_path):
 
 
 def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
-    start(ros)
+    start_synced(ros)
     grammar = ros.tmp / "speech.yaml"
     grammar.write_text(
         json.dumps(
@@ -540,141 +486,3 @@ def test_two_agents_race_for_one_rule_and_exactly_one_wins(ros):
     assert all(
         d["claims"]["granted"][0]["target"] == {"from": "robot", "to": "speaking"} for d in starts
     )
-
-
-def test_online_verbs_take_ros_args_like_any_node(ros, cortex_dir):
-    """A server in a namespace is reached with -r __ns:=, as `ros2 run` users expect."""
-    state = ros.tmp / "state"
-    ros.procs.start(
-        "server",
-        [
-            "dsr_server",
-            "--ros-args",
-            "-r",
-            "__ns:=/robot",
-            "-p",
-            f"state_dir:={state}",
-            "-p",
-            f"world_file:={cortex_dir / 'Robot_viriato.json'}",
-        ],
-    )
-    r = ros.procs.run("dsr", "get", "robot", "port", "--ros-args", "-r", "__ns:=/robot")
-    assert r.returncode == 0 and json.loads(r.stdout)["value"] == 12238, r.stderr
-    r = ros.procs.run("dsr", "graph", "--ros-args", "-r", "__ns:=/robot")
-    assert r.returncode == 0 and "robot" in r.stdout, r.stderr
-    r = ros.procs.run("dsr", "get", "robot", "port", "--timeout", "2")  # not in the namespace
-    assert r.returncode == 1 and "no answer" in r.stderr
-
-
-def test_echo_and_param_do_what_ros2_topic_and_param_would(ros, cortex_dir):
-    start(ros, cortex_dir)
-    r = ros.procs.run("dsr", "echo", "dsr/heartbeat", "--count", "1", "--field", "seq")
-    assert r.returncode == 0 and r.stdout.strip().isdigit(), r.stderr  # latched: heard at once
-    r = ros.procs.run("dsr", "echo", "/dsr/heartbeat", "--count", "1", "--field", "nothing")
-    assert "(missing: nothing: no 'nothing')" in r.stdout
-    r = ros.procs.run("dsr", "param", "list", "dsr_server")
-    assert r.returncode == 0 and "agent_grace" in r.stdout.split(), r.stderr
-    r = ros.procs.run("dsr", "param", "get", "dsr_server", "agent_grace")
-    assert r.returncode == 0 and r.stdout.strip() == "3.0"
-    r = ros.procs.run("dsr", "param", "set", "dsr_server", "agent_grace", "5.5")
-    assert r.returncode == 0 and r.stdout.strip() == "agent_grace = 5.5", r.stderr
-    assert ros.procs.run("dsr", "param", "get", "dsr_server", "agent_grace").stdout.strip() == "5.5"
-    r = ros.procs.run("dsr", "param", "set", "dsr_server", "heartbeat_period", "2.0")
-    assert r.returncode == 1 and "refused heartbeat_period" in r.stderr and "read-only" in r.stderr
-    r = ros.procs.run("dsr", "param", "get", "dsr_server", "no_such")
-    assert r.returncode == 1 and "has no parameter no_such" in r.stderr
-
-
-def test_the_graph_is_drawn_on_dsr_markers_for_rviz(ros, cortex_dir):
-    from visualization_msgs.msg import Marker, MarkerArray
-
-    start(ros, cortex_dir)
-    arrays = []
-    ros.session.node.create_subscription(MarkerArray, "dsr/markers", arrays.append, qos_latched())
-    wait_for(lambda: bool(arrays), 15, "a drawing on dsr/markers", ros.session)
-    world = read_world(cortex_dir / "Robot_viriato.json").graph
-    labels = {m.text for m in arrays[-1].markers if m.ns == "dsr_node_labels"}
-    assert labels == {f"{n.name} ({n.type})" for n in world.nodes()}
-    assert arrays[-1].markers[0].action == Marker.DELETEALL
-    assert {m.header.frame_id for m in arrays[-1].markers[1:]} == {world.rt_root().name}
-    agent = agent_in_session(ros)
-    send_and_wait(ros, agent, {"ops": [{"op": "insert_node", "name": "cup", "type": "object"}]})
-    wait_for(
-        lambda: any(m.text == "cup (object)" for m in arrays[-1].markers), 15, "cup", ros.session
-    )
-
-
-def test_the_rt_tree_is_on_tf_static_and_a_moved_edge_on_tf(ros, cortex_dir):
-    from rclpy.qos import DurabilityPolicy, QoSProfile
-    from tf2_msgs.msg import TFMessage
-
-    start(ros, cortex_dir)
-    world = read_world(cortex_dir / "Robot_viriato.json").graph
-    statics, dynamics = [], []
-    latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-    node = ros.session.node
-    node.create_subscription(TFMessage, "/tf_static", statics.append, latched)
-    node.create_subscription(TFMessage, "/tf", dynamics.append, QoSProfile(depth=100))
-    wait_for(lambda: bool(statics), 15, "/tf_static", ros.session)
-    children = {t.child_frame_id for t in statics[-1].transforms}
-    assert children == {world.node(e.dst).name for e in world.edges() if e.type == "RT"}
-    laser = next(t for t in statics[-1].transforms if t.child_frame_id == "laser_pose")
-    assert laser.header.frame_id == "body" and math.isclose(laser.transform.translation.y, 0.4)
-    matrix = world.transform("body", "laser_pose")
-    matrix[2, 3] += 0.25  # metres, as everything in the DSR
-    agent = agent_in_session(ros)
-    rt = rigid.to_json(matrix)
-    tx = {"ops": [{"op": "set_rt", "from": "body", "to": "laser_pose", "rt": rt}]}
-    assert send_and_wait(ros, agent, tx).accepted
-    wait_for(lambda: any(dynamics), 15, "/tf", ros.session)
-    moved = dynamics[-1].transforms[0]
-    assert moved.child_frame_id == "laser_pose" and math.isclose(
-        moved.transform.translation.z, 0.25 + laser.transform.translation.z
-    )
-    wait_for(
-        lambda: "laser_pose" not in {t.child_frame_id for t in statics[-1].transforms},
-        15,
-        "laser_pose to leave /tf_static",
-        ros.session,
-    )
-
-
-def test_a_pose_asked_at_a_past_time_comes_from_the_servers_rt_history(ros):
-    """dsr/get_transform through `dsr transform --live --at`: interpolated between the values
-    the server stamped, refused by name before what its bounded history holds."""
-    world = Path(__file__).resolve().parents[2] / "worlds" / "clarc_room.json"
-    ros.procs.start_server(ros.tmp / "state", world=world, rt_history_count=2)
-    snapshot_via(ros.session, timeout=20)
-    agent = agent_in_session(ros)
-    stamps = []
-    for x in (1.0, 2.0, 3.0):
-        moved = send_and_wait(
-            ros,
-            agent,
-            {
-                "ops": [
-                    {
-                        "op": "set_rt",
-                        "from": "room",
-                        "to": "chair",
-                        "rt": {"translation": [x, 0.0, 0.0], "rotation_euler_xyz": [0, 0, 0]},
-                    }
-                ]
-            },
-        )
-        assert moved.accepted
-        stamps.append(moved.delta["stamp"])
-        time.sleep(0.05)  # distinct stamps
-
-    def at(when):
-        return ros.procs.run("dsr", "transform", "--live", "room", "chair", "--at", repr(when))
-
-    middle = json.loads(at((stamps[1] + stamps[2]) / 2).stdout)
-    assert middle["translation"] == pytest.approx([2.5, 0.0, 0.0])
-    now = json.loads(ros.procs.run("dsr", "transform", "--live", "room", "chair").stdout)
-    assert now["translation"] == pytest.approx([3.0, 0.0, 0.0])
-    refused = at(stamps[0])  # two values kept: the first move is gone
-    assert refused.returncode == 1 and "'room'->'chair'" in refused.stderr
-    assert "at most 2 values" in refused.stderr
-    ago = ros.procs.run("dsr", "transform", "--live", "room", "chair", "--at", "-0.001")
-    assert json.loads(ago.stdout)["translation"] == pytest.approx([3.0, 0.0, 0.0])
