@@ -181,35 +181,40 @@ def test_ctrl_c_stops_every_process(tmp_path):
 
     env = dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
     run_dir = tmp_path / "run"
-    launch = subprocess.Popen(
-        [
-            str(REPO / "scripts" / "launch.sh"),
-            "--db",
-            str(tmp_path / "db.sqlite"),
-            "--run-dir",
-            str(run_dir),
-            *EPHEMERAL_PORTS,
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        env=env,
-    )
-    deadline = time.monotonic() + 60
-    lines = []
-    while time.monotonic() < deadline:  # wait until the test is under way
-        line = launch.stdout.readline()
-        lines.append(line)
-        if "item 1/10" in line or not line:
-            break
-    assert any("item 1/10" in line for line in lines), "".join(lines)
-    children = subprocess.run(
-        ["pgrep", "-P", str(launch.pid)], capture_output=True, text=True
-    ).stdout.split()
-    assert len(children) >= 11  # server, 4 agents, 6 stand-ins, monitor
-    launch.send_signal(signal.SIGINT)
-    assert launch.wait(timeout=30) == 130
-    launch.stdout.close()
+    out = tmp_path / "launch.out"  # read while it runs: a pipe's read would not be bounded
+    with open(out, "w") as sink:
+        launch = subprocess.Popen(
+            [
+                str(REPO / "scripts" / "launch.sh"),
+                "--db",
+                str(tmp_path / "db.sqlite"),
+                "--run-dir",
+                str(run_dir),
+                *EPHEMERAL_PORTS,
+            ],
+            stdout=sink,
+            stderr=subprocess.STDOUT,
+            text=True,
+            env=env,
+            start_new_session=True,  # its whole group is stopped if the test fails
+        )
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and launch.poll() is None:  # until under way
+            if "item 1/10" in out.read_text():
+                break
+            time.sleep(0.2)
+        assert "item 1/10" in out.read_text(), out.read_text()[-4000:]
+        children = subprocess.run(
+            ["pgrep", "-P", str(launch.pid)], capture_output=True, text=True
+        ).stdout.split()
+        assert len(children) >= 11  # server, 4 agents, 6 stand-ins, monitor
+        launch.send_signal(signal.SIGINT)
+        assert launch.wait(timeout=30) == 130
+    finally:
+        if launch.poll() is None:  # a failed assertion: nothing of it may outlive the test
+            os.killpg(launch.pid, signal.SIGKILL)
+            launch.wait(timeout=10)
 
     def alive() -> list[str]:
         """The launch's children still running (a zombie is dead, only not reaped yet)."""

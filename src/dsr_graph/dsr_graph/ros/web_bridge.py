@@ -34,9 +34,14 @@ class Bridge:
                 self.executor.spin_once(timeout_sec=STOP_CHECK)
         except ExternalShutdownException:  # Ctrl-C / SIGTERM: rclpy's handler shut ROS down
             pass
-        except Exception as e:  # a failing callback: say so and stop the whole process
-            self.failed = True
-            self.node.get_logger().fatal(f"ROS thread stopped: {e!r}")
+        except Exception as e:
+            # A signal that shut ROS down between two turns makes the next one fail on the dead
+            # context ("failed to create timer": spin_once's timeout timer), not raise
+            # ExternalShutdownException: that is a stop too. Anything else is a failing
+            # callback: say so and stop the whole process.
+            if self.node.context.ok():
+                self.failed = True
+                self.node.get_logger().fatal(f"ROS thread stopped: {e!r}")
         # Either way the web side has nothing left to serve: end the process.
         if self.loop is not None and not self.loop.is_closed():
             self.loop.call_soon_threadsafe(self._stop.set)
