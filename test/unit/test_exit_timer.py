@@ -13,16 +13,16 @@ pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="POSIX timers: L
 STUCK = """
 import ctypes
 from dsr_graph.ros.exit_timer import exit_if_stuck
-with exit_if_stuck({bound}):
+with exit_if_stuck({bound}, {code}):
     ctypes.PyDLL(None).sleep({sleep})  # PyDLL: the GIL is held for the whole call
 print("after the block", flush=True)
 """
 
 
-def run(bound: float, sleep: int) -> tuple[subprocess.CompletedProcess, float]:
+def run(bound: float, sleep: int, code: int = 0) -> tuple[subprocess.CompletedProcess, float]:
     started = time.monotonic()
     done = subprocess.run(
-        [sys.executable, "-c", STUCK.format(bound=bound, sleep=sleep)],
+        [sys.executable, "-c", STUCK.format(bound=bound, sleep=sleep, code=code)],
         capture_output=True,
         text=True,
         timeout=120,
@@ -36,6 +36,12 @@ def test_a_step_stuck_in_c_with_the_gil_ends_the_process_cleanly_with_its_stacks
     assert took < 30  # far less than the 60 s the step would have taken
     assert "after the block" not in done.stdout
     assert "Timeout" in done.stderr and "<string>" in done.stderr  # where it was stuck
+
+
+def test_a_tool_that_failed_ends_with_its_own_code_when_its_goodbye_hangs():
+    """``clarc start`` refused: its caller must still see the refusal (RosSession.stuck_exit)."""
+    done, took = run(bound=1.0, sleep=60, code=1)
+    assert done.returncode == 1 and took < 30 and "after the block" not in done.stdout
 
 
 def test_a_step_that_ends_in_time_goes_on_as_before():

@@ -152,14 +152,17 @@ def start(args: argparse.Namespace) -> int:
             request = request_start(args.patient, now(), args.test, args.patient_id, agent.graph)
             agent.send(request, verdicts.append)
             ros.spin_until(lambda: bool(verdicts), args.timeout, "the DSR server's verdict")
+            # told before the session closes: a DDS goodbye that hangs ends the tool with this
+            if not verdicts[0].accepted:
+                print(f"clarc: error: Start refused: {verdicts[0].error}", file=sys.stderr)
+                ros.stuck_exit = 1
+            else:
+                print(f"Start pressed for {args.patient} ({args.test})")
+                ros.stuck_exit = 0
     except DsrError as e:
         print(f"clarc: error: {e}", file=sys.stderr)
         return 1
-    if not verdicts[0].accepted:
-        print(f"clarc: error: Start refused: {verdicts[0].error}", file=sys.stderr)
-        return 1
-    print(f"Start pressed for {args.patient} ({args.test})")
-    return 0
+    return ros.stuck_exit
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -36,13 +36,12 @@ from rclpy.node import Node
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros import dds_teardown, process_gc
-from dsr_graph.ros.exit_timer import exit_if_stuck
+from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals
 
 NO_DEFAULT_EVENTS = {"use_default_callbacks": False}  # see DsrNode.create_publisher
 # seconds the DDS participant's deletion may take at the end (launch sends SIGTERM after 5)
-TEARDOWN_LIMIT = 3.0
 STOP_POLL = 0.5  # seconds: the longest a stop rclpy missed goes unseen by a spinning node
 
 

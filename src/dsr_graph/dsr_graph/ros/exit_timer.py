@@ -25,6 +25,7 @@ from contextlib import contextmanager
 CLOCK_MONOTONIC = 1
 SIGEV_THREAD = 2
 STACKS_BEFORE = 0.2  # seconds before the exit the stacks are written
+TEARDOWN_LIMIT = 3.0  # seconds a process's DDS goodbye may take before it exits all the same
 
 
 class _SigEvent(ctypes.Structure):  # struct sigevent (64 bytes on Linux, LP64)
@@ -58,13 +59,13 @@ def _libc():
             return None
 
 
-def _arm(seconds: float):
-    """A timer that calls ``_exit(0)`` in ``seconds``; None where there is none."""
+def _arm(seconds: float, code: int = 0):
+    """A timer that calls ``_exit(code)`` in ``seconds``; None where there is none."""
     libc = _libc()
     if libc is None or sys.platform != "linux":
         return None
     exit_now = ctypes.cast(ctypes.CDLL(None)._exit, ctypes.c_void_p).value
-    event = _SigEvent(value=None, signo=0, notify=SIGEV_THREAD, function=exit_now)
+    event = _SigEvent(value=code or None, signo=0, notify=SIGEV_THREAD, function=exit_now)
     timer = ctypes.c_void_p()
     if libc.timer_create(CLOCK_MONOTONIC, ctypes.byref(event), ctypes.byref(timer)) != 0:
         return None
@@ -77,16 +78,16 @@ def _arm(seconds: float):
 
 
 @contextmanager
-def exit_if_stuck(seconds: float) -> Iterator[None]:
+def exit_if_stuck(seconds: float, code: int = 0) -> Iterator[None]:
     """Run the block; if it is still running after ``seconds``, write the Python stacks to
-    stderr and end the process with exit code 0 (see the module's docstring)."""
+    stderr and end the process with exit code ``code`` (see the module's docstring)."""
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()  # _exit flushes nothing
         except (OSError, ValueError):
             pass
     faulthandler.dump_traceback_later(max(0.0, seconds - STACKS_BEFORE), exit=False)
-    armed = _arm(seconds)
+    armed = _arm(seconds, code)
     try:
         yield
     finally:

@@ -14,6 +14,7 @@ from rclpy.executors import SingleThreadedExecutor
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.ros import dds_teardown
+from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
 
 
 class RosSession:
@@ -30,6 +31,10 @@ class RosSession:
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
+        # A one-shot tool whose work is done and told sets the code it exits with should its
+        # DDS goodbye hang (exit_timer.py: Fast DDS can spin there forever, and the tool's
+        # caller, a launch, would wait on it). None (tests, tools still to print): not bounded.
+        self.stuck_exit: int | None = None
 
     def __enter__(self) -> RosSession:
         return self
@@ -39,7 +44,11 @@ class RosSession:
 
     def close(self) -> None:
         self.executor.shutdown(timeout_sec=1.0)
-        dds_teardown.destroy_node(self.node)
+        if self.stuck_exit is None:
+            dds_teardown.destroy_node(self.node)
+        else:
+            with exit_if_stuck(TEARDOWN_LIMIT, self.stuck_exit):
+                dds_teardown.destroy_node(self.node)
         rclpy.try_shutdown(context=self.context)
 
     def spin_for(self, seconds: float) -> None:
