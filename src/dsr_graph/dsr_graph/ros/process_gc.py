@@ -3,10 +3,10 @@
 
 A DSR process encodes, parses and builds whole snapshots: millions of containers at once, none
 holding a cycle. With CPython's default thresholds (a young collection every 700 new
-containers) a 100k-node snapshot took 1.5 s to encode and 1.4 s to load into a replica; with
-the young threshold at 100,000 (set here), 1.1 s and 1.1 s, as fast as pausing the collector
-around each bulk step had been (1.1 s and 1.0 s; interleaved rounds, docs/explanation/
-benchmarks.md). Cyclic garbage is still collected, later.
+containers) a 100k-node snapshot took 1.12 s to encode and 1.14 s to load into a replica; with
+the young threshold at 100,000 (set here), 0.74 s and 0.77 s (``scripts/bench.sh --only gc``,
+interleaved rounds; against the collector paused around each bulk step, as before: encode 1.05x,
+load 0.96x; BENCHMARKS.md). Cyclic garbage is still collected, later.
 
 What a replica loads is then most of the process: ``settle`` (after each snapshot a replica
 loads) moves it out of reach of the full collections that would walk it again (0.57 s for a
