@@ -223,6 +223,11 @@ class DsrAgent:
         return self.core.reach_losses
 
     @property
+    def resyncs(self) -> int:
+        """Snapshots loaded, the first included (bench/counter.py reports the others)."""
+        return self.core.resyncs
+
+    @property
     def synced(self) -> bool:
         """A snapshot has been loaded (the graph is the server's, as of some seq)."""
         return self.core.synced
