@@ -37,6 +37,23 @@ def _counters_result(
     }
 
 
+def _dsr_with_counters(procs, work: Path, domain: int, tag: str, k: int, expected: int):
+    """A server, a writer and ``k`` subscribed counters waiting for ``expected`` deltas, the
+    node the benchmark changes inserted: (the writer's session, the writer, the counters)."""
+    procs.server(work / f"tp{tag}_state")
+    ros, writer = session_with_agent(domain, "bench_writer")
+    counters = [
+        procs.start(f"counter{tag}_{i}", [sys.executable, str(HERE / "counter.py"), str(expected)])
+        for i in range(k)
+    ]
+    for c in counters:
+        _wait_ready(c)
+    ok = []
+    writer.send({"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append)
+    ros.spin_until(lambda: ok, 10, "set-up")
+    return ros, writer, counters
+
+
 def bench_throughput(
     work: Path, domain: int, n: int, batch: int, agents_list: list[int]
 ) -> dict[str, Any]:
@@ -44,21 +61,7 @@ def bench_throughput(
     for k in agents_list:
         procs = Procs(work, domain)
         try:
-            procs.server(work / f"tp_state_{k}")
-            ros, writer = session_with_agent(domain, "bench_writer")
-            counters = [
-                procs.start(
-                    f"counter{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(n + 1)]
-                )
-                for i in range(k)
-            ]
-            for c in counters:
-                _wait_ready(c)
-            ok = []
-            writer.send(
-                {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append
-            )
-            ros.spin_until(lambda ok=ok: ok, 10, "set-up")
+            ros, writer, counters = _dsr_with_counters(procs, work, domain, f"{k}", k, n + 1)
             window, answered, t0 = 1000, [0], time.time()
             for i in range(n):  # flow control: at most `window` transactions unanswered
                 while i - answered[0] >= window:
@@ -76,22 +79,8 @@ def bench_throughput(
         # batches of `batch` ops per transaction: operations per second
         procs = Procs(work, domain)
         try:
-            procs.server(work / f"tpb_state_{k}")
-            ros, writer = session_with_agent(domain, "bench_writer")
             m = max(1, n // batch)
-            counters = [
-                procs.start(
-                    f"counterb{k}_{i}", [sys.executable, str(HERE / "counter.py"), str(m + 1)]
-                )
-                for i in range(k)
-            ]
-            for c in counters:
-                _wait_ready(c)
-            ok = []
-            writer.send(
-                {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append
-            )
-            ros.spin_until(lambda ok=ok: ok, 10, "set-up")
+            ros, writer, counters = _dsr_with_counters(procs, work, domain, f"b{k}", k, m + 1)
             t0 = time.time()
             for i in range(m):
                 writer.send(
