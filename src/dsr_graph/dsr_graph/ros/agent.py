@@ -248,8 +248,10 @@ class DsrAgent:
 
     def send(self, doc: dict[str, Any], on_done: Verdict | None = None) -> str:
         """Queue a transaction (agent and id are filled in); ``on_done`` gets its ``Result``."""
-        sign = lambda text: self.security.sign(topic_names.TRANSACTIONS, text)  # noqa: E731
-        return self.core.send(doc, on_done, time.monotonic(), sign=sign)
+        return self.core.send(doc, on_done, time.monotonic(), sign=self._sign)
+
+    def _sign(self, text: str) -> str:
+        return self.security.sign(topic_names.TRANSACTIONS, text)
 
     # ------------------------------------------------------------------ the core's link
     def publish(self, text: str, blobs: dict[str, bytes]) -> None:
