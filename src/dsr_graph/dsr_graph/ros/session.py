@@ -43,7 +43,13 @@ class RosSession:
         self.close()
 
     def close(self) -> None:
+        # other nodes made in this session's context (a second agent, a reader) go too: while
+        # one lives, the context's participant still announces its name, and the next node of
+        # that name in the domain would be refused as a duplicate (identity.py)
+        others = [n for n in self.executor.get_nodes() if n is not self.node]
         self.executor.shutdown(timeout_sec=1.0)
+        for node in others:
+            node.destroy_node()
         if self.stuck_exit is None:
             dds_teardown.destroy_node(self.node)
         else:
