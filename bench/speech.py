@@ -212,24 +212,31 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         cpu = audio_s = wall = 0.0
         answered = 0
         by_condition: dict[str, Any] = {}
+        # Whisper's answers without pocketsphinx's second opinion: those it confirmed were not
+        # sure before it (second_opinion.py), so the same run tells both
+        alone: dict[str, Any] = {}
         seed = 0
         for label, noise, snr in CONDITIONS:
             condition = label if snr is None else f"{label} {snr:g} dB"
             counts: dict[str, list[int]] = {}
+            counts_alone: dict[str, list[int]] = {}
             for kind, item, said in cases:
                 truth = understand(item, said)
                 for voice in voices:
                     seed += 1
                     audio = _heard_audio(said, voice, noise, snr, seed)
                     started, clock = time.process_time(), time.perf_counter()
-                    heard, _ = recogniser.hear_item(audio, item)
+                    heard, how = recogniser.hear_item(audio, item)
                     cpu += time.process_time() - started
                     wall += time.perf_counter() - clock
                     audio_s += len(audio) / RATE
                     answered += 1
-                    tally = counts.setdefault(kind, [0, 0, 0])
-                    tally[OUTCOMES.index(_outcome(item, truth, heard))] += 1
+                    outcome = _outcome(item, truth, heard)
+                    counts.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
+                    outcome = "clinician" if how == "confirmed" else outcome
+                    counts_alone.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
             by_condition[condition] = _tally(counts)
+            alone[condition] = _tally(counts_alone)
         report = {
             "understood": by_condition,
             "real_time_factor": cpu / max(audio_s, 1e-9),
@@ -238,6 +245,8 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         if (speech_dir / "fsdd").is_dir():
             report["real_speakers"] = real_speakers(speech_dir, recogniser)
         out["recognisers"][name] = report
+        if name == "whisper":
+            out["whisper_alone"] = alone
     return out
 
 
@@ -268,6 +277,15 @@ def table(speech: dict[str, Any]) -> list[str]:
             f"    real-time factor {report['real_time_factor']:.3f}, "
             f"{report['wall_s_per_answer']:.2f} s of wall time an answer"
         )
+    if "whisper_alone" in speech:
+        lines.append("  whisper without pocketsphinx's second opinion (the same run):")
+        for condition, counts in speech["whisper_alone"].items():
+            cells = "".join(
+                f"{counts[k]['right']:>9.0%} {counts[k]['wrong']:>5.1%} "
+                f"{counts[k]['clinician']:>6.0%}"
+                for k in sorted(counts)
+            )
+            lines.append(f"    {condition:<14} {cells}")
     return lines + _loop_lines(speech.get("loop"))
 
 

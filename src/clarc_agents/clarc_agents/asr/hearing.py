@@ -1,7 +1,9 @@
 """Which recogniser hears the patient (``asr`` node's ``recogniser`` parameter, ``clarc hear
---recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), or
-pocketsphinx, the one before it, kept to compare. Both load their model when made (a second or
-two) and give ``hear_item(samples, item) -> (Heard, how)``."""
+--recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), with
+pocketsphinx's second opinion on the words and serial answers it is not sure of
+(``second_opinion.py``); or pocketsphinx alone, the one before it, kept to compare. Each
+loads its model when made (a second or two) and gives
+``hear_item(samples, item) -> (Heard, how)``."""
 
 from __future__ import annotations
 
@@ -14,9 +16,11 @@ MIN_CONFIDENCE = 0.5
 def open_recogniser(name: str = DEFAULT):
     """The recogniser called ``name``; ValueError naming the choices for any other."""
     if name == "whisper":
+        from clarc_agents.asr.recogniser import Recogniser
+        from clarc_agents.asr.second_opinion import SecondOpinion
         from clarc_agents.asr.whisper import WhisperRecogniser
 
-        return WhisperRecogniser()
+        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE)
     if name == "pocketsphinx":
         from clarc_agents.asr.recogniser import Recogniser
 

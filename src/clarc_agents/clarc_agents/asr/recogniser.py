@@ -39,6 +39,7 @@ class Heard:
     start: float  # seconds into the utterance's samples
     end: float
     transcript: str = ""  # what free decoding wrote, when ``text`` is a candidate rescored
+    confirmed_by: str = ""  # what a second recogniser heard, when it agreed (second_opinion.py)
 
 
 class Recogniser:
@@ -98,6 +99,12 @@ class Recogniser:
         if len(self._vocabularies) > VOCABULARIES_KEPT:
             self._vocabularies.popitem(last=False)
         return decoder
+
+    def vocabulary_of(self, item: Item) -> tuple[str, ...]:
+        """The words this recogniser can hear while ``item``'s answer is awaited (a grammar's
+        or the free model's: none listed)."""
+        search = search_for(item, self.known)
+        return search.vocabulary if search is not None else ()
 
     def hear_item(self, samples: np.ndarray, item: Item | None) -> tuple[Heard, str]:
         """What ``samples`` say while ``item``'s answer is awaited (None: nothing is), and the

@@ -142,6 +142,8 @@ class AsrAgent(DsrNode):
         }
         if heard.transcript:
             said["transcript"] = heard.transcript
+        if heard.confirmed_by:
+            said["confirmed_by"] = heard.confirmed_by
         what = "free" if how == "free" else f"{item.key}'s {how}"
         self.get_logger().info(f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search)")
         publish_json(self._asr, said)

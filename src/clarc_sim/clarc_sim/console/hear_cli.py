@@ -73,6 +73,8 @@ def hear(
     }
     if heard.transcript:
         out["transcript"] = heard.transcript
+    if heard.confirmed_by:
+        out["confirmed_by"] = heard.confirmed_by
     if key is not None:
         understood = explain(test, key, heard.text, today, DEFAULT_PLACE)
         out |= {k: understood[k] for k in ("test", "item", "understood", "points", "max")}
@@ -96,6 +98,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"heard: {text}  (confidence {out['confidence']:.2f}, {how})")
     if "transcript" in out:
         print(f"  (free decoding wrote: {out['transcript'] or '(nothing)'})")
+    if "confirmed_by" in out:
+        print(f"  (pocketsphinx heard the same answer: {out['confirmed_by']})")
     if "item" in out:
         worth = "no answer" if out["points"] is None else f"{out['points']} of {out['max']} points"
         print(f"{out['test']} {out['item']}: {out['understood']}, {worth}")
