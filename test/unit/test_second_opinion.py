@@ -8,27 +8,31 @@ import pytest
 
 from clarc_agents import definitions
 from clarc_agents.asr.recogniser import Heard
+from clarc_agents.asr.searches import search_for
 from clarc_agents.asr.second_opinion import SecondOpinion, agree, confirmed, wanted
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 
 MMSE = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
 SERIAL, NAMING, RECALL = MMSE.item("attention"), MMSE.item("naming"), MMSE.item("recall")
 FEEDING = definitions.load("barthel").item("feeding")
-NAMING_WORDS = frozenset({"pencil", "watch", "pen", "or", "and", "the", "a", "of", "uh"})
+NAMING_WORDS = frozenset({"pencil", "watch", "or", "and", "the", "a", "of", "uh"})
 RECALL_WORDS = frozenset({"apple", "table", "penny", "and", "a", "the"})
+SERIAL_WORDS = frozenset(search_for(SERIAL, lambda word: True).vocabulary)
 
 
 def test_the_same_numbers_in_order_are_the_same_serial_answer():
-    assert agree(SERIAL, "93, eighty seven, eighty.", "ninety three eighty seven eighty", set())
+    assert agree(
+        SERIAL, "93, eighty seven, eighty.", "ninety three eighty seven eighty", SERIAL_WORDS
+    )
     # narrated: "minus seven" heard as "minus seventy" gives the same numbers
     assert agree(
         SERIAL,
         "100 minus seven is 93 minus seven in 86 minus seven in 80.",
         "one hundred minus seventy ninety three minus seven is eighty six minus seven leaves "
         "eighty",
-        set(),
+        SERIAL_WORDS,
     )
-    assert not agree(SERIAL, "93, 87.", "ninety three eighty six", set())
+    assert not agree(SERIAL, "93, 87.", "ninety three eighty six", SERIAL_WORDS)
 
 
 def test_agreeing_that_nothing_was_right_is_no_agreement():
@@ -40,9 +44,18 @@ def test_agreeing_that_nothing_was_right_is_no_agreement():
 def test_a_words_answer_must_be_the_same_words_of_the_vocabulary_hedges_included():
     # both credit "pencil", but pocketsphinx heard the hedge ("or") Whisper missed
     assert not agree(NAMING, "A pen for the pencil.", "of and or of pencil", NAMING_WORDS)
+    assert not agree(NAMING, "Pencil and watch.", "pencil watch", NAMING_WORDS)
     assert agree(RECALL, "Apple table, penny.", "apple table penny", RECALL_WORDS)
     # words outside the vocabulary, and soaked-up ones, do not count
     assert agree(NAMING, "That watch.", "the watch", NAMING_WORDS)
+
+
+def test_a_word_the_second_recogniser_could_not_have_heard_is_vouched_for_by_nothing():
+    # "watch" heard as "wow" by one, as nothing by the other: both credit the pencil alone
+    assert not agree(NAMING, "pencil, wow.", "pencil", NAMING_WORDS)
+    # "one hundred" heard as "One turn": both give 1 and 93
+    heard = "One turn with minus seven at 93."
+    assert not agree(SERIAL, heard, "one and minus seventy ninety three", SERIAL_WORDS)
 
 
 def test_agreement_makes_it_as_sure_as_both_doubts_together():

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.world_files import LoadedWorld, read_world
@@ -55,7 +56,11 @@ def split_ros_args(argv: list[str]) -> tuple[list[str], list[str]]:
     return list(argv[:k]), list(argv[k:])
 
 
-def fetch_snapshot(timeout: float, ros_args: list[str] | None = None) -> dict:
+def with_snapshot(timeout: float, ros_args: list[str] | None, use: Callable[[dict], int]) -> int:
+    """``use(snapshot)``'s exit code, the snapshot fetched from the running server. ``use`` runs
+    inside the ROS session, so that the tool has printed what it was asked for before the
+    session's DDS goodbye, which can hang in Fast DDS (exit_timer.py): then the tool exits with
+    that code all the same, never holding up its caller (launch.sh's ``dsr graph``)."""
     from dsr_graph.exceptions import SignatureRefused
     from dsr_graph.formats.safe_json import loads_object
     from dsr_graph.protocol.security import Security
@@ -70,11 +75,14 @@ def fetch_snapshot(timeout: float, ros_args: list[str] | None = None) -> dict:
         opened, problem = security.from_server(GET_SNAPSHOT, text)
         if opened is None:
             raise SignatureRefused(f"the snapshot was not the DSR server's: {problem}")
-        return loads_object(opened, None)
+        code = use(loads_object(opened, None))
+        sys.stdout.flush()
+        ros.stuck_exit = code
+        return code
 
 
 def live_graph(doc: dict):
-    """(graph, seq) of a snapshot ``fetch_snapshot`` returned; ``DsrError`` if it is not one."""
+    """(graph, seq) of a snapshot ``with_snapshot`` gave; ``DsrError`` if it is not one."""
     from dsr_graph.exceptions import FormatError
     from dsr_graph.formats import dsr_json
 
@@ -93,6 +101,6 @@ __all__ = [
     "load_world",
     "warn_violations",
     "error",
-    "fetch_snapshot",
+    "with_snapshot",
     "split_ros_args",
 ]

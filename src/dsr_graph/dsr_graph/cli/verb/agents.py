@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from dsr_graph.cli.api import DsrError, error, fetch_snapshot, live_graph
+from dsr_graph.cli.api import DsrError, error, live_graph, with_snapshot
 from dsr_graph.model.agent_info import listing
 
 HELP = "the agents in the graph and their states (starting, ready, gone); --json"
@@ -21,11 +21,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        graph, _seq = live_graph(fetch_snapshot(args.timeout, args.ros_args))
+        return with_snapshot(args.timeout, args.ros_args, lambda doc: show(doc, args.json))
     except DsrError as e:
         return error(str(e))
+
+
+def show(doc: dict, as_json: bool) -> int:
+    graph, _seq = live_graph(doc)
     agents = listing(graph)
-    if args.json:
+    if as_json:
         print(json.dumps(agents, indent=2))
         return 0
     if not agents:

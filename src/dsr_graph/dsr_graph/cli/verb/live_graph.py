@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from dsr_graph.cli.api import DsrError, error, fetch_snapshot, live_graph
+from dsr_graph.cli.api import DsrError, error, live_graph, with_snapshot
 from dsr_graph.model.binary import short_text
 
 NAME = "graph"
@@ -21,10 +21,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        doc = fetch_snapshot(args.timeout, args.ros_args)
+        return with_snapshot(args.timeout, args.ros_args, lambda doc: show(doc, args.json))
     except DsrError as e:
         return error(str(e))
-    if args.json:
+
+
+def show(doc: dict, as_json: bool) -> int:
+    if as_json:
         print(json.dumps(doc, indent=2))
         return 0
     try:

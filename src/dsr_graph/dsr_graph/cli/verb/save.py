@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from dsr_graph.cli.api import DsrError, error, fetch_snapshot
+from dsr_graph.cli.api import DsrError, error, with_snapshot
 
 HELP = "save the live graph to FILE (a snapshot world file, or --format cortex)"
 
@@ -19,17 +19,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    try:
+        return with_snapshot(args.timeout, args.ros_args, lambda doc: save(doc, args))
+    except (DsrError, OSError) as e:
+        return error(str(e))
+
+
+def save(doc: dict, args: argparse.Namespace) -> int:
     from dsr_graph.formats import dsr_json
     from dsr_graph.formats.world_files import world_document, write_json_atomically
 
-    try:
-        doc = fetch_snapshot(args.timeout, args.ros_args)
-        if args.format == "cortex":
-            # trusted as a replica trusts it (the server's vocabulary may extend the default)
-            graph, _ = dsr_json.snapshot_from_json(doc, trusted=True)
-            doc = world_document(graph, "cortex")
-        write_json_atomically(doc, args.file)
-    except (DsrError, OSError) as e:
-        return error(str(e))
+    if args.format == "cortex":
+        # trusted as a replica trusts it (the server's vocabulary may extend the default)
+        graph, _ = dsr_json.snapshot_from_json(doc, trusted=True)
+        doc = world_document(graph, "cortex")
+    write_json_atomically(doc, args.file)
     print(f"saved the graph to {args.file} ({args.format})", file=sys.stderr)
     return 0
