@@ -5,7 +5,8 @@ and pocketsphinx (an HMM of read American speech, searching only the item's voca
 differently: their mistakes on the same audio are seldom the same. When Whisper understood a
 words or serial answer but is not sure of it, pocketsphinx hears the same utterance; if it
 understood the same answer, the two doubts are taken as independent and the confidence becomes
-``1 - (1 - whisper's) * (1 - pocketsphinx's)``: the chance that both misheard it the same way.
+``1 - (1 - whisper's) * (1 - pocketsphinx's)``: one less the chance that both are wrong, were
+their mistakes independent; Speech still takes it only at its ``min_confidence``.
 
 "The same answer" is strict (``agree``): the same points for the same parts (a serial answer's
 numbers, in order; a words answer's credited words); something credited (two recognisers
@@ -19,7 +20,8 @@ added for answers that were otherwise scored wrong on the speech benchmark's aud
 (BENCHMARKS.md section 9b); with all of them, none was.
 
 Choose answers are left to Whisper's own rescoring and the read-back (Speech's ``unsure``
-outcome): on the same audio pocketsphinx's grammar confirmed none Whisper doubted.
+outcome): on the same audio, pocketsphinx's grammar agreed with none of the choose answers
+Whisper doubted (they mean no option, or Whisper's beams split between options).
 """
 
 from __future__ import annotations
