@@ -22,6 +22,7 @@ not one that lands during the imports, before ``run_node`` installs it.
 
 from __future__ import annotations
 
+import faulthandler
 import os
 import sys
 import traceback
@@ -119,6 +120,9 @@ class DsrNode(Node):
 
 
 def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) -> int:
+    # a crash in C (rclpy, Fast DDS) writes the Python stacks to the node's log: seen once, a
+    # panel's SIGSEGV at the end of a ros2 launch, with nothing to say where it was
+    faulthandler.enable()
     set_private_umask()  # whatever the node writes is its user's alone
     process_gc.use_dsr_policy()
     stops = StopSignals().install()  # before rclpy.init, which chains to it
