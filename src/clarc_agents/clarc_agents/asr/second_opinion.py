@@ -53,14 +53,10 @@ def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
     return heard.confidence < min_confidence and understand(item, heard.text).kind == "answer"
 
 
-def _in_vocabulary(text: str, vocabulary: frozenset[str]) -> list[str]:
-    """The words of ``text`` the vocabulary has; numbers (digits) always: they are said with the
+def _in_vocabulary(word: str, vocabulary: frozenset[str]) -> bool:
+    """Whether the vocabulary has ``word``; a number (digits) always: it is said with the
     vocabulary's number words."""
-    return [w for w in words(text) if w in vocabulary or any(c.isdigit() for c in w)]
-
-
-def _explained(word: str, vocabulary: frozenset[str]) -> bool:
-    return word in vocabulary or word in FUNCTION_WORDS or any(c.isdigit() for c in word)
+    return word in vocabulary or any(c.isdigit() for c in word)
 
 
 def agree(item: Item, first: str, second: str, vocabulary: frozenset[str]) -> bool:
@@ -69,11 +65,13 @@ def agree(item: Item, first: str, second: str, vocabulary: frozenset[str]) -> bo
     a, b = understand(item, first), understand(item, second)
     if a.kind != "answer" or (a.kind, a.points, a.matched) != (b.kind, b.points, b.matched):
         return False
-    if not a.matched or not all(_explained(w, vocabulary) for w in words(first)):
+    said = words(first)
+    if not a.matched or not all(_in_vocabulary(w, vocabulary | FUNCTION_WORDS) for w in said):
         return False
     if item.kind == "words":
         compared = vocabulary - IGNORED
-        return _in_vocabulary(first, compared) == _in_vocabulary(second, compared)
+        heard = [w for w in words(second) if _in_vocabulary(w, compared)]
+        return [w for w in said if _in_vocabulary(w, compared)] == heard
     return True
 
 

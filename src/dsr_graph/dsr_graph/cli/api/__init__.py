@@ -76,8 +76,7 @@ def with_snapshot(timeout: float, ros_args: list[str] | None, use: Callable[[dic
         if opened is None:
             raise SignatureRefused(f"the snapshot was not the DSR server's: {problem}")
         code = use(loads_object(opened, None))
-        sys.stdout.flush()
-        ros.stuck_exit = code
+        ros.stuck_exit = code  # exit_if_stuck flushes what use printed before it arms
         return code
 
 
