@@ -45,7 +45,8 @@ class Patient:
     place, or draws (1) or scribbles (0); ``("shapes", [...])`` touches those shapes, in order;
     ``("eyes", points)`` closes the eyes (1) or not (0).
     ``("unsure", points)`` says the option worth ``points``, heard not for sure (the robot asks
-    "I heard: ... Is that right?"); ``confirms``: the answers to those questions, in order
+    "I heard: ... Is that right?"); ``("heard", text, confidence)``: the recogniser heard
+    ``text`` that sure; ``confirms``: the answers to those questions, in order
     ("yes", "no", "silence", "tap": the Yes button; "yes" once they run out).
     ``leaves``: item -> seconds the patient is away, leaving while that item is introduced."""
 
@@ -325,9 +326,11 @@ class Robot:
             return
         if isinstance(response, tuple) and response[0] == "unsure":
             option = self.definition.item(item).option(response[1])
-            self.speech.on_heard(
-                option.says, sure=False, confirmable=True, audio="clips/unsure.wav"
-            )
+            self.speech.on_heard(option.says, confidence=0.3, audio="clips/unsure.wav")
+            return
+        if isinstance(response, tuple) and response[0] == "heard":  # ("heard", text, confidence)
+            clip = f"clips/{item}-{self.windows[item]}.wav"
+            self.speech.on_heard(response[1], confidence=response[2], audio=clip)
             return
         if response == "garbled":  # with the clip an asr would have kept
             clip = f"clips/{item}-{self.windows[item]}.wav"

@@ -101,7 +101,10 @@ def test_listening_and_a_tap_race_for_one_answer(room):
     with pytest.raises(TransactionRejected):  # speech's late answer loses
         run(
             room,
-            listen.after_tx("answered", {"points": 10, "heard": "I eat on my own", "audio": ""}),
+            listen.after_tx(
+                "answered",
+                {"points": 10, "heard": "I eat on my own", "confidence": 0.9, "audio": ""},
+            ),
         )
     assert panel.signal(room, "tap", {"points": 10}) == []  # nothing awaited any more
 

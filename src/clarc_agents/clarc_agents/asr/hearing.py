@@ -11,6 +11,8 @@ RECOGNISERS = ("whisper", "pocketsphinx")
 DEFAULT = "whisper"
 # Speech's default min_confidence: a text heard less sure than this is not understood
 MIN_CONFIDENCE = 0.5
+# and its confirm_confidence: an option heard at least this sure is confirmed with the patient
+CONFIRM_CONFIDENCE = 0.2
 
 
 def open_recogniser(name: str = DEFAULT):

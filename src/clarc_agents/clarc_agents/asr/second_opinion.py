@@ -5,8 +5,9 @@ and pocketsphinx (an HMM of read American speech, searching only the item's voca
 differently: their mistakes on the same audio are seldom the same. When Whisper understood a
 words or serial answer but is not sure of it, pocketsphinx hears the same utterance; if it
 understood the same answer, the two doubts are taken as independent and the confidence becomes
-``1 - (1 - whisper's) * (1 - pocketsphinx's)``: one less the chance that both are wrong, were
-their mistakes independent; Speech still takes it only at its ``min_confidence``.
+``1 - (1 - whisper's) * (1 - pocketsphinx's)`` (questionnaire/agreement.py): one less the
+chance that both are wrong, were their mistakes independent; Speech still takes it only at its
+``min_confidence``.
 
 "The same answer" is strict (``agree``): the same points for the same parts (a serial answer's
 numbers, in order; a words answer's credited words); something credited (two recognisers
@@ -31,10 +32,10 @@ from dataclasses import replace
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.searches import ABSORBERS, MUMBLING, SERIAL_SOAKING
 from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.agreement import KINDS, independent, same_answer
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.spoken import words
 
-KINDS = ("words", "serial")
 # English function words: said around an answer's words, never one of them
 FUNCTION_WORDS = frozenset(
     "a an the this that these those it its i me my you your we our he she they them his her"
@@ -62,11 +63,10 @@ def _in_vocabulary(word: str, vocabulary: frozenset[str]) -> bool:
 def agree(item: Item, first: str, second: str, vocabulary: frozenset[str]) -> bool:
     """Whether two transcripts give the same answer to ``item`` (see the module's docstring);
     ``vocabulary``: the words the second recogniser could hear."""
-    a, b = understand(item, first), understand(item, second)
-    if a.kind != "answer" or (a.kind, a.points, a.matched) != (b.kind, b.points, b.matched):
+    if not same_answer(item, first, second):
         return False
     said = words(first)
-    if not a.matched or not all(_in_vocabulary(w, vocabulary | FUNCTION_WORDS) for w in said):
+    if not all(_in_vocabulary(w, vocabulary | FUNCTION_WORDS) for w in said):
         return False
     if item.kind == "words":
         compared = vocabulary - IGNORED
@@ -79,7 +79,7 @@ def confirmed(item: Item, first: Heard, second: Heard, vocabulary: frozenset[str
     """``first`` with the confidence of two recognisers that agree, or as it was."""
     if not second.text or not agree(item, first.text, second.text, vocabulary):
         return first
-    both = 1.0 - (1.0 - first.confidence) * (1.0 - second.confidence)
+    both = independent(first.confidence, second.confidence)
     return replace(first, confidence=both, confirmed_by=second.text)
 
 

@@ -14,15 +14,18 @@ import time
 from collections.abc import Callable
 from typing import Protocol
 
+from clarc_agents.asr.hearing import CONFIRM_CONFIDENCE, MIN_CONFIDENCE
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
+from clarc_agents.questionnaire.agreement import heard_again
 from clarc_agents.questionnaire.answers import understand
-from clarc_agents.questionnaire.item_options import item_in
+from clarc_agents.questionnaire.item_options import hearings, item_in
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process
 
 MAX_SENDS = 3
 WORDS_PER_SECOND = 2.5  # a slow speaker, to bound how long a sentence may take
 SLACK = 2.0  # seconds of a real session on top of that
+THRESHOLDS = (MIN_CONFIDENCE, CONFIRM_CONFIDENCE)  # Speech's parameters' defaults
 
 
 class Speaker(Protocol):
@@ -49,6 +52,7 @@ class SpeechBehaviour:
         epoch: Callable[[], float] = time.time,
         graph: Callable[[], Graph | None] = lambda: None,
         server_gap: Callable[[], tuple[float, float]] = lambda: NO_GAP,
+        thresholds: Callable[[], tuple[float, float]] = lambda: THRESHOLDS,
     ):
         self.speaker = speaker
         self.after = after
@@ -57,6 +61,7 @@ class SpeechBehaviour:
         self.start_patience = start_patience  # seconds of wall time: a matter of processes
         self.epoch = epoch  # when a sentence ended, as the DSR's stamps (a Get Up & Go's "go")
         self.graph = graph  # the agent's replica: the item's options are read from it
+        self.thresholds = thresholds  # (min_confidence, confirm_confidence): Speech's parameters
         self.speaking: dict[int, ActionContext] = {}  # sentence id -> the say process
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
@@ -130,52 +135,58 @@ class SpeechBehaviour:
         self.listening = ctx
         early = self._early.take(ctx["item"])
         if early is not None:
-            text, sure, audio, confirmable = early
-            self.on_heard(text, sure=sure, audio=audio, confirmable=confirmable)
+            text, confidence, audio = early
+            self.on_heard(text, confidence=confidence, audio=audio)
 
     def on_heard(
-        self,
-        text: str,
-        item_shown: str = "",
-        sure: bool = True,
-        audio: str = "",
-        confirmable: bool = False,
+        self, text: str, item_shown: str = "", confidence: float = 1.0, audio: str = ""
     ) -> None:
         """Words recognised by the ASR (``item_shown``: the item of the sentence on screen;
-        ``sure``: the recogniser was confident enough, else they are not understood, unless
-        ``confirmable``: confident enough to ask whether an option was meant; ``audio``: the
-        clip the recogniser kept of them, the clinician's evidence)."""
+        ``confidence``: how sure the recogniser is of them: at ``min_confidence`` they are
+        understood, at ``confirm_confidence`` an option is confirmed with the patient, and a
+        words or serial answer heard before is taken if the two hearings together are sure;
+        ``audio``: the clip the recogniser kept of them, the clinician's evidence)."""
         ctx = self.listening
         if ctx is None or ctx.done:
             unless = ""
             if item_shown:  # perhaps an answer to the window about to open: keep it a moment
-                self._early.keep((text, sure, audio, confirmable), item_shown)
+                self._early.keep((text, confidence, audio), item_shown)
                 unless = f" unless a window for {item_shown} opens now"
             self.log.warning(f"heard {text!r} while no answer is awaited: ignored{unless}")
             return
-        item = item_in(self.graph(), ctx["item"]) if self.graph() is not None else None
+        graph = self.graph()
+        item = item_in(graph, ctx["item"]) if graph is not None else None
         if item is not None and "voice" not in item.via:  # touched, drawn or seen, not said
             self.log.info(f"heard {text!r}: item {item.key!r} is not answered by voice")
             return
         self.listening = None
+        heard = {"heard": text, "audio": audio, "confidence": round(confidence, 4)}
         if item is None:  # the DSR does not say what the options are: nothing to match
             self.log.warning(f"the DSR has no options for item {ctx['item']!r}: not understood")
-            ctx.finish("not_understood", heard=text, audio=audio)
+            ctx.finish("not_understood", **heard)
             return
         meaning = understand(item, text)
-        if not sure and confirmable and item.kind == "choose" and meaning.kind == "answer":
-            # an option heard, but not for sure: PELEA asks whether it was meant
-            self.log.info(f"heard {text!r}, not for sure: option worth {meaning.points}?")
-            ctx.finish("unsure", points=meaning.points, heard=text, audio=audio)
-            return
+        min_confidence, confirm_confidence = self.thresholds()
+        sure = confidence >= min_confidence
+        if not sure and meaning.kind == "answer":
+            again = heard_again(item, hearings(graph, item.key), text, confidence)
+            if again is not None and again[0] >= min_confidence:
+                # the patient asked again said what was heard before: two hearings agree
+                self.log.info(f"heard {text!r} again (before: {again[1]!r}), {again[0]:.2f} sure")
+                sure, heard["confidence"] = True, round(again[0], 4)
+        if not sure and confidence >= confirm_confidence and item.kind == "choose":
+            if meaning.kind == "answer":  # an option heard, not for sure: PELEA confirms it
+                self.log.info(f"heard {text!r}, not for sure: option worth {meaning.points}?")
+                ctx.finish("unsure", points=meaning.points, **heard)
+                return
         if not sure:
             self.log.info(f"heard {text!r} with too little confidence: not understood")
-            ctx.finish("not_understood", heard=text, audio=audio)
+            ctx.finish("not_understood", **heard)
             return
         if meaning.kind == "answer":
-            ctx.finish("answered", points=meaning.points, heard=text, audio=audio)
+            ctx.finish("answered", points=meaning.points, **heard)
         else:
-            ctx.finish(meaning.kind, heard=text, audio=audio)
+            ctx.finish(meaning.kind, **heard)
 
     def on_graph(self, graph: Graph) -> None:
         """The window closed without us (a tap answered, or PELEA stopped waiting): stop

@@ -4,7 +4,8 @@ answers, mapping recognised words to the item's options. Its rules: grammars/spe
 
 ROS Parameters: min_confidence (0.5: a recognised text less sure than this is not understood,
 and the item is asked again), confirm_confidence (0.2: an option heard at least this sure, but
-under min_confidence, is confirmed with the patient first). Publishers: clarc/speaker/say,
+under min_confidence, is confirmed with the patient first; a words or serial answer under it is
+taken if it was heard the same before, questionnaire/agreement.py). Publishers: clarc/speaker/say,
 clarc/speaker/stop, and REP-155's
 /humans/voices/tracked and /humans/voices/anonymous_speaker/speech (what was heard:
 nodes/humans_topics.py).
@@ -21,7 +22,7 @@ from typing import Any
 from std_msgs.msg import String
 
 from clarc_agents import topics
-from clarc_agents.asr.hearing import MIN_CONFIDENCE
+from clarc_agents.asr.hearing import CONFIRM_CONFIDENCE, MIN_CONFIDENCE
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import SpeechHumans
@@ -52,7 +53,7 @@ class SpeechAgent(GrammarAgentNode):
         declare(
             node,
             "confirm_confidence",
-            0.2,
+            CONFIRM_CONFIDENCE,
             "an option heard at least this sure (but under min_confidence) is confirmed: "
             '"I heard: ... Is that right?"',
             minimum=0.0,
@@ -68,6 +69,10 @@ class SpeechAgent(GrammarAgentNode):
             scale=self.scale,
             server_gap=lambda: self.dsr.server_gap,
             graph=lambda: self.dsr.graph,
+            thresholds=lambda: (
+                float_param(self, "min_confidence"),
+                float_param(self, "confirm_confidence"),
+            ),
         )
 
     def processes(self) -> dict[str, Process]:
@@ -125,11 +130,9 @@ class SpeechAgent(GrammarAgentNode):
         if not isinstance(audio, str) or len(audio) > 4096:
             raise ValueError(f"audio must be a clip's path, got {audio!r:.100}")
         self._humans.heard(text, confidence)
-        sure = confidence >= float_param(self, "min_confidence")
-        confirmable = confidence >= float_param(self, "confirm_confidence")
         shown = self.dsr.graph.edge("test", "test_part", "is_in")
         item_shown = shown.attrs.get("item", "") if shown is not None else ""
-        self.behaviour.on_heard(text, item_shown, sure=sure, audio=audio, confirmable=confirmable)
+        self.behaviour.on_heard(text, item_shown, confidence=float(confidence), audio=audio)
 
 
 main = main_for(SpeechAgent)

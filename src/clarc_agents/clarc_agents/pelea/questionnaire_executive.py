@@ -307,6 +307,9 @@ class QuestionnaireExecutive(HighLevelExecutive):
                 self.port.event(event="unsure", item=item, points=answer.points, heard=answer.heard)
                 self._complete(token, monitoring.unsure(self.state, item))
                 return
+        if answer.outcome == "not_understood" and answer.heard and answer.confidence is not None:
+            # what was heard, kept for the next window: the same answer heard again is sure
+            self.record.items[item].hearings.append((answer.heard, answer.confidence))
         if answer.outcome == "answered":
             self.record.answer(item, answer.points, answer.via, answer.heard, answer.drawing)
             self._window_ended(item, "answered")

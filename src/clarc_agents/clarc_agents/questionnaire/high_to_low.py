@@ -140,6 +140,11 @@ def record_item(result: ItemResult) -> dict[str, Any]:
         attrs.update(drawing=result.drawing)
     if result.audio:
         attrs.update(audio_clips=list(result.audio))
+    if result.hearings:
+        attrs.update(
+            hearings=[text for text, _ in result.hearings],
+            hearing_confidences=[confidence for _, confidence in result.hearings],
+        )
     return {"ops": [{"op": "set_node_attrs", "node": item_node(result.item), "attrs": attrs}]}
 
 

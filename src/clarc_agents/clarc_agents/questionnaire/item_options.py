@@ -31,6 +31,18 @@ def answer_attrs(item: Item) -> dict[str, Any]:
     return attrs
 
 
+def hearings(graph: Graph, key: str) -> list[tuple[str, float]]:
+    """What was heard to item ``key`` in its earlier windows without being understood for sure,
+    and how sure (its node's ``hearings`` and ``hearing_confidences``, PELEA's record)."""
+    node = graph.find(item_node(key))
+    if node is None:
+        return []
+    texts, confidences = node.attrs.get("hearings", []), node.attrs.get("hearing_confidences", [])
+    if not isinstance(texts, list) or not isinstance(confidences, list):
+        return []
+    return [(str(t), float(c)) for t, c in zip(texts, confidences, strict=False)]
+
+
 def item_in(graph: Graph, key: str) -> Item | None:
     """Item ``key`` as its node says it is answered; None when the DSR does not say."""
     node = graph.find(item_node(key))

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from clarc_agents.definitions import Definition
-from clarc_agents.questionnaire.item_options import item_node
+from clarc_agents.questionnaire.item_options import hearings, item_node
 from clarc_agents.questionnaire.record import QuestionnaireRecord
 from clarc_agents.test_node import person_present
 from dsr_graph.model.graph import Graph
@@ -29,6 +29,7 @@ class Answer:
     heard: str = ""
     drawing: str = ""
     audio: str = ""  # the clip of what was said (voice), if the recogniser kept one
+    confidence: float | None = None  # how sure the recogniser was of what was heard (voice)
 
 
 def answer(graph: Graph) -> Answer | None:
@@ -37,23 +38,19 @@ def answer(graph: Graph) -> Answer | None:
         return None
     attrs = graph.edge("person", "answer", "got").attrs
     heard, audio = str(attrs.get("heard", "")), str(attrs.get("audio", ""))
+    sure = attrs.get("confidence")
+    confidence = float(sure) if isinstance(sure, (int, float)) else None
+    said = {"heard": heard, "audio": audio, "confidence": confidence}
     if attrs.get("skip"):
-        return Answer(found["$item"], "skip", heard=heard, audio=audio)
+        return Answer(found["$item"], "skip", **said)
     if attrs.get("unsure") and isinstance(attrs.get("answer"), (int, float)):
         points = int(attrs["answer"])
-        return Answer(found["$item"], "unsure", points, "voice", heard, audio=audio)
+        return Answer(found["$item"], "unsure", points, "voice", **said)
     if not attrs.get("understood", False):
-        return Answer(found["$item"], "not_understood", heard=heard, audio=audio)
+        return Answer(found["$item"], "not_understood", **said)
     points = int(attrs["answer"]) if "answer" in attrs else None
-    return Answer(
-        found["$item"],
-        "answered",
-        points,
-        attrs.get("via"),
-        heard,
-        str(attrs.get("drawing", "")),
-        audio,
-    )
+    drawing = str(attrs.get("drawing", ""))
+    return Answer(found["$item"], "answered", points, attrs.get("via"), drawing=drawing, **said)
 
 
 def window_interrupted(graph: Graph) -> bool:
@@ -104,6 +101,7 @@ def record(graph: Graph, definition: Definition) -> QuestionnaireRecord:
         result.outcomes = list(node.attrs.get("outcomes", []))
         result.heard = str(node.attrs.get("heard", ""))
         result.audio = [str(a) for a in node.attrs.get("audio_clips", [])]
+        result.hearings = hearings(graph, key)
         status = node.attrs.get("status")
         if status == "answered":
             result.answered, result.via = True, node.attrs.get("via")

@@ -25,6 +25,9 @@ class ItemResult:
     drawing: str = ""  # what the patient drew (SVG path data), for the clinician to score
     answered: bool = False  # an answer came (for a drawing: before the clinician scored it)
     audio: list[str] = field(default_factory=list)  # the clips of what was said to it
+    # what was heard in its windows that ended not understood, and how sure: a words or serial
+    # answer heard the same again is taken (questionnaire/agreement.py)
+    hearings: list[tuple[str, float]] = field(default_factory=list)
 
     @property
     def doubtful(self) -> bool:

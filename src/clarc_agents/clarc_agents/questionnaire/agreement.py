@@ -1,0 +1,67 @@
+"""Two hearings that give the same answer, and how sure they make the robot together (pure).
+
+Two hearings whose mistakes are independent are both wrong, and wrong the same way, less often
+than either alone: ``1 - (1 - first) * (1 - second)`` bounds the chance that the answer they
+agree on is not what was said. Two recognisers on one utterance are such hearings
+(asr/second_opinion.py); so are two utterances of one answer, the patient asked again
+(``heard_again``): a words or serial answer understood but not sure is asked again (there is no
+read-back for them: reading words back would put them in the patient's mouth), and what was
+heard each time, with how sure, is kept on the item's node in the DSR (PELEA's
+``hearings`` and ``hearing_confidences``), where Speech reads it back at the next answer.
+
+"The same answer" (``same_answer``): understood as the same points for the same parts (a
+serial answer's numbers in order, a words answer's credited words), something credited (two
+hearings agreeing that nothing was right agree on nothing).
+
+One voice is misheard the same way twice more often than independence says ("eighty" by a
+synthesised voice heard "82" in both hearings, 0.27 and 0.38 sure, on the speech benchmark):
+so a hearing counts again only if it was at least ``FLOOR`` sure on its own, the confidence
+above which Whisper also weighs the readings worth more than what it heard (whisper.py's
+``CHECKED_ABOVE``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.answers import understand
+
+KINDS = ("words", "serial")  # the kinds with no read-back: asked again instead
+FLOOR = 0.3
+
+
+def same_answer(item: Item, first: str, second: str) -> bool:
+    """Whether two transcripts give the same answer to ``item``, something credited."""
+    a, b = understand(item, first), understand(item, second)
+    if a.kind != "answer" or not a.matched:
+        return False
+    return (a.kind, a.points, a.matched) == (b.kind, b.points, b.matched)
+
+
+def independent(*confidences: float) -> float:
+    """How sure hearings that agree make the answer, were their mistakes independent."""
+    doubt = 1.0
+    for confidence in confidences:
+        doubt *= 1.0 - confidence
+    return 1.0 - doubt
+
+
+def heard_again(
+    item: Item, earlier: Iterable[tuple[str, float]], text: str, confidence: float
+) -> tuple[float, str] | None:
+    """``text``, heard ``confidence`` sure, against the ``earlier`` hearings of the same item
+    (what was heard, how sure): the confidence of the two together and the earlier words, for
+    the surest earlier hearing that gives the same answer; None when none does (or either is
+    under ``FLOOR``, or the item is not of ``KINDS``)."""
+    if item.kind not in KINDS or confidence < FLOOR:
+        return None
+    agreeing = [
+        (seen, before)
+        for before, seen in earlier
+        if seen >= FLOOR and same_answer(item, text, before)
+    ]
+    if not agreeing:
+        return None
+    seen, before = max(agreeing)
+    return independent(confidence, seen), before
