@@ -13,6 +13,7 @@ import json
 import os
 import subprocess
 import time
+from dataclasses import replace
 from datetime import date
 from pathlib import Path
 from typing import Any
@@ -22,6 +23,7 @@ import numpy as np
 from clarc_agents import definitions
 from clarc_agents.asr.audio import RATE
 from clarc_agents.asr.hearing import MIN_CONFIDENCE
+from clarc_agents.questionnaire.agreement import KINDS, heard_again
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.orientation import values
 from clarc_agents.questionnaire.spoken import TENS, UNITS
@@ -156,6 +158,7 @@ def _heard_audio(text: str, voice: Voice, noise: str | None, snr: float | None, 
 
 
 RECOGNISERS = ("whisper", "pocketsphinx")
+AGAIN_SEEDS = 1_000_000  # the noise of the answers said again
 OUTCOMES = ("right", "wrong", "clinician")
 
 
@@ -168,6 +171,22 @@ def _outcome(item, truth, heard) -> str:
         return "clinician"
     right = meaning.kind == truth.kind and meaning.points == truth.points
     return "right" if right else "wrong"
+
+
+def _asked_again(item, truth, first, second) -> tuple[str, str]:
+    """How a words or serial answer ends over two windows, the patient asked again when the
+    first was not sure (``second``: what was heard then, None when the first was): without and
+    with Speech taking the same answer heard twice (questionnaire/agreement.py)."""
+    if second is None:
+        outcome = _outcome(item, truth, first)
+        return outcome, outcome
+    without = _outcome(item, truth, second)
+    if without != "clinician":
+        return without, without
+    again = heard_again(item, [(first.text, first.confidence)], second.text, second.confidence)
+    if again is None or again[0] < MIN_CONFIDENCE:
+        return without, without
+    return without, _outcome(item, truth, replace(second, confidence=again[0]))
 
 
 def _tally(counts: dict[str, list[int]]) -> dict[str, Any]:
@@ -215,11 +234,16 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         # Whisper's answers without pocketsphinx's second opinion: those it confirmed were not
         # sure before it (second_opinion.py), so the same run tells both
         alone: dict[str, Any] = {}
+        # words and serial answers over two windows, asked again when the first was not sure
+        # (a second rendition: the voice 10% slower, other noise): what the same answer heard
+        # twice adds (questionnaire/agreement.py)
+        asked_again: dict[str, Any] = {}
         seed = 0
         for label, noise, snr in CONDITIONS:
             condition = label if snr is None else f"{label} {snr:g} dB"
             counts: dict[str, list[int]] = {}
             counts_alone: dict[str, list[int]] = {}
+            twice: tuple[dict[str, list[int]], ...] = ({}, {})  # without, with the repeat
             for kind, item, said in cases:
                 truth = understand(item, said)
                 for voice in voices:
@@ -235,8 +259,24 @@ def bench_speech(quick: bool) -> dict[str, Any]:
                     counts.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
                     outcome = "clinician" if how == "confirmed" else outcome
                     counts_alone.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
+                    if name != "whisper" or kind not in KINDS:
+                        continue
+                    second = None
+                    if _outcome(item, truth, heard) == "clinician":  # asked again: said again
+                        slower = replace(voice, words_per_minute=int(voice.words_per_minute * 0.9))
+                        # noise of its own, the first hearings' seeds left as they were
+                        audio = _heard_audio(said, slower, noise, snr, AGAIN_SEEDS + seed)
+                        second, _ = recogniser.hear_item(audio, item)
+                    ends = _asked_again(item, truth, heard, second)
+                    for table, outcome in zip(twice, ends, strict=True):
+                        table.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
             by_condition[condition] = _tally(counts)
             alone[condition] = _tally(counts_alone)
+            if name == "whisper":
+                asked_again[condition] = {
+                    "without_repeat": _tally(twice[0]),
+                    "with_repeat": _tally(twice[1]),
+                }
         report = {
             "understood": by_condition,
             "real_time_factor": cpu / max(audio_s, 1e-9),
@@ -247,6 +287,7 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         out["recognisers"][name] = report
         if name == "whisper":
             out["whisper_alone"] = alone
+            out["whisper_asked_again"] = asked_again
     return out
 
 
@@ -284,6 +325,21 @@ def table(speech: dict[str, Any]) -> list[str]:
                 f"{counts[k]['right']:>9.0%} {counts[k]['wrong']:>5.1%} "
                 f"{counts[k]['clinician']:>6.0%}"
                 for k in sorted(counts)
+            )
+            lines.append(f"    {condition:<14} {cells}")
+    if "whisper_asked_again" in speech:
+        lines.append(
+            "  whisper, words and serial asked again when not sure: two windows without / "
+            "with the same answer heard twice taken"
+        )
+        for condition, both in speech["whisper_asked_again"].items():
+            cells = "".join(
+                f"{k:>8} "
+                + " / ".join(
+                    f"{both[w][k]['right']:.0%} {both[w][k]['wrong']:.1%}"
+                    for w in ("without_repeat", "with_repeat")
+                )
+                for k in sorted(both["with_repeat"])
             )
             lines.append(f"    {condition:<14} {cells}")
     return lines + _loop_lines(speech.get("loop"))

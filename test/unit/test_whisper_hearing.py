@@ -16,6 +16,7 @@ from clarc_agents.asr.expectations import FREE, expectation_for
 from clarc_agents.asr.models import WHISPER_TINY_EN, ModelFiles, verified_folder
 from clarc_agents.exceptions import ModelError
 from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.item_options import answer_attrs, item_in, item_node
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
 
 
@@ -47,6 +48,27 @@ def test_the_expected_answers_are_the_decoder_s_context_and_no_test_is_named():
     assert expectation_for(mmse.item("attention")).meaning("93, 86, 79") == ("answer", 3)
     assert expectation_for(mmse.item("command")) is None  # touched, not said
     assert expectation_for(None) is FREE
+
+
+def test_the_asr_node_s_context_from_the_dsr_is_the_item_s_own():
+    """The asr node knows an item only as the DSR carries it (item_in): the same prompt and
+    candidates as the test's file (it once lost the question, and heard serial sevens said
+    right at 0.12 where the benchmark, prompted, heard them at 0.70)."""
+    from dsr_graph.model.graph import Graph
+
+    mmse = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
+    for item in [
+        *definitions.load("barthel").items,
+        *definitions.load("lawton").items,
+        *mmse.items,
+    ]:
+        graph = Graph()
+        graph.insert_node(item_node(item.key), "test_item", attrs=answer_attrs(item))
+        live, own = expectation_for(item_in(graph, item.key)), expectation_for(item)
+        assert (live and live.prompt, live and live.candidates) == (
+            own and own.prompt,
+            own and own.candidates,
+        ), item.key
 
 
 def test_the_weights_are_the_pinned_files_or_none_is_used(tmp_path):

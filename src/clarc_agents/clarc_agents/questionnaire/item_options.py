@@ -1,6 +1,7 @@
 """How an item is answered, as the DSR carries it (pure): PELEA writes it on the item's node
 (``item_<key>``) when a test starts, so the agents that hear, show or see answers need no copy
 of any test's table. ``answer_kind`` is the item's kind (choose, words, touches, drawing, eyes);
+``question`` and ``ask`` what the robot asks (a recogniser's context);
 a ``choose`` item has ``options``, ``option_points`` and ``option_words``; a ``words`` or
 ``touches`` item ``parts`` (the words that recognise each part); the points it is worth are
 ``max_points``. Several phrases of one option or part are joined by "|"."""
@@ -20,6 +21,11 @@ def item_node(key: str) -> str:
 def answer_attrs(item: Item) -> dict[str, Any]:
     """What the item's node carries for the agents that take its answers."""
     attrs: dict[str, Any] = {"answer_kind": item.kind, "max_points": item.max}
+    # what the robot asks, for a recogniser's context (asr/expectations.py): the words of the
+    # exchange, never the answers
+    attrs["question"] = item.question
+    if item.ask:
+        attrs["ask"] = item.ask
     if item.kind == "choose":
         attrs.update(
             options=[o.text for o in item.options],
@@ -52,6 +58,7 @@ def item_in(graph: Graph, key: str) -> Item | None:
     if kind not in KINDS:
         return None
     title = str(node.attrs.get("title", key))
+    question, ask = str(node.attrs.get("question", "")), str(node.attrs.get("ask", ""))
     if kind != "choose":
         parts = node.attrs.get("parts", [])
         if not isinstance(parts, list):
@@ -62,8 +69,9 @@ def item_in(graph: Graph, key: str) -> Item | None:
         return Item(
             key,
             title,
-            "",
+            question,
             kind=kind,
+            ask=ask,
             parts=tuple(Part(str(i), _phrases(ws)) for i, ws in enumerate(parts)),
             most=int(node.attrs.get("max_points", 0)),
         )
@@ -78,7 +86,7 @@ def item_in(graph: Graph, key: str) -> Item | None:
         Option(int(p), str(t), "", _phrases(ws))
         for t, p, ws in zip(texts, points, words, strict=True)
     )
-    return Item(key, title, "", options)
+    return Item(key, title, question, options, ask=ask)
 
 
 def awaited_item(graph: Graph) -> Item | None:
