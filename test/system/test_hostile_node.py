@@ -256,7 +256,10 @@ def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suit
         client = node.create_client(srv_type, service)
         for request in hostile_requests(srv_type):
             try:
-                session.call(client, request, 10, f"{service}'s answer")
+                # bounded for a machine busy with other work: a node starved of CPU for seconds
+                # (DDS liveliness lapsing, seen in a loaded run) still answers, and a node that
+                # stopped answering does not within a minute either
+                session.call(client, request, 60, f"{service}'s answer")
             except Exception as e:  # noqa: BLE001 - a request a type cannot carry is not sent
                 assert "no answer" not in str(e), f"{service} stopped answering: {e}"
         sent[service] = len(hostile_requests(srv_type))
