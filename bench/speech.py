@@ -22,7 +22,7 @@ import numpy as np
 
 from clarc_agents import definitions
 from clarc_agents.asr.audio import RATE
-from clarc_agents.asr.hearing import MIN_CONFIDENCE
+from clarc_agents.asr.hearing import CONFIRM_CONFIDENCE, MIN_CONFIDENCE
 from clarc_agents.questionnaire.agreement import KINDS, heard_again
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.orientation import values
@@ -173,6 +173,20 @@ def _outcome(item, truth, heard) -> str:
     return "right" if right else "wrong"
 
 
+def _over_the_dialogue(recogniser, item, truth, heard, said_again) -> tuple[str, str]:
+    """How an answer ends without and with the dialogue's repair: a choose answer read back
+    when not sure; a words or serial answer asked again when not sure and said again
+    (``said_again``: the text, the voice made 10% slower, the noise and its own seed)."""
+    if item.kind not in KINDS:
+        return _outcome(item, truth, heard), _read_back(item, truth, heard)
+    second = None
+    if _outcome(item, truth, heard) == "clinician":
+        said, voice, noise, snr, seed = said_again
+        slower = replace(voice, words_per_minute=int(voice.words_per_minute * 0.9))
+        second, _ = recogniser.hear_item(_heard_audio(said, slower, noise, snr, seed), item)
+    return _asked_again(item, truth, heard, second)
+
+
 def _asked_again(item, truth, first, second) -> tuple[str, str]:
     """How a words or serial answer ends over two windows, the patient asked again when the
     first was not sure (``second``: what was heard then, None when the first was): without and
@@ -187,6 +201,17 @@ def _asked_again(item, truth, first, second) -> tuple[str, str]:
     if again is None or again[0] < MIN_CONFIDENCE:
         return without, without
     return without, _outcome(item, truth, replace(second, confidence=again[0]))
+
+
+def _read_back(item, truth, heard) -> str:
+    """How a choose answer ends with Speech's read-back: an option heard from
+    ``CONFIRM_CONFIDENCE`` up to ``MIN_CONFIDENCE`` is read back and the patient's yes counts
+    it; a wrong option read back is denied and asked again, counted here as not right."""
+    outcome = _outcome(item, truth, heard)
+    meaning = understand(item, heard.text)
+    if outcome != "clinician" or heard.confidence < CONFIRM_CONFIDENCE or meaning.kind != "answer":
+        return outcome
+    return "right" if meaning.points == truth.points else "clinician"
 
 
 def _tally(counts: dict[str, list[int]]) -> dict[str, Any]:
@@ -234,16 +259,16 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         # Whisper's answers without pocketsphinx's second opinion: those it confirmed were not
         # sure before it (second_opinion.py), so the same run tells both
         alone: dict[str, Any] = {}
-        # words and serial answers over two windows, asked again when the first was not sure
-        # (a second rendition: the voice 10% slower, other noise): what the same answer heard
-        # twice adds (questionnaire/agreement.py)
-        asked_again: dict[str, Any] = {}
+        # over the dialogue: what the repair adds (the read-back of a choose answer not sure;
+        # a words or serial answer asked again, said again in a second rendition: the voice
+        # 10% slower, other noise, and taken when heard the same, questionnaire/agreement.py)
+        dialogue: dict[str, Any] = {}
         seed = 0
         for label, noise, snr in CONDITIONS:
             condition = label if snr is None else f"{label} {snr:g} dB"
             counts: dict[str, list[int]] = {}
             counts_alone: dict[str, list[int]] = {}
-            twice: tuple[dict[str, list[int]], ...] = ({}, {})  # without, with the repeat
+            twice: tuple[dict[str, list[int]], ...] = ({}, {})  # without, with the repair
             for kind, item, said in cases:
                 truth = understand(item, said)
                 for voice in voices:
@@ -259,23 +284,17 @@ def bench_speech(quick: bool) -> dict[str, Any]:
                     counts.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
                     outcome = "clinician" if how == "confirmed" else outcome
                     counts_alone.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
-                    if name != "whisper" or kind not in KINDS:
-                        continue
-                    second = None
-                    if _outcome(item, truth, heard) == "clinician":  # asked again: said again
-                        slower = replace(voice, words_per_minute=int(voice.words_per_minute * 0.9))
-                        # noise of its own, the first hearings' seeds left as they were
-                        audio = _heard_audio(said, slower, noise, snr, AGAIN_SEEDS + seed)
-                        second, _ = recogniser.hear_item(audio, item)
-                    ends = _asked_again(item, truth, heard, second)
-                    for table, outcome in zip(twice, ends, strict=True):
-                        table.setdefault(kind, [0, 0, 0])[OUTCOMES.index(outcome)] += 1
+                    if name == "whisper":
+                        said_again = (said, voice, noise, snr, AGAIN_SEEDS + seed)
+                        ends = _over_the_dialogue(recogniser, item, truth, heard, said_again)
+                        for table, end in zip(twice, ends, strict=True):
+                            table.setdefault(kind, [0, 0, 0])[OUTCOMES.index(end)] += 1
             by_condition[condition] = _tally(counts)
             alone[condition] = _tally(counts_alone)
             if name == "whisper":
-                asked_again[condition] = {
-                    "without_repeat": _tally(twice[0]),
-                    "with_repeat": _tally(twice[1]),
+                dialogue[condition] = {
+                    "without_repair": _tally(twice[0]),
+                    "with_repair": _tally(twice[1]),
                 }
         report = {
             "understood": by_condition,
@@ -287,7 +306,7 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         out["recognisers"][name] = report
         if name == "whisper":
             out["whisper_alone"] = alone
-            out["whisper_asked_again"] = asked_again
+            out["whisper_dialogue"] = dialogue
     return out
 
 
@@ -327,21 +346,21 @@ def table(speech: dict[str, Any]) -> list[str]:
                 for k in sorted(counts)
             )
             lines.append(f"    {condition:<14} {cells}")
-    if "whisper_asked_again" in speech:
+    if "whisper_dialogue" in speech:
         lines.append(
-            "  whisper, words and serial asked again when not sure: two windows without / "
-            "with the same answer heard twice taken"
+            "  whisper over the dialogue (choose read back when not sure; words and serial "
+            "asked again, taken when heard the same): right, wrong without -> with the repair"
         )
-        for condition, both in speech["whisper_asked_again"].items():
+        for condition, both in speech["whisper_dialogue"].items():
             cells = "".join(
-                f"{k:>8} "
-                + " / ".join(
+                f"  {k} "
+                + " -> ".join(
                     f"{both[w][k]['right']:.0%} {both[w][k]['wrong']:.1%}"
-                    for w in ("without_repeat", "with_repeat")
+                    for w in ("without_repair", "with_repair")
                 )
-                for k in sorted(both["with_repeat"])
+                for k in sorted(both["with_repair"])
             )
-            lines.append(f"    {condition:<14} {cells}")
+            lines.append(f"    {condition:<14}{cells}")
     return lines + _loop_lines(speech.get("loop"))
 
 
