@@ -33,17 +33,17 @@ def test_the_same_answer_is_the_same_points_for_the_same_parts_something_credite
 
 def test_two_agreeing_hearings_combine_and_each_must_reach_the_floor():
     recall, attention = _mmse_item("recall"), _mmse_item("attention")
-    assert independent(0.4, 0.35) == pytest.approx(0.61)
-    both = heard_again(recall, [("apple and penny", 0.4), (WORDS, 0.35)], WORDS, 0.4)
-    assert both == (pytest.approx(0.61), WORDS)
+    assert independent(0.4, 0.45) == pytest.approx(0.67)
+    both = heard_again(recall, [("apple and penny", 0.6), (WORDS, 0.45)], WORDS, 0.4)
+    assert both == (pytest.approx(0.67), WORDS)
     assert heard_again(recall, [(WORDS, FLOOR - 0.01)], WORDS, 0.45) is None
     assert heard_again(recall, [(WORDS, 0.45)], WORDS, FLOOR - 0.01) is None
     assert heard_again(recall, [("apple, table", 0.45)], WORDS, 0.45) is None
     # a choose item is confirmed by its read-back instead
     barthel = definitions.load("barthel").item("feeding")
     assert heard_again(barthel, [("two", 0.45)], "two", 0.45) is None
-    serial = [("93, 86, 79, 72, 65.", 0.35)]
-    assert heard_again(attention, serial, "93 86 79 72 65", 0.4)[0] == pytest.approx(0.61)
+    serial = [("93, 86, 79, 72, 65.", 0.45)]
+    assert heard_again(attention, serial, "93 86 79 72 65", 0.4)[0] == pytest.approx(0.67)
 
 
 def _recall(result):
@@ -64,7 +64,7 @@ def test_an_answer_heard_twice_the_same_counts_and_a_different_one_goes_to_the_c
     recall = _recall(robot.run_test())
     assert (recall["points"], recall["needs_clinician"]) == (None, True)
 
-    unsure = [("heard", WORDS, 0.2), ("heard", WORDS, 0.45)]  # the first under the floor
+    unsure = [("heard", WORDS, 0.35), ("heard", WORDS, 0.45)]  # the first under the floor
     recall = _recall(Robot(Patient(answers={"recall": unsure}), test="mmse").run_test())
     assert (recall["points"], recall["needs_clinician"]) == (None, True)
 
