@@ -2,8 +2,8 @@
 its parameters, as its ``--help`` prints them (dsr_graph.ros.parameters.help_text, from the same
 declarations the node makes at start), then its module's documentation; and the ``dsr`` and
 ``clarc`` command lines from their argparse parsers. The parameters and the command lines cannot
-drift from the code; the topics are what each module's documentation says (not checked against
-a running node)."""
+drift from the code; the topics and services are what each module's documentation says, checked
+against the running nodes by test/system/test_hostile_node.py (test/node_docs.py)."""
 
 from __future__ import annotations
 
@@ -46,7 +46,8 @@ def node_pages() -> dict[str, str]:
         "Every node of the suite, by package, each on a page of its own: what `ros2 run",
         "<package> <executable> --help` prints (what the node is, its node name, each parameter",
         "with its type, default, range and whether it is read only at start), then the rest of",
-        "its module's documentation (the topics and services it uses, and how it works).",
+        "its module's documentation (the topics and services it uses, and how it works:",
+        "a test checks every topic and service of the running suite's nodes is named there).",
         "Generated from the code at each build of this site. The DSR's own topics: [The DSR",
         "server](dsr-server.md); `ros2 node info /<name>` lists a running node's.",
         "",

@@ -3,7 +3,8 @@ waiting for Start): it lists, from the ROS graph, every topic that a node of the
 to and every service one serves, sends each of them malformed and hostile payloads (deep
 nesting, huge, wrong types, NaN, unknown fields, valid JSON with forged fields: a delta, a
 heartbeat, a request, a result), and then every node is still alive (never restarted), the
-DSR's graph and the results store are as they were."""
+DSR's graph and the results store are as they were. On the same running suite: every topic and
+service a node uses is in its documentation (its reference page)."""
 
 import importlib
 import json
@@ -15,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from node_docs import own_services, undocumented
 
 from dsr_graph.model.agent_info import AGENT_TYPE, READY
 
@@ -113,9 +115,11 @@ def hostile_requests(srv_type):
     return requests
 
 
-@pytest.fixture
-def suite(tmp_path):
-    """The whole suite, idle (waiting for Start), enforced, in its own ROS domain."""
+@pytest.fixture(scope="module")
+def suite(tmp_path_factory):
+    """The whole suite, idle (waiting for Start), enforced, in its own ROS domain (one for the
+    module: its tests leave it as they found it)."""
+    tmp_path = tmp_path_factory.mktemp("suite")
     db = tmp_path / "cgamed.sqlite"
     domain = fresh_domain_id()
     env = dict(os.environ, ROS_DOMAIN_ID=str(domain))
@@ -200,6 +204,28 @@ def apart_from_presence(snapshot):
     graph["edges"] = [e for e in snapshot["edges"] if not {e["from"], e["to"]} & infos]
     states = {n["name"]: n["attrs"].get("state") for n in snapshot["nodes"] if n["name"] in infos}
     return graph, states
+
+
+@pytest.mark.timeout(600)
+def test_every_topic_and_service_of_a_running_node_is_in_its_documentation(suite):
+    """The nodes' reference pages cannot drift from the nodes: each topic and service a running
+    node of the suite uses is named in its module's documentation (its page) or, for the DSR's
+    own, on the DSR server's page (test/node_docs.py)."""
+    session, run, _, _ = suite
+    node = session.node
+    wait_for(lambda: len(suite_endpoints(node)[0]) >= 15, 120, "the suite's subscriptions", session)
+    session.spin_for(3.0)  # every node has set itself up
+    running = {name: ns for name, ns in node.get_node_names_and_namespaces() if name in SUITE}
+    assert set(running) == set(SUITE), sorted(set(SUITE) - set(running))
+    missing = {}
+    for name, ns in running.items():
+        used = [t for t, _ in node.get_publisher_names_and_types_by_node(name, ns)]
+        used += [t for t, _ in node.get_subscriber_names_and_types_by_node(name, ns)]
+        served = [s for s, _ in node.get_service_names_and_types_by_node(name, ns)]
+        used += own_services(name, served)
+        if undocumented(name, used):
+            missing[name] = undocumented(name, used)
+    assert not missing, f"used but not in the node's documentation: {missing}"
 
 
 @pytest.mark.timeout(900)
