@@ -260,6 +260,32 @@ def test_an_error_a_stop_signal_caused_is_a_stop_and_any_other_a_crash(ros, sig)
         assert proc.returncode == 0 and "Traceback" not in log, log
 
 
+STOPPED = """
+import os, signal, sys, time
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+
+class Stopped(DsrNode):
+    NAME = "stopped"
+
+    def setup(self):
+        raise KeyboardInterrupt  # stopped at once: its exit code is 0
+
+code = main_for(Stopped)()
+os.kill(os.getpid(), signal.{sig})  # launch's SIGTERM 5 s after its SIGINT, while it ends
+time.sleep(0.5)
+sys.exit(code)
+"""
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_a_stop_signal_while_the_process_ends_keeps_its_exit_code(ros, sig):
+    program = ros.tmp / "stopped.py"
+    program.write_text(STOPPED.format(sig=sig))
+    proc = ros.procs.start("stopped", ["python", program])
+    proc.wait(timeout=60)
+    assert proc.returncode == 0, ros.procs.log("stopped")
+
+
 def test_setup_attaches_what_the_constructor_did_not(context):
     """The other half of the shape: setup() attaches the topics."""
     from clarc_sim.devices.microphone_node import MicrophoneStandIn

@@ -39,7 +39,7 @@ from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros import dds_teardown, process_gc
 from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
 from dsr_graph.ros.parameters import check_required, help_text
-from dsr_graph.ros.stop_signals import StopSignals
+from dsr_graph.ros.stop_signals import StopSignals, stopping_anyway
 
 NO_DEFAULT_EVENTS = {"use_default_callbacks": False}  # see DsrNode.create_publisher
 # seconds the DDS participant's deletion may take at the end (launch sends SIGTERM after 5)
@@ -177,7 +177,9 @@ def main_for(node_class: type[DsrNode]) -> Callable[[list[str] | None], int]:
                 file=sys.stderr,
             )
             return 2
-        return run_node(node_class, args)
+        code = run_node(node_class, args)
+        stopping_anyway()
+        return code
 
     main.__doc__ = (
         f"Run {getattr(node_class, '__name__', 'the node')} until shut down; the exit code."

@@ -24,6 +24,17 @@ def _once_then_default(signum, _frame) -> None:
     signal.signal(signum, signal.SIG_DFL)
 
 
+def stopping_anyway() -> None:
+    """From here the process only ends: the next SIGINT or SIGTERM (launch's SIGTERM 5 s after
+    its SIGINT, when a busy machine makes the interpreter's teardown slow) asks for what is
+    already happening, and must not turn the node's exit code into a death by that signal (seen
+    under load: five nodes of a ros2 launch "died" with -15 after they had stopped); a second
+    one ends the process as the signal's default action does."""
+    if threading.current_thread() is threading.main_thread():
+        for signum in STOPS:
+            signal.signal(signum, _once_then_default)
+
+
 class StopSignals:
     """Install before ``rclpy.init`` (rclpy chains to what it finds); ``arrived()`` after."""
 
