@@ -7,21 +7,24 @@ first two (REP-155's ``/humans/persons`` topics: one per person id)."""
 from __future__ import annotations
 
 import importlib
-import re
+from functools import cache
 from pathlib import Path
 
+from package_scripts import console_scripts
+
 REPO = Path(__file__).resolve().parents[1]
-ENTRY = re.compile(r'"(\w+) = ([\w.]+):main"')
 EVERY_NODE_S = ("/rosout", "/parameter_events")  # rclpy's own, on every node
 DSR_PAGE = REPO / "docs" / "reference" / "dsr-server.md"
 
 
-def node_modules() -> dict[str, str]:
-    """Executable (the node's name) -> its module, from each package's setup.py."""
-    out = {}
-    for package in ("dsr_graph", "clarc_agents", "clarc_sim"):
-        out.update(ENTRY.findall((REPO / "src" / package / "setup.py").read_text()))
-    return out
+@cache
+def _documentation(node_name: str) -> tuple[str, str]:
+    """(the node's module's docstring, the DSR server's page); the executable is the node's
+    name."""
+    modules = {name: module for (_, name), module in console_scripts().items()}
+    module = modules.get(node_name)
+    doc = (importlib.import_module(module).__doc__ or "") if module else ""
+    return doc, DSR_PAGE.read_text()
 
 
 def _names(topic: str) -> list[str]:
@@ -36,9 +39,7 @@ def _names(topic: str) -> list[str]:
 
 def undocumented(node_name: str, topics: list[str]) -> list[str]:
     """The ``topics`` of node ``node_name`` that its documentation does not name."""
-    module = node_modules().get(node_name)
-    doc = (importlib.import_module(module).__doc__ or "") if module else ""
-    dsr = DSR_PAGE.read_text()
+    doc, dsr = _documentation(node_name)
     missing = []
     for topic in sorted(set(topics) - set(EVERY_NODE_S)):
         texts = [doc, dsr] if topic.startswith("/dsr/") else [doc]

@@ -223,8 +223,8 @@ def test_every_topic_and_service_of_a_running_node_is_in_its_documentation(suite
         used += [t for t, _ in node.get_subscriber_names_and_types_by_node(name, ns)]
         served = [s for s, _ in node.get_service_names_and_types_by_node(name, ns)]
         used += own_services(name, served)
-        if undocumented(name, used):
-            missing[name] = undocumented(name, used)
+        if unnamed := undocumented(name, used):
+            missing[name] = unnamed
     assert not missing, f"used but not in the node's documentation: {missing}"
 
 
