@@ -14,61 +14,54 @@ from harness import (
     ROOT,
     Procs,
     _wait_ready,
+    agent_session,
     extra_agent,
-    latency_samples,
-    percentiles,
     server_cpu,
-    session_with_agent,
-    speech_change,
     timed_reader,
 )
-from streams import CameraStream, SkeletonStream, hop_costs
+from streams import CameraStream, SkeletonStream, hop_costs, quiet_and_streaming
 
 
-def bench_camera(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
+def bench_camera(
+    work: Path, domain: int, seconds: float, rounds: int, per_round: int
+) -> dict[str, Any]:
     """The camera (640x480 colour and depth, 30 Hz) and the skeleton (30 Hz) streaming into the
     DSR together: the server's CPU, images offered, written and delivered whole to a replica that
     asks for the bytes (another process), and a Speech-sized change's latency, each against the
-    same without the streams; and what one hop costs a frame as base64 JSON or as blobs."""
-    procs = Procs(work, domain)
+    same without the streams (the latency in interleaved rounds); and what one hop costs a frame
+    as base64 JSON or as blobs."""
     out: dict[str, Any] = {"hop": hop_costs()}
-    try:
+    with Procs(work, domain) as procs:
         server = procs.server(
             work / f"camera_state_{domain}", str(ROOT / "worlds" / "clarc_room.json")
         )
-        ros, camera = session_with_agent(domain, "camera")
-        _, _, arrived = timed_reader(ros)
-        person, speech = (extra_agent(ros, name) for name in ("person", "speech"))
-        skeleton, images = SkeletonStream(person, ros), CameraStream(camera)
-        out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
-        # Speech's change from Speech's own node, as in a launch (from the camera's it queued
-        # behind the images on the camera's request topic)
-        out["latency_quiet"] = percentiles(latency_samples(ros, speech, arrived, n, speech_change))
-        counter = procs.start(
-            "image_counter", [sys.executable, str(HERE / "image_counter.py"), str(seconds)]
-        )
-        _wait_ready(counter)
+        with agent_session(domain, "camera") as (ros, camera):
+            _, _, arrived = timed_reader(ros)
+            person, speech = (extra_agent(ros, name) for name in ("person", "speech"))
+            skeleton, images = SkeletonStream(person, ros), CameraStream(camera)
+            out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
+            counter = procs.start(
+                "image_counter", [sys.executable, str(HERE / "image_counter.py"), str(seconds)]
+            )
+            _wait_ready(counter)
 
-        def streaming() -> None:
-            images.step()
-            skeleton.step()
+            def streaming() -> None:
+                images.step()
+                skeleton.step()
 
-        skeleton.restart()
-        images.restart()
-        t0 = time.perf_counter()
-        out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
-        elapsed = time.perf_counter() - t0
-        counted = json.loads(counter.stdout.readline() or counter.communicate(timeout=30)[0])
-        out["frames_offered_per_s"] = images.offered / elapsed
-        out["frames_written_per_s"] = images.written / elapsed
-        out["frames_delivered_per_s"] = counted["whole"] / counted["seconds"]
-        out["frames_unfetched"] = counted["unfetched"]
-        out["reader_resyncs"] = counted["resyncs"]
-        out["skeleton_frames_written_per_s"] = skeleton.written / elapsed
-        out["latency_streaming"] = percentiles(
-            latency_samples(ros, speech, arrived, n, speech_change, streaming)
-        )
-        ros.close()
-    finally:
-        procs.stop_all()
+            skeleton.restart()
+            images.restart()
+            t0 = time.perf_counter()
+            out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
+            elapsed = time.perf_counter() - t0
+            counted = json.loads(counter.stdout.readline() or counter.communicate(timeout=30)[0])
+            out["frames_offered_per_s"] = images.offered / elapsed
+            out["frames_written_per_s"] = images.written / elapsed
+            out["frames_delivered_per_s"] = counted["whole"] / counted["seconds"]
+            out["frames_unfetched"] = counted["unfetched"]
+            out["reader_resyncs"] = counted["resyncs"]
+            out["skeleton_frames_written_per_s"] = skeleton.written / elapsed
+            # Speech's change from Speech's own node, as in a launch (from the camera's it
+            # queued behind the images on the camera's request topic)
+            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, streaming)
     return out

@@ -36,17 +36,23 @@ def gug_runs(work: Path, scale: float, tag: str) -> dict[str, Any]:
 
 
 def bench_gug(
-    work: Path, domain: int, seconds: float, n: int, scale: float, scenarios: bool
+    work: Path,
+    domain: int,
+    seconds: float,
+    rounds: int,
+    per_round: int,
+    scale: float,
+    scenarios: bool,
 ) -> dict[str, Any]:
     """The skeleton stream's load on the DSR and a whole GUG run's CPU, quiet; and the same
     with every core kept busy by another process (``under_load``): frames written of those
     offered, a Speech change's latency, and (``scenarios``) what each shipped GUG scenario
     stored, quiet and loaded."""
-    out = gug_stream(work, domain, seconds, n)
+    out = gug_stream(work, domain, seconds, rounds, per_round)
     out["robot"] = bench_barthel(work, scale, ROOT / "scenarios" / "gug_normal.yaml", db="gug.db")
     cores = os.cpu_count() or 2
     with busy_cores(cores):
-        loaded = gug_stream(work, domain, seconds, n)
+        loaded = gug_stream(work, domain, seconds, rounds, per_round)
     out["under_load"] = {"busy_processes": cores} | {
         k: loaded[k]
         for k in (
@@ -56,6 +62,7 @@ def bench_gug(
             "frames_per_tx",
             "latency_quiet",
             "latency_streaming",
+            "ratios",
         )
     }
     if scenarios:

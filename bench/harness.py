@@ -60,6 +60,12 @@ class Procs:
             args += ["-p", f"world_file:={world}"]
         return self.start("server", args)
 
+    def __enter__(self) -> Procs:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.stop_all()
+
     def stop_all(self) -> None:
         for p in self.procs:
             if p.poll() is None:
@@ -92,11 +98,27 @@ def rss_kib(pid: int) -> int:
 
 
 def session_with_agent(domain: int, name: str):
+    """A session whose node ``name`` has a DSR replica, synced: (session, agent). The caller
+    closes the session (``agent_session`` does)."""
     ros = RosSession(name=name, domain_id=domain)
-    agent = DsrAgent()
-    agent.setup(ros.node, timeout_sec=60)
-    ros.spin_until(lambda: agent.ready, 60, "the server")
+    try:
+        agent = DsrAgent()
+        agent.setup(ros.node, timeout_sec=60)
+        ros.spin_until(lambda: agent.ready, 60, "the server")
+    except BaseException:
+        ros.close()  # its node would stay in the domain: the section's next agent of that name
+        raise
     return ros, agent
+
+
+@contextlib.contextmanager
+def agent_session(domain: int, name: str):
+    """``session_with_agent`` closed when the block ends, however it ends."""
+    ros, agent = session_with_agent(domain, name)
+    try:
+        yield ros, agent
+    finally:
+        ros.close()
 
 
 def extra_agent(ros, name: str) -> DsrAgent:

@@ -13,14 +13,14 @@ import numpy as np
 from harness import (
     ROOT,
     Procs,
+    agent_session,
     extra_agent,
     latency_samples,
-    percentiles,
     server_cpu,
-    session_with_agent,
     speech_change,
     timed_reader,
 )
+from rounds import interleave, pooled, ratio
 
 from dsr_graph.ros.agent import DsrAgent
 
@@ -97,51 +97,71 @@ class SkeletonStream:
         return len(json.dumps(self.frames_tx(self.person.graph, [(self.frame(0.0), time.time())])))
 
 
-def gug_stream(work: Path, domain: int, seconds: float, n: int) -> dict[str, Any]:
+def quiet_and_streaming(
+    ros, speech, arrived, rounds: int, per_round: int, streaming
+) -> dict[str, Any]:
+    """A Speech-sized change's latency without and with a stream (``streaming()`` steps it), in
+    interleaved rounds (rounds.py): the pooled percentiles of each side, and the per-round
+    ratios of streaming over quiet."""
+
+    def quiet(r: int) -> list[float]:
+        ros.spin_for(0.3)  # what the stream left on its way goes first
+        return latency_samples(ros, speech, arrived, per_round, speech_change)
+
+    def streamed(r: int) -> list[float]:
+        return latency_samples(ros, speech, arrived, per_round, speech_change, streaming)
+
+    runs = interleave({"quiet": quiet, "streaming": streamed}, rounds)
+    return {
+        "latency_quiet": pooled(runs["quiet"]),
+        "latency_streaming": pooled(runs["streaming"]),
+        "ratios": {
+            f"streaming_vs_quiet_{stat[:3]}": ratio(runs["streaming"], runs["quiet"], stat)
+            for stat in ("p50_ms", "p99_ms")
+        },
+    }
+
+
+def gug_stream(
+    work: Path, domain: int, seconds: float, rounds: int, per_round: int
+) -> dict[str, Any]:
     """A patient's skeleton at 30 Hz written as Person writes it: the server's CPU, frames
-    written of those offered, a Speech-sized change's latency and the journal's growth, each
-    against the same without the stream."""
-    procs = Procs(work, domain)
+    written of those offered, a Speech-sized change's latency (interleaved rounds) and the
+    journal's growth, each against the same without the stream."""
     state = work / f"gug_state_{domain}"
     out: dict[str, Any] = {}
-    try:
+    with Procs(work, domain) as procs:
         server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
-        ros, person = session_with_agent(domain, "person")
-        _, _, arrived = timed_reader(ros)
-        speech = extra_agent(ros, "speech")  # Speech's change from its own node, as in a launch
-        stream = SkeletonStream(person, ros)
-        out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
-        stream.restart()
-        journal = state / "journal.jsonl"
-        size0, t0 = journal.stat().st_size if journal.exists() else 0, time.perf_counter()
-        largest, sizes = [size0], {"last": size0, "grown": 0}
+        with agent_session(domain, "person") as (ros, person):
+            _, _, arrived = timed_reader(ros)
+            speech = extra_agent(ros, "speech")  # Speech's change from its own node, as in a launch
+            stream = SkeletonStream(person, ros)
+            out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
+            stream.restart()
+            journal = state / "journal.jsonl"
+            size0, t0 = journal.stat().st_size if journal.exists() else 0, time.perf_counter()
+            largest, sizes = [size0], {"last": size0, "grown": 0}
 
-        def streaming() -> None:
-            stream.step()
-            if journal.exists():
-                size = journal.stat().st_size
-                largest[0] = max(largest[0], size)
-                # appended since the last look (after a compaction: the new journal's size)
-                sizes["grown"] += size - sizes["last"] if size >= sizes["last"] else size
-                sizes["last"] = size
+            def streaming() -> None:
+                stream.step()
+                if journal.exists():
+                    size = journal.stat().st_size
+                    largest[0] = max(largest[0], size)
+                    # appended since the last look (after a compaction: the new journal's size)
+                    sizes["grown"] += size - sizes["last"] if size >= sizes["last"] else size
+                    sizes["last"] = size
 
-        out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
-        elapsed = time.perf_counter() - t0
-        out["frames_written_per_s"] = stream.written / elapsed
-        out["frames_offered_per_s"] = stream.frames / elapsed
-        out["frames_per_tx"] = stream.written / max(stream.txs, 1)
-        out["delta_bytes"] = stream.delta_bytes()
-        out["volatile_share"] = stream.volatile / max(stream.txs, 1)
-        out["journal_bytes_per_min"] = sizes["grown"] / elapsed * 60
-        out["journal_largest_bytes"] = largest[0]
-        out["compact_every"] = 1000
-        out["latency_quiet"] = percentiles(latency_samples(ros, speech, arrived, n, speech_change))
-        out["latency_streaming"] = percentiles(
-            latency_samples(ros, speech, arrived, n, speech_change, stream.step)
-        )
-        ros.close()
-    finally:
-        procs.stop_all()
+            out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
+            elapsed = time.perf_counter() - t0
+            out["frames_written_per_s"] = stream.written / elapsed
+            out["frames_offered_per_s"] = stream.frames / elapsed
+            out["frames_per_tx"] = stream.written / max(stream.txs, 1)
+            out["delta_bytes"] = stream.delta_bytes()
+            out["volatile_share"] = stream.volatile / max(stream.txs, 1)
+            out["journal_bytes_per_min"] = sizes["grown"] / elapsed * 60
+            out["journal_largest_bytes"] = largest[0]
+            out["compact_every"] = 1000
+            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, stream.step)
     return out
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import rounds
+
 
 # ---------------------------------------------------------------------------- the report
 def table(report: dict[str, Any]) -> str:
@@ -31,10 +33,11 @@ def table(report: dict[str, Any]) -> str:
             shown = ", ".join(f"{k[:-3]} {v:.3f}" for k, v in steps.items())
             lines.append(f"  {kind} steps (p50 ms): {shown}")
         lines.append(
-            f"  symbolic/raw p50 {lat['ratio_p50']:.2f}x, p99 {lat['ratio_p99']:.2f}x; symbolic/"
-            f"(raw + fdatasync) p50 {lat['ratio_p50_durable_floor']:.2f}x; volatile/raw p50 "
-            f"{lat['ratio_p50_volatile']:.2f}x  (target {lat['targets']}: "
-            f"{'met' if lat['met'] else 'NOT met'})"
+            f"  symbolic/raw p50 {lat['ratio_p50']:.2f}x, p99 {lat['ratio_p99']:.2f}x; volatile/"
+            f"raw p50 {lat['ratio_p50_volatile']:.2f}x (medians of {lat['rounds']['count']} "
+            f"interleaved rounds of {lat['rounds']['samples_per_round']}, spreads below); "
+            f"symbolic/(raw + fdatasync) p50 {lat['ratio_p50_durable_floor']:.2f}x  (target "
+            f"{lat['targets']}: {'met' if lat['met'] else 'NOT met'})"
         )
     tp = report.get("throughput")
     if tp:
@@ -197,4 +200,9 @@ def table(report: dict[str, Any]) -> str:
             f"  cost: p50 {c['p50_ms']:+.3f} ms, p99 {c['p99_ms']:+.3f} ms, throughput "
             f"x{c['throughput_ratio']:.2f}, Barthel CPU x{c['barthel_cpu_ratio']:.2f}"
         )
+    if report.get("ratios"):
+        lines.append("ratios: the median of the per-round ratios of interleaved rounds (rounds.py)")
+        lines += [f"  {name:<38} {rounds.shown(r)}" for name, r in report["ratios"].items()]
+    for name, why in report.get("failed", {}).items():
+        lines.append(f"section {name} FAILED: {why}")
     return "\n".join(lines)
