@@ -131,9 +131,9 @@ def extra_agent(ros, name: str) -> DsrAgent:
     return agent
 
 
-def timed_reader(ros):
+def timed_reader(ros, name: str = "bench_reader"):
     """A second node in ``ros`` with a DSR replica: (node, agent, {delta id: when it arrived})."""
-    reader = extra_agent(ros, "bench_reader")
+    reader = extra_agent(ros, name)
     reader_node = reader.node
     arrived: dict[str, float] = {}
     reader.add_listener(

@@ -34,14 +34,15 @@ class LatencyRig:
     can be interleaved (rounds.py)."""
 
     def __init__(self, procs: Procs, work: Path, domain: int, tag: str = ""):
+        """``tag``: what this rig's files and node names end with (two rigs in one process)."""
         self.procs = procs
         self.procs.server(work / f"lat_state{tag}")
         # baseline: the same payload through a raw rclpy relay, same hops, same QoS
         self.procs.start(
             f"relay{tag}", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"]
         )
-        self.ros, self.writer = session_with_agent(domain, "bench_writer")
-        self.reader_node, self.reader, self.arrived = timed_reader(self.ros)
+        self.ros, self.writer = session_with_agent(domain, f"bench_writer{tag}")
+        self.reader_node, self.reader, self.arrived = timed_reader(self.ros, f"bench_reader{tag}")
         done: list = []
         self.writer.send(
             {

@@ -25,15 +25,17 @@ def bench_signed(
     from dsr_graph.formats.keystore import Keystore
 
     keystore, _ = Keystore.init(work / "bench_keystore")
-    for name in ("/bench_writer", "/bench_reader"):
+    for name in (
+        "/bench_writer",
+        "/bench_reader",
+        *(f"/bench_{who}_{m}" for who in ("writer", "reader") for m in MODES),
+    ):
         keystore.add(name)
     with contextlib.ExitStack() as stack:
         rigs = {}
         for i, mode in enumerate(MODES):
             with security(mode, keystore.root):  # each side's processes and agents keep it
-                rigs[mode] = stack.enter_context(
-                    latency_rig(work, domain + i, tag=f"_signed_{mode}")
-                )
+                rigs[mode] = stack.enter_context(latency_rig(work, domain + i, tag=f"_{mode}"))
         latency = interleave(
             {mode: (lambda r, rig=rig: rig.symbolic(per_round)) for mode, rig in rigs.items()},
             rounds,
