@@ -41,6 +41,7 @@ from gug import bench_gug
 from harness import ROOT
 from kinematics import bench_kinematics
 from latency import bench_latency
+from restart import bench_restart
 from scale import bench_scale, build_world
 from signed import bench_signed
 from tables import table
@@ -116,6 +117,7 @@ def main() -> int:
                     2000 if quick else 10000,
                 ),
             ),
+            ("restart", lambda d: bench_restart(work, d, 5 if quick else 10)),
             ("barthel", lambda d: bench_barthel(work, 0.05 if quick else 0.1)),
             (
                 "gug",

@@ -98,6 +98,10 @@ def table(report: dict[str, Any]) -> str:
                 f"{v['naive_qps']:15.0f}"
             )
         lines.append(f"  target {kin['targets']}: {'met' if kin['met'] else 'NOT met'}")
+    if report.get("restart"):
+        from restart import table as restart_table
+
+        lines += restart_table(report["restart"])
     b = report.get("barthel")
     if b:
         lines.append(

@@ -70,3 +70,34 @@ def test_a_killed_agent_respawned_at_once_reads_gone_before_its_successor_is_rea
         "the new panel ready",
         ros.session,
     )
+
+
+def test_two_live_agents_of_one_name_are_refused_until_one_is_killed(ros):
+    """A live twin is never taken for the agent (its requests are refused, naming both); once the
+    other is killed, the one left alive is itself again as soon as the server knows (its
+    predecessor's liveliness lapsed), and ready."""
+    ros.procs.start_server(ros.tmp / "state")
+    ros.procs.start("touchscreen", ["touchscreen"])
+    ros.procs.start("panel", ["panel"])
+    observer = agent_in_session(ros)
+
+    def panel():
+        return next((a for a in listing(observer.graph) if a["name"] == "/panel"), {})
+
+    wait_for(lambda: panel().get("state") == "ready", 60, "panel ready", ros.session)
+    first = panel()["pid"]
+    twin = ros.procs.start("panel_twin", ["panel"])
+    wait_for(
+        lambda: "two nodes share that name" in ros.procs.log("server"),
+        60,
+        "the twins' requests refused",
+        ros.session,
+    )
+    assert panel()["pid"] == first  # nothing of the twin's was taken
+    ros.procs.kill9("panel")
+    wait_for(
+        lambda: panel().get("state") == "ready" and panel().get("pid") == twin.pid,
+        60,
+        "the panel left alive ready as itself",
+        ros.session,
+    )

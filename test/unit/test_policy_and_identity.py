@@ -209,6 +209,30 @@ def test_a_pending_verdict_is_waited_for_longer_than_what_it_waits_for():
     assert proven.agent == "/speech" and not proven.pending
 
 
+@pytest.mark.parametrize(
+    ("publishers", "liveliness", "agent"),
+    [
+        # a killed node beside its respawned self: its liveliness lapsed, the successor's holds
+        ([("/", "speech", b"old"), ("/", "speech", b"new")], (1, 1), "/speech"),
+        # both alive: two live twins, never told apart
+        ([("/", "speech", b"old"), ("/", "speech", b"new")], (2, 0), None),
+        # not every publisher counted (one offers no lease): not known
+        ([("/", "speech", b"old"), ("/", "speech", b"new")], (1, 0), None),
+        ([("/", "speech", b"old"), ("/", "speech", b"new")], None, None),
+        # two namespaces: which one is alive cannot be told
+        ([("/", "speech", b"old"), ("/b", "speech", b"new")], (1, 1), None),
+        # one node with two endpoints beside another: the counts are per endpoint
+        ([("/", "speech", b"a"), ("/", "speech", b"a"), ("/", "speech", b"b")], (1, 2), None),
+        # three nodes, two of them gone quiet: the one alive is the successor
+        ([("/", "speech", b"a"), ("/", "speech", b"b"), ("/", "speech", b"c")], (1, 2), "/speech"),
+    ],
+)
+def test_a_successor_is_known_as_soon_as_only_it_is_alive(publishers, liveliness, agent):
+    verdict = sender_on(T, "speech", [Publisher(*p) for p in publishers], liveliness)
+    assert verdict.agent == agent
+    assert bool(verdict.pending) == (agent is None)
+
+
 def test_each_agent_has_its_own_request_topic():
     assert agent_topic("speech") == "dsr/transactions/speech"
 

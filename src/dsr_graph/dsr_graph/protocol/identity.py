@@ -56,8 +56,15 @@ def agent_topic(node_name: str) -> str:
     return f"{TRANSACTIONS}/{node_name}"
 
 
-def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) -> Sender:
-    """``owner``: the node name a per-agent topic belongs to; None for the shared topic."""
+def sender_on(
+    topic: str,
+    owner: str | None,
+    publishers: Sequence[Publisher],
+    liveliness: tuple[int, int] | None = None,
+) -> Sender:
+    """``owner``: the node name a per-agent topic belongs to; None for the shared topic.
+    ``liveliness``: (alive, matched but not alive) of the topic's publishers that offer the
+    agents' liveliness lease, as DDS last counted them (protocol/presence.py); None: unknown."""
     if any(p.name == UNKNOWN for p in publishers):
         # DDS found the publisher before the ROS graph learnt its node (typically just after
         # a restart): not a verdict yet
@@ -89,8 +96,14 @@ def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) ->
             intruders,
         )
     # Two participants under the owner's name: a node killed outright stays listed until its
-    # DDS lease runs out, next to its restarted self. Not a verdict yet; if it lasts (the
-    # server's hold), two live nodes share the name and neither can be told from the other.
+    # DDS lease runs out, next to its restarted self. Its request publisher's liveliness lapses
+    # sooner (PRESENCE_LEASE): when every one of them is counted and only one is alive, that one
+    # is the successor, and the only one that can be sending (a frozen twin that wakes is alive
+    # again, and the verdict is asked again).
+    if successor_known(owners, publishers, liveliness):
+        return Sender(owners[0].fqn)
+    # Otherwise not a verdict yet; if it lasts (the server's hold), two live nodes share the
+    # name and neither can be told from the other.
     return Sender(
         None,
         f"{topic} has {len(nodes)} publishing nodes named {owner!r} ({names}): "
@@ -98,6 +111,21 @@ def sender_on(topic: str, owner: str | None, publishers: Sequence[Publisher]) ->
         tuple(sorted({p.fqn for p in owners})),
         pending=LEASE_WAIT,
     )
+
+
+def successor_known(
+    owners: Sequence[Publisher],
+    publishers: Sequence[Publisher],
+    liveliness: tuple[int, int] | None,
+) -> bool:
+    """Of the owner's nodes (one endpoint each, all of them watched for liveliness), exactly one
+    is alive: the others are a killed, frozen or cut-off predecessor."""
+    if liveliness is None or len(publishers) != len(owners):  # one endpoint a node
+        return False
+    if len({p.fqn for p in owners}) != 1:  # /speech and /b/speech: which one is alive?
+        return False
+    alive, not_alive = liveliness
+    return alive == 1 and alive + not_alive == len(owners)
 
 
 def _order(p: Publisher) -> tuple[str, bytes]:

@@ -32,6 +32,11 @@ class Presence:
         """DDS reported the counts of ``topic``'s publishers (``agent``: its owner's name)."""
         self._counts[topic] = (agent, alive, not_alive)
 
+    def liveliness(self, topic: str) -> tuple[int, int] | None:
+        """(alive, matched but not alive) publishers of ``topic`` as DDS last counted them."""
+        counts = self._counts.get(topic)
+        return None if counts is None else counts[1:]
+
     def update(self, now: float) -> tuple[list[str], list[tuple[str, float]]]:
         """(agents newly out of reach, [(agent back in reach, seconds it was away)])."""
         away = {a for a, alive, not_alive in self._counts.values() if not_alive and not alive}

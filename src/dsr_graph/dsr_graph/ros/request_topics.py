@@ -101,6 +101,7 @@ class RequestTopics:
         owner = self._subs[topic][1]
         agent = self.signers.get(topic) or self.sender(topic).agent or f"/{owner}"
         self.presence.observe(topic, agent, info.alive_count, info.not_alive_count)
+        self._verdicts.pop(topic, None)  # a verdict may rest on who is alive (identity.py)
         self.on_presence()
 
     def _on_message(self, topic: str, msg: String) -> None:
@@ -172,7 +173,7 @@ class RequestTopics:
             Publisher(info.node_namespace, info.node_name, bytes(info.endpoint_gid[:12]))
             for info in self.node.get_publishers_info_by_topic(topic)
         ]
-        verdict = sender_on(topic, owner, publishers)
+        verdict = sender_on(topic, owner, publishers, self.presence.liveliness(topic))
         if not verdict.pending:
             self._verdicts[topic] = (count, now, verdict)
         return verdict
