@@ -34,10 +34,12 @@ class Procs:
             PYTHONUNBUFFERED="1",
         )
 
-    def start(self, name: str, argv: list[str]) -> subprocess.Popen:
+    def start(self, name: str, argv: list[str], stdin: bool = False) -> subprocess.Popen:
+        """``stdin``: a pipe to the process's standard input (``p.stdin``)."""
         exe = shutil.which(argv[0]) or argv[0]
         p = subprocess.Popen(
             [exe, *argv[1:]],
+            stdin=subprocess.PIPE if stdin else subprocess.DEVNULL,
             stdout=subprocess.PIPE,
             stderr=open(self.workdir / f"{name}.log", "w"),
             env=self.env,
@@ -147,15 +149,17 @@ def median_ms(xs: list[float]) -> float:
 
 
 # ---------------------------------------------------------------------------- 2. throughput
-def _wait_ready(p: subprocess.Popen, timeout: float = 60) -> None:
+def _wait_ready(p: subprocess.Popen, timeout: float = 60, word: str = "ready") -> None:
+    """Read ``p``'s output until a line says ``word`` (a helper process's own waits are
+    bounded: it says it or ends)."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         line = p.stdout.readline()
-        if line.strip() == "ready":
+        if line.strip() == word:
             return
         if not line and p.poll() is not None:
-            raise RuntimeError("a counter died before it was ready")
-    raise RuntimeError("a counter was not ready in time")
+            raise RuntimeError(f"a helper process ended before it said {word!r}")
+    raise RuntimeError(f"a helper process did not say {word!r} in time")
 
 
 # ---------------------------------------------------------------------------- 6. get up & go

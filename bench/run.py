@@ -105,7 +105,7 @@ def main() -> int:
             (
                 "throughput",
                 lambda d: bench_throughput(
-                    work, d, 1000 if quick else 5000, 100, [1, 8] if quick else [1, 4, 8]
+                    work, d, rounds, 1000 if quick else 2000, 100, [1, 8] if quick else [1, 4, 8]
                 ),
             ),
             (

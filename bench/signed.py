@@ -43,7 +43,7 @@ def bench_signed(
     results: dict[str, Any] = {}
     for mode in MODES:
         with security(mode, keystore.root):
-            throughput = bench_throughput(work, domain, tx, 100, [1])["agents"]["1"]
+            throughput = bench_throughput(work, domain, 3, tx, 100, [1])["agents"]["1"]
         barthel = bench_barthel(work, scale, security=mode)
         results[mode] = {
             "latency": pooled(latency[mode]),
