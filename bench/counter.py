@@ -1,15 +1,10 @@
-"""A subscribing agent for the throughput benchmark, counting in bursts: a DsrAgent replica that
-counts the deltas it applies one by one (or, with --raw TOPIC, a plain String subscription that
-counts the messages it receives). It prints "ready", then for each line "N" read on stdin prints
-"armed", counts until N more arrived (the replica's seq N further, or N messages) or nothing came
-for 3 s, from the arming on (a subscriber that fell behind may have lost some: the line says how
-many came), and prints one JSON line: the count, when the first and the last arrived, and the
-resynchronisations from a snapshot during the burst (deltas a snapshot covered were never applied
-one by one).
-Exits at the end of stdin. Usage: counter.py [--raw TOPIC]"""
+"""A subscribing agent for the throughput benchmark: a DsrAgent replica that counts the deltas it
+actually applies until its replica reaches seq N (or, with --raw, a plain String subscription
+that counts the messages it receives, up to N), prints the count, when the first and the last
+arrived and how often the replica resynchronised from a snapshot (deltas a snapshot covered are
+not counted: they were never applied one by one), then exits. Usage: counter.py N [--raw TOPIC]"""
 
 import json
-import selectors
 import sys
 import time
 
@@ -19,13 +14,11 @@ from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.session import RosSession
 
-SILENCE = 3.0  # seconds without anything new that end a burst
-LONGEST = 120.0  # seconds a burst may last in all
-
 
 def main() -> int:
-    raw = sys.argv[2] if len(sys.argv) > 2 and sys.argv[1] == "--raw" else None
-    seen = {"count": 0, "first": None, "last": None}
+    n = int(sys.argv[1])
+    raw = sys.argv[3] if len(sys.argv) > 3 and sys.argv[2] == "--raw" else None
+    seen = {"count": 0, "first": None, "last": None, "seq": 0, "resyncs": 0}
 
     def count(k: int) -> None:
         if k <= 0:
@@ -35,39 +28,36 @@ def main() -> int:
         seen["count"] += k
         seen["last"] = now
 
+    def applied(deltas, resynced: bool) -> None:
+        seen["seq"] = agent.replica.seq
+        count(len(deltas))
+
     with RosSession() as ros:
-        agent = None
         if raw:
             ros.node.create_subscription(String, raw, lambda m: count(1), qos_stream())
         else:
             agent = DsrAgent()
             agent.setup(ros.node, timeout_sec=30)
             ros.spin_until(lambda: agent.ready, 30, "the server")
-            agent.add_listener(lambda deltas, resynced: count(len(deltas)))
+            seen["seq"] = agent.replica.seq
+            agent.add_listener(applied)
+            seen["start_seq"] = seen["seq"]
         print("ready", flush=True)
-        stdin = selectors.DefaultSelector()
-        stdin.register(sys.stdin, selectors.EVENT_READ)
-        while True:
-            while not stdin.select(timeout=0.05):  # the replica keeps up between bursts
-                ros.executor.spin_once(timeout_sec=0)
-            line = sys.stdin.readline()
-            if not line:
-                return 0
-            n = int(line)
-            seen.update(count=0, first=None, last=None)
-            start_seq = agent.replica.seq if agent else 0
-            resyncs = agent.resyncs if agent else 0
-            print("armed", flush=True)
-            armed = time.time()
-            while (
-                seen["count"] < n
-                and (raw or agent.replica.seq - start_seq < n)
-                and time.time() - armed < LONGEST
-                and time.time() - (seen["last"] or armed) < SILENCE
-            ):
-                ros.executor.spin_once(timeout_sec=0.05)
-            resynced = agent.resyncs - resyncs if agent else 0
-            print(json.dumps(seen | {"resyncs": resynced}), flush=True)
+        # Stop at n (messages, or the replica's seq), or when nothing more came for 3 s (a
+        # subscriber that fell behind may have lost messages: the report says how many arrived).
+        deadline = time.time() + 120
+        while (
+            seen["count"] < n
+            and (raw or seen["seq"] - seen["start_seq"] < n)
+            and time.time() < deadline
+        ):
+            if seen["last"] is not None and time.time() - seen["last"] > 3:
+                break
+            ros.executor.spin_once(timeout_sec=0.05)
+    if not raw:  # the first snapshot is the late join, not a resynchronisation
+        seen["resyncs"] = agent.resyncs - 1
+    print(json.dumps(seen), flush=True)
+    return 0
 
 
 if __name__ == "__main__":

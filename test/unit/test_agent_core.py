@@ -260,3 +260,34 @@ def test_a_request_the_server_already_applied_is_answered_once_the_replica_has_i
     heal(net, verdicts, {"/speech": [ident]})
     assert [v.accepted for v in verdicts[ident]] == [True]
     assert verdicts[ident][0].seq == 1 and "cup" in speech.graph
+
+
+@pytest.mark.parametrize("lost", [False, True])
+def test_an_idle_replica_told_the_server_is_ahead_waits_for_the_delta_on_its_way(lost):
+    """Idle for seconds, then a heartbeat overtakes a delta: the replica is behind, not stalled,
+    and asks for no snapshot unless the delta stays away for GAP_PATIENCE (lost)."""
+    net, verdicts = network(requests_faulty=False)
+    while net.flight:
+        net.deliver(0)
+    net.advance(5.0)  # idle: heartbeats only
+    while net.flight:
+        net.deliver(0)
+    panel, speech = net.cores["/panel"], net.cores["/speech"]
+    panel.send({"ops": [{"op": "insert_node", "name": "cup", "type": "cup"}]}, None, net.now)
+    net.deliver(_first_request(net))
+    net.beat()  # the server's heartbeat reaches /speech before its delta
+    beat = next(i for i, m in enumerate(net.flight) if m.to == "/speech" and m.kind == "heartbeat")
+    net.deliver(beat)
+    asked = net.asked["/speech"]
+    speech.tick(net.now + TICK)
+    assert net.asked["/speech"] == asked  # behind, not stalled
+    delta = next(i for i, m in enumerate(net.flight) if m.to == "/speech" and m.kind == "delta")
+    if lost:
+        net.flight.pop(delta)
+        for step in range(1, 10):
+            speech.tick(net.now + step * TICK)
+        assert net.asked["/speech"] == asked + 1  # GAP_PATIENCE without it: a snapshot
+    else:
+        net.deliver(delta)
+        speech.tick(net.now + 2 * TICK)
+        assert net.asked["/speech"] == asked and "cup" in speech.graph
