@@ -34,12 +34,11 @@ class Procs:
             PYTHONUNBUFFERED="1",
         )
 
-    def start(self, name: str, argv: list[str], stdin: bool = False) -> subprocess.Popen:
-        """``stdin``: a pipe to the process's standard input (``p.stdin``)."""
+    def start(self, name: str, argv: list[str]) -> subprocess.Popen:
         exe = shutil.which(argv[0]) or argv[0]
         p = subprocess.Popen(
             [exe, *argv[1:]],
-            stdin=subprocess.PIPE if stdin else subprocess.DEVNULL,
+            stdin=subprocess.DEVNULL,
             stdout=subprocess.PIPE,
             stderr=open(self.workdir / f"{name}.log", "w"),
             env=self.env,
