@@ -28,6 +28,7 @@ import importlib
 import json
 import os
 import platform
+import signal
 import sys
 import tempfile
 import time
@@ -75,6 +76,9 @@ def main() -> int:
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
     parser.add_argument("--only", nargs="*", help="sections to run (default all)")
     args = parser.parse_args()
+    # a SIGTERM (timeout, CI) unwinds like Ctrl-C: each section's processes are stopped on the
+    # way out, not left running in their own sessions
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     quick = args.quick
     domain = 10 + os.getpid() % 50  # and up to 2 a section more (below 101: Linux's ports)
     failed: dict[str, str] = {}

@@ -45,7 +45,9 @@ def test_an_agent_is_starting_then_ready_then_gone_when_killed_and_ready_again(r
     assert r.returncode == 0 and "/panel" in r.stdout and "ready" in r.stdout, r.stdout
 
 
-def test_a_killed_agent_respawned_at_once_reads_gone_before_its_successor_is_ready(ros):
+def panel_and_observer(ros):
+    """A server, a touch screen and Panel, and a replica in the test's session: (the replica,
+    Panel's agent info as it reads it now)."""
     ros.procs.start_server(ros.tmp / "state")
     ros.procs.start("touchscreen", ["touchscreen"])
     ros.procs.start("panel", ["panel"])
@@ -54,6 +56,11 @@ def test_a_killed_agent_respawned_at_once_reads_gone_before_its_successor_is_rea
     def panel():
         return next((a for a in listing(observer.graph) if a["name"] == "/panel"), {})
 
+    return observer, panel
+
+
+def test_a_killed_agent_respawned_at_once_reads_gone_before_its_successor_is_ready(ros):
+    observer, panel = panel_and_observer(ros)
     seen = []
     observer.add_listener(lambda deltas, resynced: seen.append(panel().get("state")))
     wait_for(lambda: panel().get("state") == "ready", 60, "panel ready", ros.session)
@@ -76,14 +83,7 @@ def test_two_live_agents_of_one_name_are_refused_until_one_is_killed(ros):
     """A live twin is never taken for the agent (its requests are refused, naming both); once the
     other is killed, the one left alive is itself again as soon as the server knows (its
     predecessor's liveliness lapsed), and ready."""
-    ros.procs.start_server(ros.tmp / "state")
-    ros.procs.start("touchscreen", ["touchscreen"])
-    ros.procs.start("panel", ["panel"])
-    observer = agent_in_session(ros)
-
-    def panel():
-        return next((a for a in listing(observer.graph) if a["name"] == "/panel"), {})
-
+    _, panel = panel_and_observer(ros)
     wait_for(lambda: panel().get("state") == "ready", 60, "panel ready", ros.session)
     first = panel()["pid"]
     twin = ros.procs.start("panel_twin", ["panel"])
