@@ -65,6 +65,11 @@ bench_speech, bench_speech_loop = (
 )
 
 
+def save(report: dict[str, Any], out: Path) -> None:
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(report, indent=2))
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument(
@@ -99,7 +104,9 @@ def main() -> int:
         "mode": "quick" if quick else "full",
         "when": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "ratios": {},
+        "failed": failed,  # section -> why
     }
+    out = Path(args.out)
     rounds = 10  # interleaved rounds of each ratio's sides (rounds.py)
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
@@ -177,13 +184,12 @@ def main() -> int:
                 report.setdefault("speech", {})["loop"] = result
             else:
                 report[name] = result
+            save(report, out)  # what is measured survives a run cut short
             for key, r in result.get("ratios", {}).items():
                 report["ratios"][key if name in ("latency", "signed") else f"{name}_{key}"] = r
             for key, r in result.get("under_load", {}).get("ratios", {}).items():
                 report["ratios"][f"{name}_loaded_{key}"] = r
-    report["failed"] = failed
-    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
-    Path(args.out).write_text(json.dumps(report, indent=2))
+    save(report, out)
     print(table(report))
     print(f"\nreport: {args.out}")
     if failed:
