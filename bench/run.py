@@ -184,11 +184,11 @@ def main() -> int:
                 report.setdefault("speech", {})["loop"] = result
             else:
                 report[name] = result
-            save(report, out)  # what is measured survives a run cut short
             for key, r in result.get("ratios", {}).items():
                 report["ratios"][key if name in ("latency", "signed") else f"{name}_{key}"] = r
             for key, r in result.get("under_load", {}).get("ratios", {}).items():
                 report["ratios"][f"{name}_loaded_{key}"] = r
+            save(report, out)  # what is measured survives a run cut short
     save(report, out)
     print(table(report))
     print(f"\nreport: {args.out}")
