@@ -4,7 +4,8 @@ same run. Run through scripts/bench.sh; writes a JSON report and prints a table.
 Sections: latency (change-to-visible over two hops: a symbolic change, durable before it is
 broadcast, and a volatile one, next to a raw rclpy relay and the fdatasync of a journal line on
 this disk), throughput (1/4/8 subscribed agents, single ops and batches), scale (1k/10k/100k
-nodes: cost per op, snapshot to a late joiner, memory), kinematics (transform queries on trees
+nodes: cost per op, snapshot to a late joiner, memory), restart (an agent killed and respawned
+at once: how soon it is in sync and has a change accepted), kinematics (transform queries on trees
 of depth 2/10/50, cold and cached), barthel (a fast test: wall time and CPU seconds per
 process), gug (a patient's skeleton streamed through the DSR at 30 Hz, 14 joints, as Person
 writes it: the server's CPU, frames written of those offered, a Speech-sized change's latency
@@ -18,7 +19,10 @@ costs: latency, throughput with one agent and the Barthel run's CPU, with DSR_SE
 next to off), gc (a snapshot encoded and loaded with the DSR processes' collector policy next to
 CPython's default thresholds, in interleaved rounds).
 
-Each section is a module of its own beside this one.
+Each ratio (DSR against the raw relay, volatile against raw, streaming against quiet, enforce
+against off) is measured in interleaved rounds and reported under ``ratios`` as the median of the
+per-round ratios with their spread (rounds.py). Each section is a module of its own beside this
+one; one that fails is named under ``failed`` and the others still run (exit 1).
 """
 
 from __future__ import annotations
@@ -65,6 +69,24 @@ bench_speech, bench_speech_loop = (
 )
 
 
+SECTIONS = (
+    "kinematics",
+    "latency",
+    "throughput",
+    "scale",
+    "restart",
+    "barthel",
+    "gug",
+    "camera",
+    "provenance",
+    "rt_history",
+    "gc",
+    "speech",
+    "speech_loop",
+    "signed",
+)
+
+
 def save(report: dict[str, Any], out: Path) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(report, indent=2))
@@ -75,11 +97,16 @@ def main() -> int:
     parser.add_argument(
         "--quick",
         action="store_true",
-        help="about 4 minutes: fewer samples, sizes up to 10k, 1 and 8 agents, a Barthel run "
-        "at pace x0.05, no Get Up & Go scenarios",
+        help="fewer samples, sizes up to 10k, 1 and 8 agents, a Barthel run at pace x0.05, "
+        "no Get Up & Go scenarios, two voices for speech",
     )
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
-    parser.add_argument("--only", nargs="*", help="sections to run (default all)")
+    parser.add_argument(
+        "--only",
+        nargs="*",
+        metavar="SECTION",
+        help=f"sections to run: {', '.join(SECTIONS)} (default all)",
+    )
     args = parser.parse_args()
     # a SIGTERM (timeout, CI) unwinds like Ctrl-C: each section's processes are stopped on the
     # way out, not left running in their own sessions
@@ -165,7 +192,8 @@ def main() -> int:
                 ),
             ),
         ]
-        unknown = set(args.only or []) - {name for name, _ in sections_run}
+        assert tuple(name for name, _ in sections_run) == SECTIONS
+        unknown = set(args.only or []) - set(SECTIONS)
         if unknown:
             parser.error(f"no section {', '.join(sorted(unknown))}")
         for i, (name, run) in enumerate(sections_run):
