@@ -252,3 +252,45 @@ def _stage_rows(ros, writer, arrived, n: int, change, calls) -> list[dict[str, f
             }
         )
     return rows
+
+
+@contextlib.contextmanager
+def servers_from(tree: Path):
+    """Processes started in the block run the dsr_graph of another source tree (its
+    ``src/dsr_graph`` first on PYTHONPATH); this process's agents keep this tree's."""
+    saved = os.environ.get("PYTHONPATH", "")
+    os.environ["PYTHONPATH"] = f"{tree / 'src' / 'dsr_graph'}:{saved}"
+    try:
+        yield
+    finally:
+        os.environ["PYTHONPATH"] = saved
+
+
+def bench_server_against(
+    work: Path, domain: int, rounds: int, per_round: int, baseline: Path
+) -> dict[str, Any]:
+    """This tree's server against ``baseline``'s (another source tree of the project), side by
+    side in two domains with the same agents' code, a symbolic and a volatile change each in
+    interleaved rounds: to tell whether a change to the server pays, in one run."""
+    with contextlib.ExitStack() as stack:
+        head = stack.enter_context(latency_rig(work, domain, tag="_head"))
+        with servers_from(baseline):
+            base = stack.enter_context(latency_rig(work, domain + 1, tag="_base"))
+        runs = interleave(
+            {
+                "head": lambda r: head.symbolic(per_round),
+                "baseline": lambda r: base.symbolic(per_round),
+                "head_volatile": lambda r: head.volatile(per_round),
+                "baseline_volatile": lambda r: base.volatile(per_round),
+            },
+            rounds,
+        )
+    return {key: pooled(samples) for key, samples in runs.items()} | {
+        "ratios": {
+            "head_vs_baseline_p50": ratio(runs["head"], runs["baseline"], "p50_ms"),
+            "head_vs_baseline_p99": ratio(runs["head"], runs["baseline"], "p99_ms"),
+            "head_vs_baseline_volatile_p50": ratio(
+                runs["head_volatile"], runs["baseline_volatile"], "p50_ms"
+            ),
+        }
+    }

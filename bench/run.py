@@ -33,6 +33,7 @@ import json
 import os
 import platform
 import signal
+import subprocess
 import sys
 import tempfile
 import time
@@ -45,7 +46,7 @@ from camera import bench_camera
 from gug import bench_gug
 from harness import ROOT
 from kinematics import bench_kinematics
-from latency import bench_latency
+from latency import bench_latency, bench_server_against
 from restart import bench_restart
 from scale import bench_scale, build_world
 from signed import bench_signed
@@ -84,7 +85,19 @@ SECTIONS = (
     "speech",
     "speech_loop",
     "signed",
+    "baseline",
 )
+
+
+def source_tree(rev: str, work: Path) -> Path:
+    """The project's files at git revision ``rev``, in a folder of ``work``."""
+    tree = work / f"baseline_{rev.replace('/', '_')}"
+    tree.mkdir()
+    archive = subprocess.run(
+        ["git", "-C", str(ROOT), "archive", rev, "src"], capture_output=True, check=True
+    )
+    subprocess.run(["tar", "-x", "-C", str(tree)], input=archive.stdout, check=True)
+    return tree
 
 
 def save(report: dict[str, Any], out: Path) -> None:
@@ -101,6 +114,12 @@ def main() -> int:
         "no Get Up & Go scenarios, two voices for speech",
     )
     parser.add_argument("--out", default=str(ROOT / "bench-results" / "bench.json"))
+    parser.add_argument(
+        "--baseline",
+        metavar="REV",
+        help="also run section 'baseline': this tree's server against the server of git "
+        "revision REV, side by side, a change's latency in interleaved rounds",
+    )
     parser.add_argument(
         "--only",
         nargs="*",
@@ -191,6 +210,12 @@ def main() -> int:
                     work, d, rounds, 100 if quick else 300, 1000 if quick else 5000, 0.1
                 ),
             ),
+            (
+                "baseline",
+                lambda d: bench_server_against(
+                    work, d, rounds, 200 if quick else 300, source_tree(args.baseline, work)
+                ),
+            ),
         ]
         assert tuple(name for name, _ in sections_run) == SECTIONS
         unknown = set(args.only or []) - set(SECTIONS)
@@ -198,6 +223,8 @@ def main() -> int:
             parser.error(f"no section {', '.join(sorted(unknown))}")
         for i, (name, run) in enumerate(sections_run):
             if args.only and name not in args.only:
+                continue
+            if name == "baseline" and not args.baseline:
                 continue
             # a ROS domain of its own (two for signed's side-by-side servers): what a failed
             # section left behind cannot meet the next one's agents
@@ -213,7 +240,9 @@ def main() -> int:
             else:
                 report[name] = result
             for key, r in result.get("ratios", {}).items():
-                report["ratios"][key if name in ("latency", "signed") else f"{name}_{key}"] = r
+                report["ratios"][
+                    key if name in ("latency", "signed", "baseline") else f"{name}_{key}"
+                ] = r
             for key, r in result.get("under_load", {}).get("ratios", {}).items():
                 report["ratios"][f"{name}_loaded_{key}"] = r
             save(report, out)  # what is measured survives a run cut short
