@@ -35,6 +35,22 @@ def test_a_restarted_agent_alive_next_to_its_lapsed_ghost_is_in_reach():
     assert presence.update(1.0) == ([], []) and presence.away == []
 
 
+def test_a_process_killed_after_its_successor_was_up_is_told_replaced_once():
+    """Respawned at once, the successor is alive before its predecessor's lease runs out: the
+    agent is never out of reach, and the end of the old process is told all the same."""
+    presence = Presence()
+    topic = "/dsr/transactions/panel"
+    presence.observe(topic, "/panel", alive=1, not_alive=0)
+    presence.observe(topic, "/panel", alive=2, not_alive=0)  # the successor, up at once
+    assert presence.take_replaced() == []
+    presence.observe(topic, "/panel", alive=1, not_alive=1)  # the old one's lease ran out
+    assert presence.update(1.0) == ([], []) and presence.away == []
+    assert presence.take_replaced() == ["/panel"]
+    assert presence.take_replaced() == []  # told once
+    presence.observe(topic, "/panel", alive=1, not_alive=0)  # its participant dropped
+    assert presence.take_replaced() == []
+
+
 def test_an_answer_given_in_a_cut_waits_for_the_link_to_come_back():
     # Speech and Panel keep an answer given before its window opened for PATIENCE seconds; in a
     # network cut that moment counts from when the server is heard again.

@@ -27,10 +27,23 @@ class Presence:
     # topic -> (its agent, publishers alive, publishers matched but not alive)
     _counts: dict[str, tuple[str, int, int]] = field(default_factory=dict)
     _away_since: dict[str, float] = field(default_factory=dict)  # agent -> when first seen away
+    _replaced: list[str] = field(default_factory=list)  # agents whose predecessor lapsed
 
     def observe(self, topic: str, agent: str, alive: int, not_alive: int) -> None:
         """DDS reported the counts of ``topic``'s publishers (``agent``: its owner's name)."""
+        before = self._counts.get(topic)
+        if before is not None and not_alive > before[2] and alive:
+            # one of its publishers lapsed while another is alive: a process killed and
+            # respawned at once (its successor up before its 1 s lease ran out) is never
+            # "away"; its end is told all the same
+            self._replaced.append(agent)
         self._counts[topic] = (agent, alive, not_alive)
+
+    def take_replaced(self) -> list[str]:
+        """Agents one of whose processes lapsed while another of that name is alive, since the
+        last call (their info nodes say gone; the one alive writes its state again)."""
+        replaced, self._replaced = sorted(set(self._replaced)), []
+        return replaced
 
     def liveliness(self, topic: str) -> tuple[int, int] | None:
         """(alive, matched but not alive) publishers of ``topic`` as DDS last counted them."""

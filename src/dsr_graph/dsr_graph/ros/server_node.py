@@ -394,9 +394,16 @@ class DsrServer(DsrNode):
     def _check_presence(self, now: float) -> list[dict[str, Any] | None]:
         """The claims of agents out of reach end (protocol/presence.py), and their info nodes
         say gone: no one here can reach them (a killed process is told so within its 1 s
-        lease, before its successor, respawned at once, is up). An agent back in reach writes
-        its state again. The deltas (None: nothing to end)."""
+        lease, also when its successor, respawned at once, is up already). An agent back in
+        reach writes its state again. The deltas (None: nothing to end)."""
         lost, back = self.requests.presence.update(time.monotonic())
+        replaced = self.requests.presence.take_replaced()
+        for agent in replaced:
+            self.get_logger().info(
+                f"a process of {agent} went out of reach while another of that name is there "
+                "(killed and respawned at once): its info node says gone until the one alive "
+                "writes its state"
+            )
         for agent in lost:
             self.get_logger().warning(
                 f"{agent} is out of reach (its request topic's DDS liveliness lapsed: a network "
@@ -405,7 +412,10 @@ class DsrServer(DsrNode):
         for agent, seconds in back:
             self.get_logger().info(f"{agent} is back in reach after {seconds:.1f} s")
         away = self.requests.presence.away
-        return [self.core.end_claims_of(away, "unreachable", now), self.core.mark_gone(lost, now)]
+        return [
+            self.core.end_claims_of(away, "unreachable", now),
+            self.core.mark_gone([*lost, *replaced], now),
+        ]
 
     def _gone_agents(self, now: float) -> tuple[list[str], list[str]]:
         """(claim holders, described agents) whose processes ended (protocol/absence.py)."""
