@@ -48,6 +48,7 @@ STOP_POLL = 0.5  # seconds: the longest a stop rclpy missed goes unseen by a spi
 
 class DsrNode(Node):
     NAME = ""  # the node's name unless remapped
+    EXECUTOR: Callable = SingleThreadedExecutor  # what run() spins (called with context=)
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
 
     def __init__(self, node_name: str = "", **kwargs) -> None:
@@ -64,7 +65,7 @@ class DsrNode(Node):
 
     def run(self) -> int | None:
         """Serve until shut down; the exit code (None: 0)."""
-        executor = SingleThreadedExecutor(context=self.context)
+        executor = type(self).EXECUTOR(context=self.context)  # a factory is not bound
         executor.add_node(self)
         try:
             while not self.stop_requested():
