@@ -215,14 +215,15 @@ def speech_change(i: int) -> dict[str, Any]:
 
 # ---------------------------------------------------------------------------- 7. signed
 @contextlib.contextmanager
-def security(mode: str, keystore: Path):
-    """DSR_SECURITY (and DSR_KEYSTORE) for this process and the ones it starts, then as before."""
-    saved = {k: os.environ.get(k) for k in ("DSR_SECURITY", "DSR_KEYSTORE")}
-    os.environ["DSR_SECURITY"] = mode
-    if mode == "off":
-        os.environ.pop("DSR_KEYSTORE", None)
-    else:
-        os.environ["DSR_KEYSTORE"] = str(keystore)
+def environment(**values: str | None):
+    """These environment variables (None: unset) for this process and the ones it starts, for
+    the block; then as before."""
+    saved = {k: os.environ.get(k) for k in values}
+    for k, v in [*values.items()]:
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
     try:
         yield
     finally:
@@ -231,3 +232,8 @@ def security(mode: str, keystore: Path):
                 os.environ.pop(k, None)
             else:
                 os.environ[k] = v
+
+
+def security(mode: str, keystore: Path):
+    """DSR_SECURITY (and DSR_KEYSTORE) for this process and the ones it starts, then as before."""
+    return environment(DSR_SECURITY=mode, DSR_KEYSTORE=None if mode == "off" else str(keystore))

@@ -15,6 +15,7 @@ from typing import Any
 from harness import (
     HERE,
     Procs,
+    environment,
     latency_samples,
     median_ms,
     percentiles,
@@ -35,10 +36,9 @@ class LatencyRig:
 
     def __init__(self, procs: Procs, work: Path, domain: int, tag: str = ""):
         """``tag``: what this rig's files and node names end with (two rigs in one process)."""
-        self.procs = procs
-        self.procs.server(work / f"lat_state{tag}")
+        procs.server(work / f"lat_state{tag}")
         # baseline: the same payload through a raw rclpy relay, same hops, same QoS
-        self.procs.start(
+        procs.start(
             f"relay{tag}", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"]
         )
         self.ros, self.writer = session_with_agent(domain, f"bench_writer{tag}")
@@ -254,16 +254,12 @@ def _stage_rows(ros, writer, arrived, n: int, change, calls) -> list[dict[str, f
     return rows
 
 
-@contextlib.contextmanager
 def servers_from(tree: Path):
     """Processes started in the block run the dsr_graph of another source tree (its
     ``src/dsr_graph`` first on PYTHONPATH); this process's agents keep this tree's."""
-    saved = os.environ.get("PYTHONPATH", "")
-    os.environ["PYTHONPATH"] = f"{tree / 'src' / 'dsr_graph'}:{saved}"
-    try:
-        yield
-    finally:
-        os.environ["PYTHONPATH"] = saved
+    return environment(
+        PYTHONPATH=f"{tree / 'src' / 'dsr_graph'}:{os.environ.get('PYTHONPATH', '')}"
+    )
 
 
 def bench_server_against(
