@@ -173,6 +173,21 @@ def agent_in_session(ros, timeout=15):
     return agent
 
 
+def agent_on_node(ros, name, blobs=False, describe=True, timeout=15):
+    """A DsrAgent on a node of its own, ``name``, in the test's session, synced and matched
+    (``describe``: it keeps an agent info node, as the robot's agents do)."""
+    import rclpy
+
+    from dsr_graph.ros.agent import DsrAgent
+
+    node = rclpy.create_node(name, context=ros.session.context)
+    ros.session.executor.add_node(node)
+    agent = DsrAgent(blobs=blobs, describe=describe)
+    agent.setup(node, timeout_sec=timeout)
+    wait_for(lambda: agent.ready, timeout, f"{name} to sync", ros.session)
+    return agent
+
+
 def send_and_wait(ros, agent, doc, timeout=20):
     """Send a transaction and spin until its verdict (a dsr_graph.agent.Result). The bound is
     beyond the server's own wait for a sender's node name (identity.NODE_INFO_WAIT, 10 s), which

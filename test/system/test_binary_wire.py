@@ -8,37 +8,26 @@ name and changes nothing."""
 import json
 
 import numpy as np
-import rclpy
 from std_msgs.msg import String
 
 from dsr_graph.model.binary import BlobRef, dumps
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.blobs import digest_of, extract
-from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.blob_topics import blob_message
 from dsr_graph.ros.qos import qos_blobs, qos_stream
 from dsr_msgs.msg import Blob
 
-from ros_processes import agent_in_session, send_and_wait, wait_for
+from ros_processes import agent_in_session, agent_on_node, send_and_wait, wait_for
 
 RGB = np.random.default_rng(5).integers(0, 256, (480, 640, 3), dtype=np.uint8)
 DEPTH = np.linspace(0.5, 4.0, 480 * 640, dtype=np.float32).reshape(480, 640)
 
 
-def second_agent(ros, name, blobs):
-    node = rclpy.create_node(name, context=ros.session.context)
-    ros.session.executor.add_node(node)
-    agent = DsrAgent(blobs=blobs)
-    agent.setup(node, timeout_sec=15)
-    wait_for(lambda: agent.ready, 15, f"{name} to sync", ros.session)
-    return agent
-
-
 def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     ros.procs.start_server(ros.tmp / "state")
     writer = agent_in_session(ros)
-    reader = second_agent(ros, "reader", blobs=True)
-    plain = second_agent(ros, "plain", blobs=False)
+    reader = agent_on_node(ros, "reader", blobs=True)
+    plain = agent_on_node(ros, "plain", blobs=False)
     texts = []
     raw = ros.session.node.create_subscription(
         String, topic_names.DELTAS, lambda m: texts.append(m.data), qos_stream()

@@ -15,7 +15,14 @@ from dsr_graph.formats.world_files import read_world
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.qos import qos_stream
 
-from ros_processes import agent_in_session, send_and_wait, snapshot_via, start_synced, wait_for
+from ros_processes import (
+    agent_in_session,
+    agent_on_node,
+    send_and_wait,
+    snapshot_via,
+    start_synced,
+    wait_for,
+)
 
 
 def canonical(doc):
@@ -201,6 +208,46 @@ def test_kill9_and_restart_loses_no_accepted_change(ros, cortex_dir):
     assert result.accepted and result.seq == 26
     log = ros.procs.log("server")
     assert "restored" in log and "not loaded (state exists)" in log and "resume:=true" in log
+
+
+def test_kill9_between_broadcast_and_commit_loses_nothing_acknowledged(ros):
+    """The group commit held back 2 s (commit_delay): a change every replica shows, not yet
+    durable, dies with the server. Every acknowledged change survives; the replica that saw the
+    lost one comes back to the restarted server's graph; its writer, never told it was
+    accepted, sends it again and hears once."""
+    state, _ = start_synced(ros, commit_delay=2.0)
+    writer = agent_in_session(ros)
+    observer = agent_on_node(ros, "observer", describe=False)
+    kept = send_and_wait(ros, writer, {"ops": [insert("kept")]})
+    assert kept.accepted and writer.core.durable >= kept.seq  # heard once it was durable
+    verdicts = []
+    writer.send({"ops": [insert("lost")]}, verdicts.append)
+    wait_for(lambda: "lost" in observer.graph, 10, "the change to be seen", ros.session)
+    assert verdicts == [] and observer.core.durable < observer.replica.seq
+    assert '"lost"' not in (state / "journal.jsonl").read_text()
+    resyncs = observer.resyncs
+    ros.procs.kill9("server")  # between the broadcast and the commit
+
+    ros.procs.start_server(state)
+    wait_for(lambda: verdicts, 30, "the verdict of the change sent again", ros.session)
+    assert [v.accepted for v in verdicts] == [True]
+    after = snapshot_via(ros.session, timeout=20)
+    names = sorted(n["name"] for n in after["nodes"])
+    assert names.count("kept") == 1 and names.count("lost") == 1
+    wait_for(
+        lambda: observer.replica.seq == after["seq"] == writer.replica.seq,
+        15,
+        "the replicas to reach the server",
+        ros.session,
+    )
+    for replica in (observer, writer):
+        assert sorted(n.name for n in replica.graph.nodes()) == names
+    assert observer.resyncs > resyncs  # it held a change the new server never had
+    assert '"lost"' in (state / "journal.jsonl").read_text()
+
+
+def insert(name):
+    return {"op": "insert_node", "name": name, "type": "transform"}
 
 
 def test_kill9_while_sensor_data_streams_loses_no_symbol(ros):

@@ -1,19 +1,23 @@
 """The DSR server's rules without ROS (ros/server_node.py only calls them): how it starts from its
-stored state or a world (protocol/state_boot.py), on disk before anyone sees a change
-(protocol/acceptance.py), and whose request it is (protocol/attribution.py)."""
+stored state or a world (protocol/state_boot.py), visible first and durable before acknowledged
+(protocol/acceptance.py, formats/group_commit.py), and whose request it is
+(protocol/attribution.py)."""
 
 from __future__ import annotations
 
 import json
+import threading
+import time
 
 import pytest
 
 from dsr_graph.exceptions import StateMismatch
+from dsr_graph.formats.group_commit import GroupCommit
 from dsr_graph.formats.keystore import Keystore
 from dsr_graph.formats.state_store import StateStore
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN
-from dsr_graph.protocol.acceptance import journal_then_broadcast
+from dsr_graph.protocol.acceptance import broadcast_then_commit
 from dsr_graph.protocol.attribution import attribute
 from dsr_graph.protocol.identity import Sender
 from dsr_graph.protocol.security import Security
@@ -48,7 +52,9 @@ def test_a_new_state_is_stored_at_once_and_a_restart_finds_every_accepted_change
     boot = boot_state(store, "", Graph().vocabulary, OPEN, {})
     assert boot.core.seq == 0 and "new state" in boot.notes[-1][1]
     delta = boot.core.submit(json.dumps(INSERT), now=1.0)
-    journal_then_broadcast(store, [delta], lambda d: None)
+    commit = GroupCommit(store, boot.core.seq)
+    broadcast_then_commit(commit, [delta], lambda d: None)
+    commit.close()  # a clean stop commits what was broadcast
     store.close()
     again = boot_state(opened(tmp_path), "", Graph().vocabulary, OPEN, {})
     assert again.core.seq == 1 and "a" in again.core.graph
@@ -60,7 +66,9 @@ def test_a_state_made_from_another_world_is_refused_unless_resumed(tmp_path):
     ward_a, ward_b = world(tmp_path, "ward_a"), world(tmp_path, "ward_b")
     store = opened(tmp_path)
     boot = boot_state(store, ward_a, Graph().vocabulary, OPEN, {})
-    journal_then_broadcast(store, [boot.core.submit(json.dumps(INSERT), now=1.0)], lambda d: None)
+    commit = GroupCommit(store, boot.core.seq)
+    broadcast_then_commit(commit, [boot.core.submit(json.dumps(INSERT), now=1.0)], lambda d: 0)
+    commit.close()
     store.close()
     with pytest.raises(StateMismatch, match="resume:=true"):
         boot_state(opened(tmp_path), ward_b, Graph().vocabulary, OPEN, {})
@@ -69,32 +77,77 @@ def test_a_state_made_from_another_world_is_refused_unless_resumed(tmp_path):
     assert "resume:=true" in resumed.notes[0][1]
 
 
-def test_a_change_is_on_disk_before_anyone_sees_it_and_a_failed_disk_shows_nothing(tmp_path):
+def test_a_change_is_seen_before_it_is_durable_and_said_durable_only_once_on_disk(tmp_path):
     store = opened(tmp_path)
     core = ServerCore(Graph())
+    told = []
+    commit = GroupCommit(store, 0, on_durable=told.append)  # commits when the test says
     delta = core.submit(json.dumps(INSERT), now=1.0)
     seen = []  # at each broadcast: is the delta in the journal already?
-    journal_then_broadcast(store, [delta], lambda d: seen.append(_journalled(store, d["seq"])))
-    assert seen == [True]
+    broadcast_then_commit(commit, [delta], lambda d: seen.append(_journalled(store, d["seq"])))
+    assert seen == [False] and told == [] and commit.durable == 0 and commit.pending == 1
+    assert commit.commit() == 1 and told == [1] and _journalled(store, 1)
 
+    commit.start()  # its own thread: one fdatasync for what gathered
+    more = [core.submit(json.dumps(_insert(f"s-{i}", f"n{i}")), now=2.0) for i in range(2, 6)]
+    broadcast_then_commit(commit, more, lambda d: None)
+    _wait(lambda: commit.durable == 5)
+    assert told[0] == 1 and told[-1] == 5 and all(_journalled(store, s) for s in range(1, 6))
+    commit.close()
+
+
+def test_a_server_stopped_between_broadcast_and_commit_restarts_at_its_durable_seq(tmp_path):
+    store = opened(tmp_path)
+    boot = boot_state(store, "", Graph().vocabulary, OPEN, {})
+    commit = GroupCommit(store, boot.core.seq)
+    first = boot.core.submit(json.dumps(INSERT), now=1.0)
+    broadcast_then_commit(commit, [first], lambda d: None)
+    commit.commit()
+    second = boot.core.submit(json.dumps(_insert("s-2", "b")), now=2.0)
+    shown = []
+    broadcast_then_commit(commit, [second], shown.append)
+    assert [d["seq"] for d in shown] == [2] and commit.durable == 1
+    store.close()  # killed: the commit never comes
+    again = boot_state(opened(tmp_path), "", Graph().vocabulary, OPEN, {})
+    assert again.core.seq == 1 and "a" in again.core.graph and "b" not in again.core.graph
+    assert "s-2" not in again.core.accepted_ids  # sent again, it is applied anew
+
+
+def test_a_failed_disk_says_nothing_durable_and_calls_for_a_stop(tmp_path):
     class FullDisk(StateStore):
-        def flush(self) -> None:
+        def write_lines(self, lines) -> None:
             raise OSError(28, "No space left on device")
 
     full = FullDisk(tmp_path / "full")
     full.open()
-    other = {**INSERT, "id": "s-2", "ops": [{**INSERT["ops"][0], "name": "b"}]}
-    second = core.submit(json.dumps(other), now=2.0)
-    shown = []
-    with pytest.raises(OSError, match="No space"):
-        journal_then_broadcast(full, [second], shown.append)
-    assert shown == []
+    told, failures = [], []
+    commit = GroupCommit(full, 0, on_durable=told.append, on_failure=failures.append)
+    commit.start()
+    core = ServerCore(Graph())
+    broadcast_then_commit(commit, [core.submit(json.dumps(INSERT), now=1.0)], lambda d: None)
+    _wait(lambda: failures)
+    assert "No space" in str(failures[0]) and told == [] and commit.durable == 0
+    commit.close()  # does not try again
+    assert told == []
+
+
+def _insert(ident: str, name: str) -> dict:
+    return {**INSERT, "id": ident, "ops": [{**INSERT["ops"][0], "name": name}]}
+
+
+def _wait(condition, seconds: float = 10.0) -> None:
+    """Until the commit thread did it (bounded: a busy machine is slow, not stuck)."""
+    end = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < end, "the commit thread did not do it in time"
+        threading.Event().wait(0.005)
 
 
 def _journalled(store: StateStore, seq: int) -> bool:
-    found = []
-    store.replay_journal(seq - 1, found.append)
-    return [d["seq"] for d in found] == [seq]
+    """The journal file holds the delta of ``seq`` (read as a restart would)."""
+    path = store.dir / "journal.jsonl"
+    lines = path.read_text().splitlines() if path.exists() else []
+    return any(json.loads(line)["seq"] == seq for line in lines)
 
 
 @pytest.fixture

@@ -1,9 +1,9 @@
-"""The DSR server's rule for an accepted change: on disk before anyone sees it. Symbolic deltas
-are appended to the journal and synced (one fdatasync a batch), then every delta is broadcast in
-order; volatile ones (sensor data) are never journalled: a crash loses the latest of them, never
-a symbol. If the disk fails nothing is broadcast and ``OSError`` goes to the caller, which must
-stop: a restart from what is on disk is consistent, an accepted change not on disk would not be.
-Pure: the node gives the store and how to broadcast one delta.
+"""The DSR server's rule for an accepted change: visible first, durable before acknowledged.
+Symbolic deltas go to the journal's group commit (formats/group_commit.py), then every delta is
+broadcast in order, each carrying the seq durable at that moment; the commit thread makes them
+durable and says so, and only then does a writer hear its verdict (protocol/agent_core.py).
+Volatile ones (sensor data) are never journalled: a crash loses the latest of them, never an
+acknowledged symbol. Pure: the node gives the commit and how to broadcast one delta.
 """
 
 from __future__ import annotations
@@ -11,25 +11,23 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from dsr_graph.formats.state_store import StateStore
+from dsr_graph.formats.group_commit import GroupCommit
 from dsr_graph.protocol.blobs import BlobCache, extract
 from dsr_graph.protocol.volatility import is_volatile
 
 
-def journal_then_broadcast(
-    store: StateStore,
+def broadcast_then_commit(
+    commit: GroupCommit,
     deltas: list[dict[str, Any]],
     broadcast: Callable[[dict[str, Any]], None],
 ) -> bool:
-    """True when the journal is long enough for a new snapshot (``store.write_snapshot``)."""
-    durable = [delta for delta in deltas if not is_volatile(delta)]
-    for delta in durable:
-        store.append(delta)
-    if durable:
-        store.flush()
+    """True when the journal is long enough for a new snapshot (``commit.compact``)."""
+    for delta in deltas:  # the commit thread may start on them while they are broadcast
+        if not is_volatile(delta):
+            commit.append(delta)
     for delta in deltas:
         broadcast(delta)
-    return store.needs_compaction()
+    return commit.store.needs_compaction()
 
 
 def outgoing(delta: dict[str, Any], cache: BlobCache) -> tuple[dict[str, Any], dict[str, bytes]]:

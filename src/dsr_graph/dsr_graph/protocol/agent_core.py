@@ -6,6 +6,7 @@ in one process, and the unit tests over a transport that loses, repeats and reor
     core = AgentCore("/speech", link, run="a1b2c3")
     core.send({"ops": [...]}, on_done=lambda result: ..., now=now)
     core.on_delta(text, now); core.on_rejection(text, now); core.on_heartbeat(text, now)
+    core.on_durable(text, now)           # the server's group commit reached a seq
     core.on_snapshot(text, now)          # the answer to link.ask_snapshot()
     core.tick(now)                       # every TICK s: resends, held deltas, resyncs
 
@@ -17,6 +18,16 @@ The rules:
   one goes again, in order, when the server restarted or is heard after a silence; the server
   applies an id once and answers a repeat with the seq that accepted it (``duplicate_of``), whose
   verdict is given once the replica has reached that seq;
+- a change is visible before it is durable: the server broadcasts a delta at once and makes it
+  durable in a group commit; every delta, heartbeat and durability notice says the server's boot
+  and its durable seq, and the writer's verdict waits until its delta is durable (a server that
+  tells no durable seq, as LocalBus, broadcasts only durable deltas);
+- a server that restarted may have lost what it had not made durable: a replica holding more
+  than the last durable seq it heard resyncs from a snapshot, the deltas kept aside from the old
+  server are dropped, and every request still without its verdict goes again (the new server
+  knows the ids it kept). A late message of the old server (another topic, queued) counts as
+  one more restart: what the replica and the verdicts hold is always of the boot heard last,
+  and the next message of the new server brings them back to it;
 - a delta waits, behind those before it, for the bytes of the binary values it references (at
   most BLOB_PATIENCE, then the value is a BlobRef);
 - a replica the server is ahead of asks for a snapshot once a hole has lasted GAP_PATIENCE or it
@@ -99,7 +110,11 @@ class AgentCore:
         self._outbox: list[tuple[str, dict[str, bytes]]] = []
         # deltas and snapshots waiting for the bytes of their binary values, in order
         self._held: list[tuple[float, dict[str, Any], set[str], Callable[[dict, float], None]]] = []
-        self.boot = ""  # the server's start, from its heartbeat ("" before)
+        self.boot = ""  # the server's start, from its messages ("" before)
+        # the server's durable seq as last told; None: it tells none (its deltas are durable)
+        self.durable: int | None = None
+        # id -> the delta of a request of ours, seen but not yet durable (its verdict waits)
+        self._undurable: dict[str, dict[str, Any]] = {}
         self.heard: float | None = None  # when its heartbeat was last heard
         # the last silence of the server's heartbeat: (last beat before it, first beat after)
         self.server_gap = (float("-inf"), float("-inf"))
@@ -109,6 +124,7 @@ class AgentCore:
         # for its next heartbeat, so that a restarted server gets the unanswered ones first
         self._server_lost = False
         self._asking = False  # a snapshot was asked for and not answered
+        self._asked_boot = ""  # the server heard when it was asked for
         self._asked_at = 0.0
         self._loading = False  # a snapshot waits for its binary values' bytes
         self._gap_since: float | None = None
@@ -132,6 +148,7 @@ class AgentCore:
         return bool(
             self._unanswered
             or self._accepted_before
+            or self._undurable
             or self._held
             or self._outbox
             or self.replica.needs_resync
@@ -147,6 +164,7 @@ class AgentCore:
         self._pending.clear()
         self._unanswered.clear()
         self._accepted_before.clear()
+        self._undurable.clear()
         self._outbox.clear()
         self._held.clear()
 
@@ -182,7 +200,8 @@ class AgentCore:
         if self._server_lost:
             return  # all of them go again, in order, when the server is heard (on_heartbeat)
         for ident, (text, sent, blobs) in list(self._unanswered.items()):
-            if now - sent >= RESEND_AFTER:
+            waiting = ident in self._undurable or ident in self._accepted_before
+            if now - sent >= RESEND_AFTER and not waiting:
                 self._unanswered[ident] = (text, now, blobs)
                 self._outbox.append((text, blobs))
 
@@ -210,7 +229,77 @@ class AgentCore:
         except READING_ERRORS as e:
             self.link.log("error", f"ignoring a malformed delta: {e!r}")
             return
+        self._server_said(delta, now)
         self._take(text, delta, self._apply, now)
+
+    def on_durable(self, text: str, now: float) -> None:
+        """The server's durability notice ({boot, durable}), after each group commit."""
+        try:
+            self._server_said(loads_object(text), now)
+        except READING_ERRORS:
+            return
+
+    def _server_said(self, doc: dict[str, Any], now: float) -> None:
+        """Take the boot and the durable seq a server's message carries."""
+        boot = doc.get("boot")
+        if isinstance(boot, str) and boot and boot != self.boot:
+            self._server_restarted(boot, now)
+        durable = doc.get("durable")
+        if isinstance(durable, int) and not isinstance(durable, bool):
+            if self.durable is None or durable > self.durable:
+                self.durable = durable
+                self._release_durable(now)
+
+    def _server_restarted(self, boot: str, now: float) -> None:
+        """A new server (or the first heard). What the old one had not made durable may be lost:
+        the replica resyncs if it holds any of it, and every request without its verdict goes
+        again, in order (the same id is applied once: the new server knows those it kept)."""
+        before, self.boot = self.boot, boot
+        if not before:
+            return
+        if self.heard is not None:
+            # a server killed and back within SERVER_SILENCE is a gap all the same: what it held
+            # open (an answer's window) opens again only now
+            self.server_gap = (self.heard, now)
+        ahead = self.durable is not None and self.replica.seq > self.durable
+        self.replica.server_restarted(resync=ahead)
+        if ahead:
+            self.link.log(
+                "warning",
+                f"the DSR server restarted: this replica saw changes up to seq "
+                f"{self.replica.seq}, durable only up to {self.durable}; resynchronising",
+            )
+        self.durable = None
+        self._undurable.clear()
+        self._held.clear()  # the old server's deltas, waiting for bytes: maybe lost
+        self._loading = False
+        self._accepted_before.clear()
+        if self._unanswered:
+            self.link.log(
+                "warning",
+                f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
+                "request(s) again",
+            )
+            self._outbox = []
+            for ident, (request, _sent, blobs) in self._unanswered.items():
+                self._unanswered[ident] = (request, now, blobs)
+                self._outbox.append((request, blobs))
+        self._flush(now)
+
+    def _durable_enough(self, seq: int) -> bool:
+        return self.durable is None or seq <= self.durable
+
+    def _release_durable(self, now: float) -> None:
+        """Verdicts whose deltas the server has now made durable."""
+        for ident, delta in list(self._undurable.items()):
+            if self._durable_enough(delta["seq"]):
+                del self._undurable[ident]
+                self._unanswered.pop(ident, None)
+                callback = self._pending.pop(ident, None)
+                if callback is not None:
+                    callback(Result(ident, True, delta=delta))
+        if self._accepted_before:
+            self._deliver([], False, now)
 
     def blob_arrived(self, now: float) -> None:
         """The bytes of a binary value came (the cache has them): what waited for them goes on."""
@@ -253,20 +342,29 @@ class AgentCore:
         for delta in applied:
             self._accepted(delta)
         for ident, (seq, told) in list(self._accepted_before.items()):
-            if seq > self.replica.seq:
-                continue  # accepted by an earlier send; the replica has not got there yet
+            if seq > self.replica.seq or not self._durable_enough(seq):
+                continue  # accepted by an earlier send; the replica (or disk) is not there yet
             # The delta of that earlier send may still be on its way (deltas and rejections are
             # two topics; a volatile one is never in a snapshot): it answers, if it comes soon.
             if ident in self._pending and now - told < DUPLICATE_PATIENCE:
                 continue
             del self._accepted_before[ident]
+            self._unanswered.pop(ident, None)
             callback = self._pending.pop(ident, None)
             if callback is not None:
                 callback(Result(ident, True, delta={"seq": seq, "id": ident, "ops": []}))
 
     def _accepted(self, delta: dict[str, Any]) -> None:
-        """The request that made ``delta`` (if it is ours) hears it was accepted."""
+        """The request that made ``delta`` (if it is ours) hears it was accepted, once it is
+        durable (a volatile one is never journalled: at once)."""
         ident = delta.get("id")
+        if ident not in self._unanswered and ident not in self._pending:
+            return  # another agent's, or answered already
+        durable = "durable" not in delta or is_volatile(delta)
+        if not durable and not self._durable_enough(delta["seq"]):
+            self._undurable[ident] = delta  # still unanswered: a restart sends it again
+            return
+        self._undurable.pop(ident, None)
         self._unanswered.pop(ident, None)
         self._accepted_before.pop(ident, None)
         callback = self._pending.pop(ident, None)
@@ -282,10 +380,11 @@ class AgentCore:
         ident = doc.get("id", "")
         if not isinstance(ident, str) or ident not in self._pending:
             return
-        self._unanswered.pop(ident, None)
         if isinstance(doc.get("duplicate_of"), int):  # an earlier send of it was accepted
+            # still unanswered: if the server restarts before it is durable, it goes again
             self._accepted_before[ident] = (doc["duplicate_of"], now)
             return
+        self._unanswered.pop(ident, None)
         callback = self._pending.pop(ident)
         reason = doc.get("reason") if isinstance(doc.get("reason"), dict) else {}
         error = doc.get("error") if isinstance(doc.get("error"), str) else ""
@@ -295,43 +394,34 @@ class AgentCore:
             callback(Result(ident, False, reason=reason, error=error))
 
     def on_heartbeat(self, text: str, now: float) -> None:
-        """The server's heartbeat: its seq, its boot (new at each start) and who is out of reach."""
+        """The server's heartbeat: its seq, its boot (new at each start), its durable seq and who
+        is out of reach."""
         before = self.heard
-        if before is not None and now - before > SERVER_SILENCE:
-            self.server_gap = (before, now)  # a cut (or a dead server) ended
-        self.heard = now
         try:
             beat = loads_object(text)
-            self.replica.observe_server_seq(int(beat["seq"]))
+            seq = int(beat["seq"])
         except READING_ERRORS:
+            self.heard = now
             return
+        if before is not None and now - before > SERVER_SILENCE:
+            self.server_gap = (before, now)  # a cut (or a dead server) ended
+        self._server_said(beat, now)
+        self.heard = now
+        self.replica.observe_server_seq(seq)
         listed = beat.get("unreachable", [])
         listed = listed if isinstance(listed, list) else []
         away = frozenset(a for a in listed if isinstance(a, str))
         if away - self.out_of_reach:
             self.reach_losses += 1
         self.out_of_reach = away
-        boot = str(beat.get("boot", ""))
-        restarted = bool(self.boot) and boot != self.boot
-        if restarted and before is not None:
-            # a server killed and back within SERVER_SILENCE is a gap all the same: what it held
-            # open (an answer's window) opens again only now
-            self.server_gap = (before, now)
-        if (restarted or self._server_lost) and self._unanswered:
-            # what it did not answer may have died with it, or never reached it: every
-            # unanswered request goes again, in the order they were first sent (those sent
-            # while it was lost were held for this; the same id is applied once)
-            if restarted:
-                self.link.log(
-                    "warning",
-                    f"the DSR server restarted: sending {len(self._unanswered)} unanswered "
-                    "request(s) again",
-                )
+        if self._server_lost and self._unanswered:
+            # what it did not answer may never have reached it: every unanswered request goes
+            # again, in the order they were first sent (those sent while it was lost were held
+            # for this; the same id is applied once)
             self._outbox = []
             for ident, (request, _sent, blobs) in self._unanswered.items():
                 self._unanswered[ident] = (request, now, blobs)
                 self._outbox.append((request, blobs))
-        self.boot = boot
         self._server_lost = False
         self._flush(now)
 
@@ -371,6 +461,7 @@ class AgentCore:
     def ask_snapshot(self, now: float) -> None:
         self._asking = True
         self._asked_at = now
+        self._asked_boot = self.boot
         self.link.ask_snapshot()
 
     def snapshot_failed(self, problem: str) -> None:
@@ -383,6 +474,8 @@ class AgentCore:
         self._asking = False
         if self.closed:
             return
+        if self._asked_boot and self._asked_boot != self.boot:
+            return  # asked of a server that restarted since: it may hold what was lost
         try:
             # restored as trusted: not walked (safe_json.loads)
             snapshot = loads_object(text, None, walk=False)

@@ -73,6 +73,16 @@ class Replica:
         self.applied += 1
         return [delta]
 
+    def server_restarted(self, resync: bool) -> None:
+        """The server restarted: the deltas kept aside came from the old one and may be lost,
+        and its seq starts again from what it made durable. ``resync``: this replica holds
+        changes the old one may not have made durable; it loads a snapshot before going on."""
+        self._pending.clear()
+        self.server_seq = self.seq
+        if resync:
+            self.synced = False
+            self.server_seq = 0
+
     def observe_server_seq(self, seq: int) -> None:
         """The server says it has reached ``seq`` (heartbeat): a silent gap becomes visible."""
         self.server_seq = max(self.server_seq, seq)

@@ -30,6 +30,7 @@ SERVER_CHANNELS = (
     topic_names.DELTAS,
     topic_names.REJECTIONS,
     topic_names.HEARTBEAT,
+    topic_names.DURABLE,
     topic_names.GET_SNAPSHOT,
 )
 ALARM_EVERY = 5.0  # seconds between alarms (or warnings) about the same thing

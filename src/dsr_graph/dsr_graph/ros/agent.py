@@ -9,7 +9,8 @@ to send transactions and hear whether they were accepted.
 Two-phase construction: ``__init__`` builds pure state, ``setup`` attaches to a node and fails
 with ``TimedOutError`` if the server does not answer. Callbacks run in the node's executor.
 
-Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, and with ``blobs=True`` dsr/blobs and
+Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, dsr/durable (a verdict waits until its
+change is durable), and with ``blobs=True`` dsr/blobs and
 every agent's dsr/blobs/<node name> (found as they appear, every 0.2 s): the bytes of a value
 an agent sent come from the agent itself, the server's own (a snapshot's) on dsr/blobs.
 Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/blobs/<node name> (the
@@ -17,8 +18,9 @@ bytes of the large binary values its requests reference, protocol/blobs.py), dsr
 message the server did not sign, at most one per topic every 5 s).
 
 With DSR_KEYSTORE (protocol/security.py) the agent signs its requests with its node's key, and
-reads the deltas, rejections, heartbeats and snapshots only when the server's key signed them:
-under enforce anything else is dropped (logged, alarmed), under permissive only logged.
+reads the deltas, rejections, heartbeats, durability notices and snapshots only when the server's
+key signed them: under enforce anything else is dropped (logged, alarmed), under permissive only
+logged.
 Clients: dsr/get_snapshot.
 
 The protocol itself (the replica, resends, duplicates, deltas held for their bytes, resyncs) is
@@ -132,6 +134,7 @@ class DsrAgent:
         )
         node.create_subscription(String, topic_names.REJECTIONS, self._on_rejection, qos_stream())
         node.create_subscription(String, topic_names.HEARTBEAT, self._on_heartbeat, qos_latched())
+        node.create_subscription(String, topic_names.DURABLE, self._on_durable, qos_stream())
         self._snapshot_client = node.create_client(GetSnapshot, topic_names.GET_SNAPSHOT)
         if not self._snapshot_client.wait_for_service(timeout_sec=timeout_sec):
             raise TimedOutError(
@@ -310,6 +313,12 @@ class DsrAgent:
         text = self._from_server(topic_names.HEARTBEAT, msg.data)
         if text is not None:
             self.core.on_heartbeat(text, time.monotonic())
+
+    def _on_durable(self, msg: String) -> None:
+        # a forged notice must not make a change look durable: the server's signature only
+        text = self._from_server(topic_names.DURABLE, msg.data)
+        if text is not None:
+            self.core.on_durable(text, time.monotonic())
 
     def _on_snapshot(self, future) -> None:
         if future is not self._snapshot_future:

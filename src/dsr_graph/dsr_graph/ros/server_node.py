@@ -8,6 +8,8 @@ ROS Parameters:
     state_dir (str): where the state persists (default $XDG_STATE_HOME/dsr/<node name>);
         a second server on the same directory, or a corrupt one, exits 1 naming it.
     compact_every (int): journaled deltas between snapshots (default 1000).
+    commit_delay (float): seconds a group commit waits for more changes before its fdatasync
+        (default 0: it syncs what has gathered at once, while the server goes on accepting).
     max_request_bytes (int): requests of more UTF-8 bytes are rejected (default 4 MiB).
     max_ops (int): transactions of more operations are rejected (default 10000).
     max_nodes (int): a transaction that would grow the graph beyond it is rejected (1000000).
@@ -37,12 +39,15 @@ Publishers:
     dsr/blobs (dsr_msgs/Blob): bytes no agent sent, before the delta or snapshot that needs them
         (a snapshot's; the bytes of an agent's values went out on its dsr/blobs/<node name>).
     dsr/deltas (std_msgs/String): accepted deltas, one per transaction, in seq order (a
-        volatile one, sensor data, carries the seq it follows: protocol/volatility.py).
+        volatile one, sensor data, carries the seq it follows: protocol/volatility.py), each
+        broadcast before it is durable, with the server's ``boot`` and the ``durable`` seq.
+    dsr/durable (std_msgs/String): {boot, durable} after each group commit: every delta up to
+        seq ``durable`` is on disk (a writer's verdict waits for it: protocol/acceptance.py).
     dsr/rejections (std_msgs/String): {id, agent, reason, error} for each refused request.
     dsr/alarms (std_msgs/String): {kind, topic, intruders, message} when a request topic has a
         publisher that is not its owner (at most one per topic and intruders every 5 s).
-    dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot, unreachable} (boot: new at
-        each start; unreachable: agents listed in the ROS graph whose request topic's DDS
+    dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot, durable, unreachable} (boot:
+        new at each start; unreachable: agents listed in the ROS graph whose request topic's DDS
         liveliness lapsed, protocol/presence.py; also sent at once when that list changes).
     /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
         node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py).
@@ -61,6 +66,7 @@ Services:
 from __future__ import annotations
 
 import array
+import os
 import time
 import uuid
 from typing import Any
@@ -73,6 +79,7 @@ from visualization_msgs.msg import MarkerArray
 from dsr_graph.exceptions import KeystoreError, LookupFailed
 from dsr_graph.formats import dsr_json
 from dsr_graph.formats.default_paths import state_path
+from dsr_graph.formats.group_commit import GroupCommit
 from dsr_graph.formats.state_store import StateStore
 from dsr_graph.model import rigid
 from dsr_graph.model.agent_info import GONE
@@ -82,7 +89,7 @@ from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.absence import Absences
-from dsr_graph.protocol.acceptance import journal_then_broadcast, outgoing
+from dsr_graph.protocol.acceptance import broadcast_then_commit, outgoing
 from dsr_graph.protocol.attribution import attribute
 from dsr_graph.protocol.blobs import BlobCache, refs_in_text
 from dsr_graph.protocol.graph_markers import drawing
@@ -128,13 +135,16 @@ class DsrServer(DsrNode):
         super().__init__(node_name, **kwargs)
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
+        self.journal: GroupCommit | None = None
         self._pose_pubs: dict[str, Any] = {}
         # layout -> (version, seq, signed text, blobs)
         self._snapshot_cache: dict[str, tuple[Any, int, str, dict]] = {}
         self._absences = Absences()
         self._started = time.monotonic()
         self._alarmed: dict[tuple, float] = {}  # (topic, kind, intruders) -> when
-        self._boot = uuid.uuid4().hex  # tells agents this server restarted: they re-send
+        # tells agents this server restarted: they re-send, and resync if they saw changes it
+        # never made durable (every delta carries it)
+        self._boot = uuid.uuid4().hex[:16]
 
     # ------------------------------------------------------------------ start
     def setup(self) -> None:
@@ -176,6 +186,15 @@ class DsrServer(DsrNode):
         self._deltas = self.create_publisher(String, topic_names.DELTAS, qos_stream())
         self._rejections = self.create_publisher(String, topic_names.REJECTIONS, qos_stream())
         self._heartbeat = self.create_publisher(String, topic_names.HEARTBEAT, qos_latched())
+        self._durable_pub = self.create_publisher(String, topic_names.DURABLE, qos_stream())
+        self.journal = GroupCommit(
+            self.store,
+            durable=self.core.seq,  # what was replayed is synced (StateStore.replay_journal)
+            on_durable=self._on_durable,
+            on_failure=self._disk_failed,
+            delay=float_param(self, "commit_delay"),
+        )
+        self.journal.start()
         self._alarms = self.create_publisher(String, topic_names.ALARMS, qos_stream())
         # large binary values travel beside the JSON (protocol/blobs.py): what the agents send,
         # kept until their requests take it, and what the deltas carry out
@@ -247,6 +266,11 @@ class DsrServer(DsrNode):
         publisher.publish(String(data=self.security.sign(channel, text)))
 
     def close(self) -> None:
+        if self.journal is not None:
+            try:
+                self.journal.close()  # a clean stop: what was broadcast is made durable
+            except OSError as e:
+                self.get_logger().error(f"cannot persist to {self.store.dir} at the stop: {e}")
         if self.store is not None:
             self.store.close()
 
@@ -304,21 +328,32 @@ class DsrServer(DsrNode):
         self._publish(self._alarms, topic_names.ALARMS, alarm)
 
     def _accept(self, deltas: list[dict[str, Any]]) -> None:
-        """On disk, then broadcast (protocol/acceptance.py); if the disk fails, stop."""
-        try:
-            compact = journal_then_broadcast(self.store, deltas, self._broadcast)
-        except OSError as e:
-            self.get_logger().fatal(
-                f"cannot persist to {self.store.dir}: {e}; stopping (nothing was broadcast)"
-            )
-            raise SystemExit(3) from e
-        if compact:
-            self.store.write_snapshot(self.core.durable_snapshot())
+        """Broadcast, durable at the next group commit (protocol/acceptance.py)."""
+        if broadcast_then_commit(self.journal, deltas, self._broadcast):
+            try:
+                self.journal.compact(self.core.durable_snapshot())
+            except OSError as e:
+                self._disk_failed(e)
+
+    def _on_durable(self, seq: int) -> None:
+        """The commit thread made every delta up to ``seq`` durable: their writers may hear."""
+        self._publish(self._durable_pub, topic_names.DURABLE, {"boot": self._boot, "durable": seq})
+
+    def _disk_failed(self, error: OSError) -> None:
+        """The journal cannot be written: what was broadcast since the last commit may never be
+        durable, and the server cannot keep its word. It ends at once, as if killed: the state
+        on disk restarts consistent, and replicas that saw the rest resync with it."""
+        self.get_logger().fatal(
+            f"cannot persist to {self.store.dir}: {error}; stopping (changes after seq "
+            f"{self.journal.durable} were broadcast but not acknowledged: replicas resync)"
+        )
+        os._exit(3)
 
     def _broadcast(self, delta: dict[str, Any]) -> None:
         doc, blobs = outgoing(delta, self.blobs)
         for digest, data in blobs.items():  # the bytes first: a reader holds the delta
             self._blob_pub.publish(blob_message(digest, data))
+        doc = {**doc, "boot": self._boot, "durable": self.journal.durable}
         self._publish(self._deltas, topic_names.DELTAS, doc)
         self._tf.on_delta(self.core.graph, delta)
         if self._publish_poses:
@@ -393,6 +428,7 @@ class DsrServer(DsrNode):
             "seq": self.core.seq,
             "stamp": now,
             "boot": self._boot,
+            "durable": self.journal.durable,
             "unreachable": self.requests.presence.away,
         }
         self._publish(self._heartbeat, topic_names.HEARTBEAT, beat)

@@ -53,6 +53,16 @@ def declare_server_parameters(node) -> None:
     )
     declare(
         node,
+        "commit_delay",
+        0.0,
+        "seconds a group commit waits for more changes before its fdatasync (fewer syncs "
+        "under load, later verdicts)",
+        read_only=True,
+        minimum=0.0,
+        maximum=10.0,
+    )
+    declare(
+        node,
         "max_request_bytes",
         DEFAULT_MAX_REQUEST_BYTES,
         "requests of more UTF-8 bytes are rejected",
