@@ -1,6 +1,7 @@
-"""Change-to-visible latency over two hops: a symbolic change (durable before it is broadcast) and a
-volatile one, next to a raw rclpy relay in interleaved rounds, and the fdatasync of a journal line
-on this disk; where the time of one change goes."""
+"""Change-to-visible latency over two hops: a symbolic change (journalled: broadcast at once, its
+writer told once a group commit made it durable) and a volatile one, next to a raw rclpy relay
+in interleaved rounds, and the fdatasync of a journal line on this disk; where the time of one
+change goes."""
 
 from __future__ import annotations
 
@@ -78,7 +79,7 @@ class LatencyRig:
         return latency_samples(self.ros, self.writer, self.arrived, n, lambda i: make(first + i))
 
     def symbolic(self, n: int) -> list[float]:
-        """A symbolic change (journalled, durable before it is broadcast), n times."""
+        """A symbolic change (journalled by a group commit after it is broadcast), n times."""
         return self._changes(change, n)
 
     def volatile(self, n: int) -> list[float]:

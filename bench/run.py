@@ -1,23 +1,23 @@
 """The DSR benchmarks, each figure next to a plain-rclpy (or naive numpy) baseline measured in the
 same run. Run through scripts/bench.sh; writes a JSON report and prints a table.
 
-Sections: latency (change-to-visible over two hops: a symbolic change, durable before it is
-broadcast, and a volatile one, next to a raw rclpy relay and the fdatasync of a journal line on
-this disk), throughput (1/4/8 subscribed agents, single ops and batches), scale (1k/10k/100k
-nodes: cost per op, snapshot to a late joiner, memory), restart (an agent killed and respawned
-at once: how soon it is in sync and has a change accepted), kinematics (transform queries on trees
-of depth 2/10/50, cold and cached), barthel (a fast test: wall time and CPU seconds per
-process), gug (a patient's skeleton streamed through the DSR at 30 Hz, 14 joints, as Person
-writes it: the server's CPU, frames written of those offered, a Speech-sized change's latency
-and the journal's growth, each against the same without the stream, quiet and with every core
-kept busy; a whole Get Up & Go run's CPU against the Barthel run's; in a full run, every shipped
-GUG scenario through launch.sh, quiet and loaded), camera (640x480 colour and depth images at
-30 Hz beside the skeleton: the server's CPU, images offered, written and delivered whole to
-another process's replica, a Speech change's latency against the quiet figure, and what one hop
-costs a frame as base64 JSON or as blobs), signed (what signing the DSR's traffic
-costs: latency, throughput with one agent and the Barthel run's CPU, with DSR_SECURITY=enforce
-next to off), gc (a snapshot encoded and loaded with the DSR processes' collector policy next to
-CPython's default thresholds, in interleaved rounds).
+Sections: latency (change-to-visible over two hops: a symbolic change, journalled by a group commit
+after it is broadcast, and a volatile one, next to a raw rclpy relay and the fdatasync of a journal
+line on this disk), throughput (1/4/8 subscribed agents, single ops and batches), scale
+(1k/10k/100k nodes: cost per op, snapshot to a late joiner, memory), restart (an agent killed and
+respawned at once: how soon it is in sync and has a change accepted), kinematics (transform queries
+on trees of depth 2/10/50, cold and cached), barthel (a fast test: wall time and CPU seconds per
+process), gug (a patient's skeleton streamed through the DSR at 30 Hz, 14 joints, as Person writes
+it: the server's CPU, frames written of those offered, a Speech-sized change's latency and the
+journal's growth, each against the same without the stream, quiet and with every core kept busy; a
+whole Get Up & Go run's CPU against the Barthel run's; in a full run, every shipped GUG scenario
+through launch.sh, quiet and loaded), camera (640x480 colour and depth images at 30 Hz beside the
+skeleton: the server's CPU, images offered, written and delivered whole to another process's
+replica, a Speech change's latency against the quiet figure, and what one hop costs a frame as
+base64 JSON or as blobs), signed (what signing the DSR's traffic costs: latency, throughput with
+one agent and the Barthel run's CPU, with DSR_SECURITY=enforce next to off), gc (a snapshot encoded
+and loaded with the DSR processes' collector policy next to CPython's default thresholds, in
+interleaved rounds).
 
 Each ratio (DSR against the raw relay, volatile against raw, streaming against quiet, enforce
 against off) is measured in interleaved rounds and reported under ``ratios`` as the median of the

@@ -7,7 +7,8 @@ the default instead of replacing it.
 Sensor data is declared volatile (``docs/FORMAT.md``, "Volatile values"): an attribute with
 ``"volatile": true``, and the pose of a node type with ``"volatile_pose": true`` (its RT edge from
 its parent, as ``set_rt`` changes it). A change that only sets such values is broadcast without
-waiting for the disk and is not journalled; every other change is durable before it is seen.
+waiting for the disk and is not journalled; every other change is durable before its writer
+hears it was accepted.
 """
 
 from __future__ import annotations

@@ -5,9 +5,10 @@ A change is volatile when every operation only sets values the vocabulary declar
 true``, as ``set_rt`` moves it) and it grants or ends no claim. The server numbers it after the
 durable change it follows, without taking a sequence number of its own: its delta carries that
 durable ``seq`` and a ``volatile`` count. So a crash, which loses the volatile changes not yet in
-a snapshot, never leaves a replica ahead of the restarted server; and a replica that is not at
-exactly that ``seq`` (behind, or resynchronising) skips it and takes the next one. Every other
-change keeps the server's guarantee: durable before anyone sees it.
+a snapshot, never moves a replica's seq beyond the restarted server's durable one; and a
+replica that is not at exactly that ``seq`` (behind, or resynchronising) skips it and takes the
+next one. Every other change keeps the server's guarantee: durable before its writer hears it
+was accepted (protocol/acceptance.py).
 """
 
 from __future__ import annotations

@@ -337,7 +337,12 @@ class DsrServer(DsrNode):
 
     def _on_durable(self, seq: int) -> None:
         """The commit thread made every delta up to ``seq`` durable: their writers may hear."""
-        self._publish(self._durable_pub, topic_names.DURABLE, {"boot": self._boot, "durable": seq})
+        try:
+            notice = {"boot": self._boot, "durable": seq}
+            self._publish(self._durable_pub, topic_names.DURABLE, notice)
+        except Exception as e:  # never ends the commit thread: the next notice or beat says it
+            if self.context.ok():  # else a stop: the journal is durable all the same
+                self.get_logger().error(f"could not publish on {topic_names.DURABLE}: {e!r}")
 
     def _disk_failed(self, error: OSError) -> None:
         """The journal cannot be written: what was broadcast since the last commit may never be
