@@ -41,6 +41,7 @@ def shared_folder(path: Path, what: str) -> Path:
 # phase of a test is also watched by faulthandler's C thread, which prints every thread's stack
 # and ends the run MARGIN seconds after the test's timeout.
 MARGIN = 120.0
+LOG_TAIL = 40  # lines of each ROS process's log shown with a failed test
 
 
 def pytest_configure(config):
@@ -62,6 +63,17 @@ def pytest_runtest_protocol(item):
         return (yield)
     finally:
         faulthandler.cancel_dump_traceback_later()
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item, call):
+    """A failed test that started ROS processes shows the end of each one's log: a failure in CI
+    then says what the server and the agents were doing (their folders do not outlive the run)."""
+    report = yield
+    world = getattr(item, "funcargs", {}).get("ros")
+    if report.when == "call" and report.failed and isinstance(world, RosWorld):
+        report.sections.append(("the test's ROS processes", world.procs.tails(LOG_TAIL)))
+    return report
 
 
 def _watch(item) -> None:

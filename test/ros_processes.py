@@ -99,6 +99,14 @@ class Processes:
         path = self.workdir / f"{name}.log"
         return path.read_text(errors="replace") if path.exists() else ""
 
+    def tails(self, lines=40):
+        """The last ``lines`` of every process log the test wrote (killed processes' too)."""
+        parts = []
+        for path in sorted(self.workdir.glob("*.log")):
+            tail = path.read_text(errors="replace").splitlines()[-lines:]
+            parts.append(f"----- {path.name} (last {len(tail)} lines)\n" + "\n".join(tail))
+        return "\n".join(parts)
+
     def kill9(self, name):
         proc = self.procs.pop(name)
         os.killpg(proc.pid, signal.SIGKILL)

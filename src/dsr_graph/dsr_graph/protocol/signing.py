@@ -48,7 +48,9 @@ class Verified:
 
 
 def _signed_bytes(channel: str, signer: str, payload: str) -> bytes:
-    return b"\n".join((CONTEXT, channel.encode(), signer.encode(), payload.encode()))
+    # surrogateescape: a request that is not UTF-8 (server's raw read) is checked as it came
+    text = payload.encode("utf-8", "surrogateescape")
+    return b"\n".join((CONTEXT, channel.encode(), signer.encode(), text))
 
 
 class Signer:

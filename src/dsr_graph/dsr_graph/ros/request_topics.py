@@ -17,8 +17,9 @@ from dsr_graph.protocol.identity import Publisher, Sender, sender_on
 from dsr_graph.protocol.presence import Presence
 from dsr_graph.protocol.topic_names import TRANSACTIONS
 from dsr_graph.ros.qos import qos_presence, qos_stream
+from dsr_graph.ros.string_wire import cdr_utf8
 
-MAX_BATCH = 256  # requests taken at once from one topic (one fdatasync covers them)
+MAX_BATCH = 256  # requests taken at once from one topic (handled in one turn)
 RECHECK = 0.5  # seconds a verdict on a topic's publishers is trusted while their number holds
 # seconds requests wait while the bytes of binary values they reference are on their way (a
 # pending verdict on the sender says itself how long it may be waited for)
@@ -77,8 +78,9 @@ class RequestTopics:
             self._subscribe(topic, owner)
 
     def _subscribe(self, topic: str, owner: str | None) -> None:
+        # raw: the request's bytes as DDS carried them, no Python message built for each
         sub = self.node.create_subscription(
-            String, topic, lambda msg, t=topic: self._on_message(t, msg), qos_stream()
+            String, topic, lambda raw, t=topic: self._on_message(t, raw), qos_stream(), raw=True
         )
         self._subs[topic] = (sub, owner)
         if owner is not None:
@@ -104,16 +106,16 @@ class RequestTopics:
         self._verdicts.pop(topic, None)  # a verdict may rest on who is alive (identity.py)
         self.on_presence()
 
-    def _on_message(self, topic: str, msg: String) -> None:
-        # Group commit: the requests already waiting on this topic go with this one.
+    def _on_message(self, topic: str, raw: bytes) -> None:
+        # One batch: the requests already waiting on this topic go with this one.
         sub = self._subs[topic][0]
-        texts = [msg.data]
+        texts = [_text(raw)]
         with sub.handle:
             while len(texts) < MAX_BATCH:
-                taken = sub.handle.take_message(String, False)
+                taken = sub.handle.take_message(String, True)
                 if taken is None:
                     break
-                texts.append(taken[0].data)
+                texts.append(_text(taken[0]))
         if topic in self._held:  # keep their order behind those already waiting
             self._held[topic][1].extend(texts)
             return
@@ -177,3 +179,12 @@ class RequestTopics:
         if not verdict.pending:
             self._verdicts[topic] = (count, now, verdict)
         return verdict
+
+
+def _text(raw: bytes) -> str:
+    """A request's text; bytes that are not UTF-8 stay as they are (surrogates), for the server's
+    JSON reader to refuse by name, and a message that is no String at all becomes ""."""
+    try:
+        return cdr_utf8(raw).decode("utf-8", "surrogateescape")
+    except ValueError:
+        return ""

@@ -107,6 +107,7 @@ from dsr_graph.ros.parameters import float_param, param
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_stream
 from dsr_graph.ros.request_topics import RequestTopics
 from dsr_graph.ros.server_parameters import declare_server_parameters, limits
+from dsr_graph.ros.string_wire import string_cdr
 from dsr_graph.ros.tf_publisher import TfPublisher
 from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetAttribute, GetBlob, GetNode, GetSnapshot, GetTransform
@@ -263,7 +264,7 @@ class DsrServer(DsrNode):
 
     def _publish(self, publisher, channel: str, doc: dict[str, Any]) -> None:
         text = dumps(doc, separators=(",", ":"))
-        publisher.publish(String(data=self.security.sign(channel, text)))
+        publisher.publish(string_cdr(self.security.sign(channel, text)))  # encoded once
 
     def close(self) -> None:
         if self.journal is not None:
