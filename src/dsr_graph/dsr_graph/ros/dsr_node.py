@@ -31,7 +31,8 @@ from collections.abc import Callable
 import rclpy
 from rclpy.event_handler import PublisherEventCallbacks, SubscriptionEventCallbacks
 from rclpy.exceptions import ParameterException
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import ExternalShutdownException
+from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
 
 from dsr_graph.exceptions import DsrError
@@ -48,7 +49,11 @@ STOP_POLL = 0.5  # seconds: the longest a stop rclpy missed goes unseen by a spi
 
 class DsrNode(Node):
     NAME = ""  # the node's name unless remapped
-    EXECUTOR: Callable = SingleThreadedExecutor  # what run() spins (called with context=)
+    # What run() spins (called with context=): rclpy's C++ events executor, not the wait set
+    # Python rebuilds every turn. An agent's delta after another callback waited a turn of
+    # 0.3 ms on the SingleThreadedExecutor (bench/latency.py's stages); handlers must not
+    # block for long (none does: a long job, the recogniser's, runs in a thread of its own).
+    EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
 
     def __init__(self, node_name: str = "", **kwargs) -> None:

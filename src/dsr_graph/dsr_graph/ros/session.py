@@ -10,7 +10,7 @@ from typing import Any
 
 import rclpy
 from rclpy.context import Context
-from rclpy.executors import SingleThreadedExecutor
+from rclpy.experimental import EventsExecutor
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.ros import dds_teardown
@@ -29,7 +29,7 @@ class RosSession:
         self.context = Context()
         rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
-        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor = EventsExecutor(context=self.context)
         self.executor.add_node(self.node)
         # A one-shot tool whose work is done and told sets the code it exits with should its
         # DDS goodbye hang (exit_timer.py: Fast DDS can spin there forever, and the tool's
