@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.dsr_node import DsrNode
 from dsr_graph.ros.session import RosSession
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -99,9 +100,10 @@ def rss_kib(pid: int) -> int:
 
 
 def session_with_agent(domain: int, name: str):
-    """A session whose node ``name`` has a DSR replica, synced: (session, agent). The caller
-    closes the session (``agent_session`` does)."""
-    ros = RosSession(name=name, domain_id=domain)
+    """A session whose node ``name`` has a DSR replica, synced: (session, agent), spun as the
+    robot's agents are (DsrNode.EXECUTOR). The caller closes the session (``agent_session``
+    does)."""
+    ros = RosSession(name=name, domain_id=domain, executor=DsrNode.EXECUTOR)
     try:
         agent = DsrAgent()
         agent.setup(ros.node, timeout_sec=60)

@@ -10,7 +10,7 @@ from typing import Any
 
 import rclpy
 from rclpy.context import Context
-from rclpy.experimental import EventsExecutor
+from rclpy.executors import SingleThreadedExecutor
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.ros import dds_teardown
@@ -23,13 +23,15 @@ class RosSession:
         name: str | None = None,
         domain_id: int | None = None,
         ros_args: list[str] | None = None,
+        executor: Callable = SingleThreadedExecutor,
     ):
         """``ros_args`` (``--ros-args -r __ns:=/robot ...``) apply to this session's node:
-        namespaces, remaps, parameters, as for any ROS node."""
+        namespaces, remaps, parameters, as for any ROS node. ``executor``: what spins it (a
+        benchmark's agents take the DsrNode agents' EventsExecutor)."""
         self.context = Context()
         rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
         self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
-        self.executor = EventsExecutor(context=self.context)
+        self.executor = executor(context=self.context)
         self.executor.add_node(self.node)
         # A one-shot tool whose work is done and told sets the code it exits with should its
         # DDS goodbye hang (exit_timer.py: Fast DDS can spin there forever, and the tool's
