@@ -211,7 +211,12 @@ def test_a_missing_required_parameter_is_named(ros, script, parameter):
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
 def test_a_stop_while_waiting_for_the_server_is_clean(ros, sig):
     proc = ros.procs.start("speech", ["speech"])  # no server in this domain: it waits
-    time.sleep(3.0)  # started, and inside DsrAgent.setup's wait for the server (20 s)
+    # its node in the ROS graph: its stop handlers are in place (run_node installs them before
+    # rclpy.init); a fixed sleep let a loaded machine's SIGINT land in its imports (exit -2)
+    wait_for(
+        lambda: "speech" in ros.session.node.get_node_names(), 60, "speech's node", ros.session
+    )
+    time.sleep(1.0)  # inside DsrAgent.setup's wait for the server (20 s)
     assert proc.poll() is None, ros.procs.log("speech")
     proc.send_signal(sig)
     proc.wait(timeout=30)
