@@ -51,8 +51,9 @@ class DsrNode(Node):
     NAME = ""  # the node's name unless remapped
     # What run() spins (called with context=): rclpy's C++ events executor, not the wait set
     # Python rebuilds every turn. An agent's delta after another callback waited a turn of
-    # 0.3 ms on the SingleThreadedExecutor (bench/latency.py's stages); handlers must not
-    # block for long (none does: a long job, the recogniser's, runs in a thread of its own).
+    # 0.3 ms on the SingleThreadedExecutor (bench/latency.py's stages). As on that one, a
+    # handler that blocks holds the node's other callbacks (the recogniser runs in a thread
+    # of its own; the simulated devices' espeak calls block, as they did).
     EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
 
