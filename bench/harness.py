@@ -221,7 +221,7 @@ def environment(**values: str | None):
     """These environment variables (None: unset) for this process and the ones it starts, for
     the block; then as before."""
     saved = {k: os.environ.get(k) for k in values}
-    for k, v in [*values.items()]:
+    for k, v in values.items():
         if v is None:
             os.environ.pop(k, None)
         else:

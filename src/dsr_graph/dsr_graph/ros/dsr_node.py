@@ -51,9 +51,11 @@ class DsrNode(Node):
     NAME = ""  # the node's name unless remapped
     # What run() spins (called with context=): rclpy's C++ events executor, not the wait set
     # Python rebuilds every turn. An agent's delta after another callback waited a turn of
-    # 0.3 ms on the SingleThreadedExecutor (bench/latency.py's stages). As on that one, a
-    # handler that blocks holds the node's other callbacks (the recogniser runs in a thread
-    # of its own; the simulated devices' espeak calls block, as they did).
+    # 0.3 ms on the SingleThreadedExecutor (bench/latency.py's stages); the server on it, side
+    # by side with itself on the old one, made a change visible at p50 0.76x and 0.86x in two
+    # runs (bench --baseline). As on that one, a handler that blocks holds the node's other
+    # callbacks (the recogniser runs in a thread of its own; the simulated devices' espeak
+    # calls block, as they did).
     EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
 

@@ -72,7 +72,6 @@ import uuid
 from typing import Any
 
 from geometry_msgs.msg import PoseStamped
-from rclpy.experimental import EventsExecutor
 from std_msgs.msg import String
 from visualization_msgs.msg import MarkerArray
 
@@ -122,11 +121,6 @@ DISCOVERY = 3.0  # seconds after the server's start before anyone is marked gone
 
 class DsrServer(DsrNode):
     NAME = "dsr_server"
-    # rclpy's C++ events executor, not the wait set Python rebuilds every turn: against the
-    # same server on the SingleThreadedExecutor, side by side (bench --baseline), a change
-    # visible at p50 0.76x and 0.86x in two runs; single-op tx/s with 1 agent 0.69x the raw
-    # relay's (0.55x in a run before it). Its handlers must not block for long: none waits.
-    EXECUTOR = EventsExecutor
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
