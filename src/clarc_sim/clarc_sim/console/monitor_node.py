@@ -19,7 +19,6 @@ import time
 from datetime import UTC, datetime
 from typing import Any
 
-import rclpy
 from std_msgs.msg import String
 
 from clarc_agents import topics
@@ -251,7 +250,7 @@ class Monitor(DsrNode):
         while self.exit_code is None and time.monotonic() < deadline:
             if self.stop_requested():
                 return 0
-            rclpy.spin_once(self, timeout_sec=0.1)
+            self.spin_once(0.1)
         if self.exit_code is None:
             self.say(f"the test did not finish within {param(self, 'timeout')} s")
             return 1

@@ -55,9 +55,15 @@ class DsrNode(Node):
     # by side with itself on the old one, made a change visible at p50 0.76x and 0.86x in two
     # runs (bench --baseline). As on that one, a handler that blocks holds the node's other
     # callbacks (the recogniser runs in a thread of its own; the simulated devices' espeak
-    # calls block, as they did).
+    # calls block, as they did). It is also the one that stops safely on a signal: rclpy's
+    # wait-set executors register a SIGINT guard condition in a lock-free list that rclpy's
+    # signal thread walks while the main thread, stopping on the same signal, frees it (a node's
+    # SIGSEGV at a launch's end, 1 launch in 24 under load; core: rcl_trigger_guard_condition
+    # on a freed guard condition in rclpy's signal thread). The events executor is woken by a
+    # callback the signal thread calls under a lock.
     EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
+    _spinner = None  # the executor spin_once made
 
     def __init__(self, node_name: str = "", **kwargs) -> None:
         super().__init__(node_name or self.NAME, **kwargs)
@@ -73,14 +79,21 @@ class DsrNode(Node):
 
     def run(self) -> int | None:
         """Serve until shut down; the exit code (None: 0)."""
-        executor = type(self).EXECUTOR(context=self.context)  # a factory is not bound
-        executor.add_node(self)
-        try:
-            while not self.stop_requested():
-                executor.spin_once(timeout_sec=STOP_POLL)
-        finally:
-            executor.shutdown(timeout_sec=0)
+        while not self.stop_requested():
+            self.spin_once(STOP_POLL)
         return None
+
+    def spin_once(self, timeout_sec: float) -> None:
+        """One turn of this node's executor (``EXECUTOR``, never rclpy's global one)."""
+        if self._spinner is None:
+            self._spinner = type(self).EXECUTOR(context=self.context)  # a factory is not bound
+            self._spinner.add_node(self)
+        self._spinner.spin_once(timeout_sec=timeout_sec)
+
+    def stop_spinning(self) -> None:
+        if self._spinner is not None:
+            self._spinner.shutdown(timeout_sec=0)
+            self._spinner = None
 
     def stop_requested(self) -> bool:
         """ROS is shut down, or SIGINT or SIGTERM arrived (also one rclpy did not see)."""
@@ -168,6 +181,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
         return 1
     finally:
         if node is not None:
+            node.stop_spinning()
             node.close()
             with exit_if_stuck(TEARDOWN_LIMIT):  # the process ends here anyway
                 dds_teardown.destroy_node(node)

@@ -28,7 +28,6 @@ from typing import Any
 
 import mcap
 import orjson
-import rclpy
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
 from mcap.writer import Writer
@@ -173,7 +172,7 @@ class Recorder(DsrNode):
         while not self.agent.synced:
             if time.monotonic() >= deadline:
                 raise TimedOutError(f"no snapshot from the DSR server within {timeout} s")
-            rclpy.spin_once(self, timeout_sec=0.05)
+            self.spin_once(0.05)
         self._open(wanted)
         self._on_change([], resynced=True)  # the recording starts with the graph as it is now
         self.agent.add_listener(self._on_change)
@@ -212,7 +211,7 @@ class Recorder(DsrNode):
         while not self.stop_requested() and (
             self._stop_at is None or time.monotonic() < self._stop_at
         ):
-            rclpy.spin_once(self, timeout_sec=0.1)
+            self.spin_once(0.1)
         return 0
 
     def close(self) -> None:

@@ -11,16 +11,19 @@ from collections.abc import Callable
 from typing import Any
 
 from aiohttp import web
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException
+
+from dsr_graph.ros.dsr_node import DsrNode
 
 STOP_CHECK = 0.1  # seconds: how soon the ROS thread sees that the web side is done
 THREAD_END = 10.0  # seconds the web side waits for the ROS thread to end its callback
 
 
 class Bridge:
-    def __init__(self, node, executor: SingleThreadedExecutor | None = None):
+    def __init__(self, node, executor: Executor | None = None):
         self.node = node
-        self.executor = executor or SingleThreadedExecutor(context=node.context)
+        # the executor every node spins, which stops safely on a signal (DsrNode.EXECUTOR)
+        self.executor = executor or DsrNode.EXECUTOR(context=node.context)
         self.executor.add_node(node)
         self.loop: asyncio.AbstractEventLoop | None = None
         self._stop: asyncio.Event | None = None
