@@ -16,7 +16,15 @@ setup(
         ("share/ament_index/resource_index/packages", ["resource/" + PACKAGE]),
         ("share/" + PACKAGE, ["package.xml"]),
     ],
-    package_data={PACKAGE: ["data/*.pddl", "grammars/*.yaml", "definitions/*.yaml"]},
+    package_data={
+        PACKAGE: [
+            "data/*.pddl",
+            "grammars/*.yaml",
+            "definitions/*.yaml",
+            "definitions/*/*.yaml",
+            "languages/*.yaml",
+        ]
+    },
     entry_points={
         "console_scripts": [
             "pelea = clarc_agents.nodes.pelea_node:main",

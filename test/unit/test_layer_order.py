@@ -24,6 +24,7 @@ LEVELS = {
     "clarc_agents": (
         ("exceptions", "sentence", "topics", "data", "grammars"),
         ("yaml_lines",),
+        ("languages",),
         ("definitions", "test_node"),
         ("questionnaire", "gug"),
         ("asr", "behaviours", "humans", "grammar_files"),

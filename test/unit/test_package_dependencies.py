@@ -48,6 +48,7 @@ PIP = {  # import name -> PyPI name
     "pocketsphinx": "pocketsphinx",
     "soxr": "soxr",
     "faster_whisper": "faster-whisper",
+    "text_to_num": "text2num",
 }
 
 

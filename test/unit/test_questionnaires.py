@@ -164,9 +164,16 @@ def test_the_lawton_scale_is_a_data_file_only_and_runs_end_to_end():
 
 def test_every_option_of_every_test_is_understood_from_what_a_patient_says():
     for test in definitions.tests():
-        for item in definitions.load(test).items:
-            for option in item.options:
-                assert understand(item, option.says).points == option.points, (test, item.key)
+        for language in definitions.languages(test):
+            for item in definitions.load(test, language).items:
+                for option in item.options:
+                    for said in (option.says, option.text):  # and read back from the screen
+                        assert understand(item, said).points == option.points, (
+                            test,
+                            language,
+                            item.key,
+                            said,
+                        )
 
 
 BAD_ITEMS = [

@@ -37,6 +37,7 @@ from typing import Any
 
 import yaml
 
+from clarc_agents import languages as lang
 from clarc_agents.exceptions import DefinitionError
 from clarc_agents.yaml_lines import compose, err, fields, mapping, scalar
 
@@ -100,6 +101,7 @@ class Item:
     shows: tuple[str, ...] = ()  # on the screen with the request to answer
     ask: str = ""  # the request to answer (every kind but choose)
     most: int = 0  # drawing and eyes: the points they are worth
+    language: str = "en"  # what it is asked and answered in (clarc_agents/languages/)
 
     @property
     def points(self) -> tuple[int, ...]:
@@ -136,6 +138,7 @@ class Definition:
     bands: tuple[tuple[int, int, str], ...]  # (min, max, name), in order
     sentences: dict[str, str]
     source: str = ""
+    language: str = "en"
 
     @property
     def max_total(self) -> int:
@@ -191,26 +194,41 @@ def tests() -> tuple[str, ...]:
     return tuple(sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".yaml")))
 
 
-def path_of(test: str) -> Path:
-    return Path(str(resources.files("clarc_agents").joinpath(f"definitions/{test}.yaml")))
+def path_of(test: str, language: str = "en") -> Path:
+    """English definitions are ``definitions/<test>.yaml``, the others
+    ``definitions/<language>/<test>.yaml``: the same test, item for item, in that language."""
+    inside = f"{test}.yaml" if language == "en" else f"{language}/{test}.yaml"
+    return Path(str(resources.files("clarc_agents").joinpath(f"definitions/{inside}")))
+
+
+def languages(test: str) -> tuple[str, ...]:
+    """The languages ``test`` is shipped in."""
+    found = [code for code in lang.codes() if path_of(test, code).is_file()]
+    return tuple(found)
 
 
 @cache
-def load(test: str) -> Definition:
-    """The definition of ``test`` shipped with the package (read once)."""
-    path = path_of(test)
+def load(test: str, language: str = "en") -> Definition:
+    """The definition of ``test`` in ``language`` shipped with the package (read once)."""
+    path = path_of(test, language)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as e:
-        raise DefinitionError(f"{path}: cannot read the definition of {test!r}: {e}") from None
-    return parse(text, str(path))
+        raise DefinitionError(
+            f"{path}: cannot read the definition of {test!r} in {language!r} "
+            f"(it is shipped in: {', '.join(languages(test)) or 'none'}): {e.strerror}"
+        ) from None
+    definition = parse(text, str(path))
+    if definition.language != language:
+        raise DefinitionError(f"{path}: says language {definition.language!r}, not {language!r}")
+    return definition
 
 
 def parse(text: str, source: str = "definition") -> Definition:
     root = compose(text, source, DefinitionError)
     if not isinstance(root, _Mapping):
         raise _err(source, root, "a test definition is a mapping (format: clarc-test, ...)")
-    top = _fields(source, root, TOP, "")
+    top = _fields(source, root, TOP, "", ("language",))
     if _value(top, "format") != "clarc-test" or _value(top, "version") != 1:
         raise _err(source, top["format"][1], "this reads format clarc-test, version 1")
     if _value(top, "scoring") != "sum":
@@ -219,7 +237,13 @@ def parse(text: str, source: str = "definition") -> Definition:
     sentences = _sentences(source, top["sentences"][1])
     items = _items(source, top["items"][1])
     bands = _bands(source, top["bands"][1], sum(i.max for i in items))
-    return Definition(test, title, items, bands, sentences, source)
+    code = _text(source, top, "language") if "language" in top else "en"
+    try:
+        lang.get(code)
+    except DefinitionError as e:
+        raise _err(source, top["language"][1], str(e)) from None
+    items = tuple(replace(i, language=code) for i in items)
+    return Definition(test, title, items, bands, sentences, source, code)
 
 
 _Mapping, _Sequence = yaml.MappingNode, yaml.SequenceNode

@@ -21,61 +21,71 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cache
 
+from clarc_agents import languages
 from clarc_agents.definitions import Item, serial_numbers
-from clarc_agents.questionnaire.orientation import MONTHS, SEASON_WORDS, SEASONS, WEEKDAYS
+from clarc_agents.languages import Language
 from clarc_agents.questionnaire.spoken import suffixed, words
 
-SKIP = (("skip",), ("next", "question"), ("pass",), ("go", "to", "the", "next"))
-# sounds that are no answer at all (what a recogniser makes of mumbling)
-HESITATIONS = frozenset("mmh mm hmm hm eh er uh um ah oh brr the a an and well so".split())
+# The words each rule reads are the item's language's (clarc_agents/languages/<code>.yaml):
+# SKIP, HESITATIONS, UNKNOWING ("I don't know" is never an option, worth 0 to a words item),
+# POSITION_WORDS, NEGATORS (they deny what follows them in the clause, within NEGATION_REACH
+# words and no clause's end between: a recogniser writes no commas), CLAUSE_ENDS, ARTICLES,
+# OPERATORS (the operand of a subtraction said aloud is no answer), CORRECTIONS ("Tuesday, no,
+# Thursday"), and the kinds of value (weekdays, months, seasons) among which another said
+# beside the right one is a rival.
+NEGATION_REACH = 4
+_DAYS = frozenset(suffixed(d) for d in range(1, 32))
 
 
-def _hesitating(said: list[str]) -> bool:
+@dataclass(frozen=True)
+class Rules:
+    """One language's words, as the rules read them."""
+
+    lang: Language
+    skip: tuple[tuple[str, ...], ...]
+    hesitations: frozenset[str]
+    unknowing: tuple[tuple[str, ...], ...]
+    negators: frozenset[str]
+    clause_ends: frozenset[str]
+    corrections: tuple[tuple[str, ...], ...]
+    kinds: tuple[frozenset[str], ...]
+
+    def said(self, text: str) -> list[str]:
+        return words(text, self.lang.code)
+
+    def negating(self, token: str) -> bool:
+        return token in self.negators or any(token.endswith(e) for e in self.lang.negating_endings)
+
+
+@cache
+def rules_of(code: str) -> Rules:
+    lang = languages.get(code)
+
+    def said(name: str) -> tuple[tuple[str, ...], ...]:
+        return tuple(tuple(words(p, code)) for p in getattr(lang, name))
+
+    return Rules(
+        lang,
+        said("skip"),
+        lang.words("hesitations"),
+        said("unknowing"),
+        lang.words("negators"),
+        lang.words("clause_ends"),
+        said("corrections"),
+        (
+            frozenset(w.lower() for w in lang.weekdays),
+            frozenset(w.lower() for w in lang.months),
+            frozenset(w for ways in lang.seasons for w in ways),
+        ),
+    )
+
+
+def _hesitating(rules: Rules, said: list[str]) -> bool:
     """Only sounds of hesitation, or letters alone: a recogniser spells a mumble out ("M-M-H,
     B-R-R"), and no answer to any item is a string of single letters."""
-    return all(t in HESITATIONS or (len(t) == 1 and t.isalpha()) for t in said)
-
-
-# saying one does not know: an answer worth 0 to a words item, never an option
-UNKNOWING = tuple(
-    tuple(words(p))
-    for p in (
-        "I don't know",
-        "I do not know",
-        "don't know",
-        "dunno",
-        "not sure",
-        "no idea",
-        "I can't remember",
-        "I cannot remember",
-        "I don't remember",
-        "I do not remember",
-    )
-)
-POSITION_WORDS = ("option", "number")
-# words that deny what follows them in the clause ("I can't eat by myself", "I don't need help",
-# "not always"), within NEGATION_REACH words before a keyword and no clause's end between (a
-# recogniser writes no commas). Not "no": it mostly answers the question ("No, someone else
-# does it"), and "no accidents" is a keyword of its own.
-NEGATORS = frozenset("not never without nobody nothing none neither nor cannot".split())
-NEGATION_REACH = 4
-CLAUSE_ENDS = frozenset("but and or so because though although except yes no".split())
-ARTICLES = ("a", "an", "the")
-# the operand of a subtraction said aloud ("minus seven"), not an answer
-OPERATORS = ("minus", "less", "subtract", "subtracting", "away", "take")
-# values of one kind: another said beside the right one is a rival (docs/FORMAT.md)
-KINDS_OF_VALUE = (
-    frozenset(w.lower() for w in WEEKDAYS),
-    frozenset(w.lower() for w in MONTHS),
-    frozenset(set(SEASONS.values()) | {w for ws in SEASON_WORDS.values() for w in ws}),
-)
-_DAYS = frozenset(suffixed(d) for d in range(1, 32))
-# what a speaker says between a value and the one that replaces it: "Tuesday, no, Thursday"
-CORRECTIONS = tuple(
-    tuple(words(p))
-    for p in ("no", "sorry", "I mean", "I meant", "no I mean", "sorry I mean", "no wait", "rather")
-)
+    return all(t in rules.hesitations or (len(t) == 1 and t.isalpha()) for t in said)
 
 
 @dataclass(frozen=True)
@@ -102,35 +112,37 @@ def _strip(said: list[str], phrases) -> list[str]:
 
 
 def understand(item: Item, text: str) -> Understanding:
+    """What ``text``, said to ``item``, means (in the item's language)."""
+    r = rules_of(item.language)
     taken_back: list[str] = []
-    said = self_corrected(words(text), taken_back, _replaces(item))
+    said = self_corrected(r.said(text), taken_back, _replaces(item), r)
     if not said:
         return Understanding("not_understood", why=("nothing was said",))
-    if any(find_phrase(s, said) for s in SKIP):
+    if any(find_phrase(s, said) for s in r.skip):
         return Understanding("skip")
     if item.kind in ("words", "serial"):
-        if _hesitating(said):
+        if _hesitating(r, said):
             return Understanding("not_understood", why=("only hesitations",))
-        meaning = _serial(item, said) if item.kind == "serial" else _words(item, said)
+        meaning = _serial(r, item, said) if item.kind == "serial" else _words(r, item, said)
     else:
-        meaning = _choose(item, said)
+        meaning = _choose(r, item, said)
     if not taken_back:
         return meaning
     why = tuple(f"{value}: taken back" for value in taken_back)
     return Understanding(meaning.kind, meaning.points, meaning.matched, meaning.why + why)
 
 
-def _choose(item: Item, said: list[str]) -> Understanding:
-    said = _strip(said, UNKNOWING)  # "I don't know" is never an option ("don't" might be)
-    if not said or _hesitating(said):
+def _choose(r: Rules, item: Item, said: list[str]) -> Understanding:
+    said = _strip(said, r.unknowing)  # "I don't know" is never an option ("don't" might be)
+    if not said or _hesitating(r, said):
         return Understanding("not_understood", why=("no option was said",))
-    n = _position(said, len(item.options))
+    n = _position(r, said, len(item.options))
     if n is not None:
         if 1 <= n <= len(item.options):
             option = item.options[n - 1]
             return Understanding("answer", option.points, (f"option {n}: {option.text}",))
         return Understanding("not_understood", why=(f"there is no option {n}",))
-    hits = [(h, o) for h, o in zip(_keyword_hits(item, said), item.options, strict=True)]
+    hits = [(h, o) for h, o in zip(_keyword_hits(r, item, said), item.options, strict=True)]
     best = max(h for h, _ in hits)
     winners = [o for h, o in hits if h == best]
     if best == 0:
@@ -141,7 +153,7 @@ def _choose(item: Item, said: list[str]) -> Understanding:
     return Understanding("answer", winners[0].points, (winners[0].text,))
 
 
-def _keyword_hits(item: Item, said: list[str]) -> list[int]:
+def _keyword_hits(r: Rules, item: Item, said: list[str]) -> list[int]:
     """For each option, how many of its keywords were said, the longest taken first and each
     word counted for one keyword only: "no problems" is that keyword, not also the "no" of "I do
     not control them". A keyword denied where it is said ("I can't eat by myself": not "by
@@ -149,9 +161,9 @@ def _keyword_hits(item: Item, said: list[str]) -> list[int]:
     found = [
         (len(phrase), i, n, k)
         for n, option in enumerate(item.options)
-        for k, phrase in enumerate(tuple(words(kw)) for kw in option.keywords)
+        for k, phrase in enumerate(tuple(r.said(kw)) for kw in option.keywords)
         for i in find_phrase(phrase, said)
-        if _negating(phrase[0]) or not _denied(said, i)
+        if r.negating(phrase[0]) or not _denied(r, said, i)
     ]
     used: set[int] = set()
     hit: set[tuple[int, int]] = set()
@@ -163,53 +175,55 @@ def _keyword_hits(item: Item, said: list[str]) -> list[int]:
     return [sum(n == m for m, _ in hit) for n in range(len(item.options))]
 
 
-def _negating(token: str) -> bool:
-    return token in NEGATORS or token == "no" or token.endswith("n't")
-
-
-def _denied(said: list[str], i: int) -> bool:
+def _denied(r: Rules, said: list[str], i: int) -> bool:
     """Whether what is said from ``said[i]`` on is denied by a word before it in its clause:
     "not", "never", "can't", ... up to NEGATION_REACH words before ("I don't drive but I take
     the bus": the bus is not denied)."""
     for t in reversed(said[max(0, i - NEGATION_REACH) : i]):
-        if t in CLAUSE_ENDS:
+        if t in r.clause_ends:
             return False
-        if _negating(t):
+        if r.negating(t):
             return True
     return False
 
 
-def _position(said: list[str], options: int) -> int | None:
+def _position(r: Rules, said: list[str], options: int) -> int | None:
     """The option chosen by number or position: "2", "option 2", "number 2", "the 2nd (one)",
     "the last one" (the words already made digits)."""
+    lang = r.lang
     if len(said) == 1 and said[0].isdigit():
         return int(said[0])
-    if said == ["last"] or (said[:2] == ["the", "last"] and said[2:] in ([], ["1"], ["option"])):
-        return options
+    last = said[1:] if said[:1] and said[0] in lang.definite_articles else said
+    named = last[1:]  # "the last", "the last one", "the last option"
+    if last[:1] and last[0] in lang.last and len(named) <= 1:
+        if not named or named[0] in lang.ordinal_followers:
+            return options
     for i, token in enumerate(said):
-        if _denied(said, i):  # "not the second one", "not option two": no choice made
+        if _denied(r, said, i):  # "not the second one", "not option two": no choice made
             continue
-        if token in POSITION_WORDS and i + 1 < len(said) and said[i + 1].isdigit():
+        if token in lang.position_words and i + 1 < len(said) and said[i + 1].isdigit():
             return int(said[i + 1])
         if token[:1].isdigit() and not token.isdigit():  # an ordinal: "the 2nd", "2nd 1"
-            rest = said[i + 1 :]
-            if (i > 0 and said[i - 1] == "the") or rest[:1] in (["1"], ["option"]):
+            after = said[i + 1 : i + 2]
+            if (i > 0 and said[i - 1] in lang.definite_articles) or (
+                after and after[0] in lang.ordinal_followers
+            ):
                 return int(token.rstrip("stndrh"))
     return None
 
 
-def _words(item: Item, said: list[str]) -> Understanding:
+def _words(r: Rules, item: Item, said: list[str]) -> Understanding:
     points, matched, why = 0, [], []
     for part in item.parts:
-        phrases = [tuple(words(k)) for k in part.keywords]
+        phrases = [tuple(r.said(k)) for k in part.keywords]
         spans = [(i, len(p)) for p in phrases for i in find_phrase(p, said)]
         if not spans:
             continue
         name = " ".join(phrases[0])
-        if all(_hedged(said, i, n) for i, n in spans):
+        if all(_hedged(r, said, i, n) for i, n in spans):
             why.append(f"{name}: hedged (said with 'or')")
             continue
-        rivals = _rivals({t for p in phrases for t in p}, said)
+        rivals = _rivals(r, {t for p in phrases for t in p}, said)
         if rivals:
             why.append(f"{name}: said among others of its kind ({', '.join(rivals)})")
             continue
@@ -218,10 +232,10 @@ def _words(item: Item, said: list[str]) -> Understanding:
     return Understanding("answer", points, tuple(matched), tuple(why))
 
 
-def _kind(token: str) -> object | None:
+def _kind(r: Rules, token: str) -> object | None:
     """The kind of value ``token`` is (a weekday, a month, a season, a year, a day of the month,
     a number), or None."""
-    for kind in KINDS_OF_VALUE:
+    for kind in r.kinds:
         if token in kind:
             return kind
     if _is_year(token):
@@ -246,28 +260,31 @@ def self_corrected(
     said: list[str],
     taken_back: list[str] | None = None,
     replaces: Callable[[int, int], bool] = lambda before, after: True,
+    r: Rules | None = None,
 ) -> list[str]:
     """``said`` with each value the speaker took back left out, and the words that took it back:
     a value, a correction ("no", "sorry", "I mean", ...) and another value of its kind ("Tuesday,
     no, Thursday": Thursday; "78, I mean 79": 79; two numbers only if ``replaces`` them), each
     appended to ``taken_back``. Articles may stand on either side."""
+    r = r or rules_of(languages.DEFAULT)
+    articles = r.lang.articles
     out = list(said)
     i = 0
     while i < len(out):
         marker = max(
-            (c for c in CORRECTIONS if out[i : i + len(c)] == list(c)), key=len, default=()
+            (c for c in r.corrections if out[i : i + len(c)] == list(c)), key=len, default=()
         )
         if not marker:
             i += 1
             continue
-        before = i - 1 - (i >= 2 and out[i - 1] in ARTICLES)
+        before = i - 1 - (i >= 2 and out[i - 1] in articles)
         after = i + len(marker)
-        after += after < len(out) and out[after] in ARTICLES
-        kind = _kind(out[before]) if before >= 0 else None
+        after += after < len(out) and out[after] in articles
+        kind = _kind(r, out[before]) if before >= 0 else None
         if (
             kind is None
             or after >= len(out)
-            or _kind(out[after]) != kind
+            or _kind(r, out[after]) != kind
             or (kind == "number" and not replaces(int(out[before]), int(out[after])))
         ):
             i += 1
@@ -279,36 +296,41 @@ def self_corrected(
     return out
 
 
-def _hedged(said: list[str], i: int, n: int) -> bool:
+def _hedged(r: Rules, said: list[str], i: int, n: int) -> bool:
     """The phrase at ``said[i:i+n]`` is one side of an "or": "Monday or Tuesday", "a pen or a
     pencil"."""
+    hedges, articles = r.lang.hedges, r.lang.articles
     before = said[max(0, i - 2) : i]
-    if before[-1:] == ["or"] or (before[-1:] and before[-1] in ARTICLES and before[:1] == ["or"]):
+    if before[-1:] and before[-1] in hedges:
         return True
-    return said[i + n : i + n + 1] == ["or"]
+    if before[-1:] and before[-1] in articles and before[:1] and before[0] in hedges:
+        return True
+    after = said[i + n : i + n + 1]
+    return bool(after) and after[0] in hedges
 
 
-def _rivals(right: set[str], said: list[str]) -> list[str]:
+def _rivals(r: Rules, right: set[str], said: list[str]) -> list[str]:
     """Other values of the kind of ``right`` (a weekday, a month, a season, a year, a day of
     the month) that were said too."""
-    kinds = {_kind(t) for t in right} - {None, "number"}
-    return list(dict.fromkeys(t for t in said if t not in right and _kind(t) in kinds))
+    kinds = {_kind(r, t) for t in right} - {None, "number"}
+    return list(dict.fromkeys(t for t in said if t not in right and _kind(r, t) in kinds))
 
 
 def _is_year(token: str) -> bool:
     return token.isdigit() and 1900 <= int(token) <= 2099
 
 
-def _serial(item: Item, said: list[str]) -> Understanding:
+def _serial(r: Rules, item: Item, said: list[str]) -> Understanding:
+    operators = r.lang.operators
     given: list[int] = []
     lowest = min(serial_numbers(item))
     for k, t in enumerate(said):
-        if not t.isdigit() or (k > 0 and said[k - 1] in OPERATORS):
+        if not t.isdigit() or (k > 0 and said[k - 1] in operators):
             continue  # a word, or the "seven" of "minus seven"
         if _unit_of_tens(said, k, given, lowest):
             given[-1] += int(t)  # "ninety... three": a recogniser writes "90, 3"
             continue
-        restated = k + 1 < len(said) and said[k + 1] in OPERATORS and given[-1:] == [int(t)]
+        restated = k + 1 < len(said) and said[k + 1] in operators and given[-1:] == [int(t)]
         if not restated:  # "93 minus 7 is 86": that 93 restates the answer before, once
             given.append(int(t))
     return Understanding("answer", serial_points(item, given), tuple(map(str, given)))

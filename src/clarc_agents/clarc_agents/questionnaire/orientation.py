@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from datetime import date
 
+from clarc_agents import languages
 from clarc_agents.exceptions import DefinitionError
 from clarc_agents.questionnaire.spoken import ORDINAL_DIGITS, suffixed, words
 
@@ -19,14 +20,14 @@ DEFAULT_PLACE = (
     "Hospital Universitario Virgen del Rocio|Virgen del Rocio",
     "first floor",
 )
-# the meteorological seasons of the northern hemisphere (where the place is)
-SEASONS = {12: "winter", 1: "winter", 2: "winter", 3: "spring", 4: "spring", 5: "spring"}
-SEASONS |= {6: "summer", 7: "summer", 8: "summer", 9: "autumn", 10: "autumn", 11: "autumn"}
-SEASON_WORDS = {"autumn": ("autumn", "fall")}
-# in English whatever the machine's locale
-WEEKDAYS = ("Monday", "Tuesday", "Wednesday", "Thursday", "Friday", "Saturday", "Sunday")
-MONTHS = ("January", "February", "March", "April", "May", "June", "July", "August")
-MONTHS += ("September", "October", "November", "December")
+# The names of the days, months and seasons are the test's language's (clarc_agents/languages/),
+# whatever the machine's locale; the seasons are the meteorological ones of the northern
+# hemisphere (where the place is). English's, for the recogniser's vocabularies:
+_ENGLISH = languages.get("en")
+SEASONS = {m: _ENGLISH.season(m)[0] for m in range(1, 13)}
+SEASON_WORDS = {ways[0]: ways for ways in _ENGLISH.seasons if len(ways) > 1}
+WEEKDAYS = _ENGLISH.weekdays
+MONTHS = _ENGLISH.months
 
 
 def place_values(place: tuple[str, ...] | list[str]) -> dict[str, tuple[str, ...]]:
@@ -55,17 +56,21 @@ def _floor_variants(ways: tuple[str, ...]) -> tuple[str, ...]:
     return tuple(v for v in dict.fromkeys(variants) if v not in ways)
 
 
-def date_values(today: date) -> dict[str, tuple[str, ...]]:
-    season = SEASONS[today.month]
+def date_values(today: date, code: str = languages.DEFAULT) -> dict[str, tuple[str, ...]]:
+    said_in = languages.get(code)
     return {
         "year": (str(today.year),),
-        "season": SEASON_WORDS.get(season, (season,)),
+        "season": said_in.season(today.month),
         "date": (str(today.day), suffixed(today.day)),
-        "weekday": (WEEKDAYS[today.weekday()],),
-        "month": (MONTHS[today.month - 1],),
+        "weekday": (said_in.weekdays[today.weekday()],),
+        "month": (said_in.months[today.month - 1],),
     }
 
 
-def values(today: date, place: tuple[str, ...] | list[str] = DEFAULT_PLACE):
-    """Every placeholder's values on ``today`` at ``place``."""
-    return date_values(today) | place_values(place)
+def values(
+    today: date,
+    place: tuple[str, ...] | list[str] = DEFAULT_PLACE,
+    code: str = languages.DEFAULT,
+):
+    """Every placeholder's values on ``today`` at ``place``, the date's said in ``code``."""
+    return date_values(today, code) | place_values(place)

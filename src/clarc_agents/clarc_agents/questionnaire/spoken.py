@@ -35,12 +35,40 @@ def suffixed(n: int) -> str:
     return f"{n}{suffix}"
 
 
-def words(text: str) -> list[str]:
-    """The tokens of ``text`` (see the module's docstring)."""
-    text = _unaccented(text.lower()).replace("\u2019", "'").replace("-", " ")
+def words(text: str, language: str = "en") -> list[str]:
+    """The tokens of ``text`` said in ``language`` (see the module's docstring)."""
+    text = text.lower()
+    if language != "en":
+        text = _digits_by_text2num(text, language)
+    text = _unaccented(text).replace("\u2019", "'").replace("-", " ")
     tokens = [PAUSE if t in ",.;:!?" else t.strip("'") for t in _TOKEN.findall(text)]
-    out = [t for t in _numbers(_hesitations_in_numbers_out([t for t in tokens if t])) if t != PAUSE]
-    return out
+    tokens = [t for t in tokens if t]
+    if language == "en":
+        tokens = _numbers(_hesitations_in_numbers_out(tokens))
+    return [t for t in tokens if t != PAUSE]
+
+
+# Other languages' numbers are made digits by text2num (its rules for Spanish: "noventa y
+# tres", "dos mil veintiséis", "la segunda"). English keeps the rules below, which text2num
+# does not have: a year said in pairs ("twenty twenty five" is 20 25 there), "a hundred and
+# five", a hesitation inside a number.
+# An article is no number: "una manzana" is an apple (text2num makes it 1 apple), but "treinta
+# y una" and "ciento un" are numbers.
+_TENS_ES = "treinta|cuarenta|cincuenta|sesenta|setenta|ochenta|noventa"
+_ARTICLE = {"es": re.compile(rf"\b((?:(?:{_TENS_ES}) y |ciento )?)(un|una)\b")}
+_KEPT = "qxkeptqx"  # a word of no language: an article text2num must leave alone
+# an ordinal as text2num writes it ("2ª", "1º", "1.ᵉʳ"): the tokens' ordinal ("2nd", "1st")
+_ORDINAL_MARK = re.compile(r"(\d+)\.?(?:ª|º|ᵉʳ|ᵃ|ᵒ|\.ª|\.º)")
+
+
+def _digits_by_text2num(text: str, language: str) -> str:
+    from text_to_num import alpha2digit  # imported where used: English never needs it
+
+    article = _ARTICLE.get(language)
+    if article is not None:
+        text = article.sub(lambda m: m[0] if m[1] else m[2] + _KEPT, text)
+    text = alpha2digit(text, language, threshold=0).replace(_KEPT, "")
+    return _ORDINAL_MARK.sub(lambda m: suffixed(int(m[1])), text)
 
 
 def _unaccented(text: str) -> str:

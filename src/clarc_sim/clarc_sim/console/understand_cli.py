@@ -2,8 +2,9 @@
 of a test definition, exactly as the Speech agent (or, for the shapes of a ``touches`` item,
 the Panel agent) understands it: the points, what was credited and why the rest was not.
 
-TEST is a shipped test (barthel, mmse, lawton) or a definition file (format: docs/FORMAT.md);
-orientation is scored against ``--date`` (default today) and ``--place`` (PELEA's ``place``).
+TEST is a shipped test (barthel, mmse, lawton) or a definition file (format: docs/FORMAT.md),
+in ``--language`` (default en; a definition file says its own); orientation is scored against
+``--date`` (default today) and ``--place`` (PELEA's ``place``).
 With ``--json``: one object, ``text``, ``words`` (the text as it is matched), ``understood``
 ("answer", "skip", "not_understood"), ``points`` (null when nothing in it is an answer),
 ``max``, ``matched``, ``why``.
@@ -31,6 +32,13 @@ def add_parser(sub) -> None:
     p.add_argument("text", help="what was said (for a touches item: the shapes, in order)")
     p.add_argument("--json", action="store_true", help="one JSON object")
     p.add_argument(
+        "--language",
+        default=None,
+        help="a shipped test's language, as each is shipped ("
+        + "; ".join(f"{t}: {', '.join(definitions.languages(t))}" for t in definitions.tests())
+        + "); default en",
+    )
+    p.add_argument(
         "--date", type=date.fromisoformat, default=None, help="orientation's date (today)"
     )
     p.add_argument(
@@ -43,19 +51,25 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def definition_of(test: str) -> definitions.Definition:
+def definition_of(test: str, language: str | None = None) -> definitions.Definition:
     if test in definitions.tests():
-        return definitions.load(test)
+        return definitions.load(test, language or "en")
     path = Path(test)
     if not path.is_file():
         shipped = ", ".join(definitions.tests())
         raise DefinitionError(f"{test!r} is neither a shipped test ({shipped}) nor a file")
-    return definitions.parse(path.read_text(encoding="utf-8"), str(path))
+    definition = definitions.parse(path.read_text(encoding="utf-8"), str(path))
+    if language not in (None, definition.language):
+        raise DefinitionError(f"{path} is in {definition.language!r}, not {language!r}")
+    return definition
 
 
-def explain(test: str, key: str, text: str, today: date, place) -> dict:
+def explain(
+    test: str, key: str, text: str, today: date, place, language: str | None = None
+) -> dict:
     """What ``clarc understand`` prints, as a dict."""
-    definition = definition_of(test).filled(values(today, place))
+    definition = definition_of(test, language)
+    definition = definition.filled(values(today, place, definition.language))
     keys = [i.key for i in definition.items]
     if key not in keys:
         raise DefinitionError(
@@ -66,7 +80,7 @@ def explain(test: str, key: str, text: str, today: date, place) -> dict:
         how = "a drawing, scored by a clinician" if item.kind == "drawing" else "the camera"
         raise DefinitionError(f"{definition.test}'s {key} is answered by {how}, not in words")
     if item.kind == "touches":
-        shapes = [s for s in words(text) if s != "and"]
+        shapes = [s for s in words(text, item.language) if s != "and"]
         points = touched_in_order(item, shapes)
         meaning = Understanding("answer", points, tuple(shapes))
     else:
@@ -76,7 +90,8 @@ def explain(test: str, key: str, text: str, today: date, place) -> dict:
         "item": key,
         "kind": item.kind,
         "text": text,
-        "words": words(text),
+        "language": item.language,
+        "words": words(text, item.language),
         "understood": meaning.kind,
         "points": meaning.points if meaning.kind == "answer" else None,
         "max": item.max,
@@ -87,7 +102,8 @@ def explain(test: str, key: str, text: str, today: date, place) -> dict:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        out = explain(args.test, args.item, args.text, args.date or date.today(), args.place)
+        today = args.date or date.today()
+        out = explain(args.test, args.item, args.text, today, args.place, args.language)
     except (DefinitionError, OSError) as e:
         print(f"clarc understand: {e}", file=sys.stderr)
         return 1

@@ -1,0 +1,159 @@
+"""Answers understood in Spanish (issue "Heard right, or asked again", part 5): the same rules
+as in English read the Spanish words of clarc_agents/languages/es.yaml; numbers said in words
+are made digits by text2num; the Spanish Barthel (definitions/es/barthel.yaml) is the English
+one item for item and point for point."""
+
+from dataclasses import replace
+from datetime import date
+
+import pytest
+
+from clarc_agents import definitions, languages
+from clarc_agents.exceptions import DefinitionError
+from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.orientation import values
+from clarc_agents.questionnaire.spoken import words
+
+TODAY = date(2025, 12, 1)  # a Monday, in winter
+BARTHEL = definitions.load("barthel", "es")
+ENGLISH_MMSE = definitions.load("mmse")
+# the Mini-Mental's orientation and serial sevens, asked in Spanish (their parts are values,
+# not English words: a date's placeholders, numbers)
+ORIENTATION = replace(
+    ENGLISH_MMSE.filled(values(TODAY, code="es")).item("orientation_time"), language="es"
+)
+SERIAL = replace(ENGLISH_MMSE.item("attention"), language="es")
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("Noventa y tres, ochenta y seis, setenta y nueve", ["93", "86", "79"]),
+        ("Estamos en dos mil veintiséis", ["estamos", "en", "2026"]),
+        ("la segunda opción", ["la", "2nd", "opcion"]),
+        ("el primer piso", ["el", "1st", "piso"]),
+        ("una manzana, un peso y una mesa", ["una", "manzana", "un", "peso", "y", "una", "mesa"]),
+        ("treinta y una", ["31"]),
+        ("tengo ochenta y un años", ["tengo", "81", "anos"]),
+        ("¿Qué? No sé", ["que", "no", "se"]),
+        ("Sí, otoño", ["si", "otono"]),
+    ],
+)
+def test_spanish_words_and_numbers_however_said(text, expected):
+    assert words(text, "es") == expected
+
+
+def test_the_spanish_barthel_is_the_english_one_item_for_item():
+    english = definitions.load("barthel")
+    assert BARTHEL.language == "es" and all(i.language == "es" for i in BARTHEL.items)
+    assert BARTHEL.order == english.order and BARTHEL.bands == english.bands
+    for ours, theirs in zip(BARTHEL.items, english.items, strict=True):
+        assert ours.points == theirs.points and ours.kind == theirs.kind
+    assert "Hola Ana" in BARTHEL.sentence("greet", patient="Ana")
+
+
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("feeding", "No puedo comer yo solo", 0),  # "solo" denied
+        ("feeding", "Como sola, sin ayuda", 10),
+        ("feeding", "Necesito que me corten la carne", 5),
+        ("feeding", "la segunda", 5),
+        ("feeding", "la opción tres", 10),
+        ("feeding", "tres", 10),
+        ("feeding", "uno", 0),
+        ("feeding", "la última", 10),
+        ("feeding", "la segunda, no, la tercera", 10),
+        ("bowels", "No, nunca las controlo", 0),
+        ("bowels", "Sí", 10),
+        ("bowels", "de vez en cuando tengo algún accidente", 5),
+        ("stairs", "No, no puedo", 0),
+        ("mobility", "Camino con un bastón", 15),
+        ("mobility", "Voy en silla de ruedas", 5),
+        ("transfers", "me tienen que ayudar dos personas", 5),
+        ("dressing", "me ayudan con los botones", 5),
+    ],
+)
+def test_the_barthel_answered_in_spanish_as_people_say_it(item, said, expected):
+    assert understand(BARTHEL.item(item), said).points == expected, said
+
+
+@pytest.mark.parametrize(
+    "said", ["No sé", "No me acuerdo", "Ni idea", "mmm, pues", "no la segunda"]
+)
+def test_not_knowing_mumbling_or_a_denied_option_chooses_nothing(said):
+    assert understand(BARTHEL.item("feeding"), said).kind == "not_understood"
+
+
+def test_asking_to_skip_in_spanish():
+    assert understand(BARTHEL.item("stairs"), "siguiente pregunta").kind == "skip"
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("Estamos en invierno, es lunes uno de diciembre de dos mil veinticinco", 5),
+        ("dos mil veinticinco, invierno, día uno, lunes, diciembre", 5),
+        ("martes, no, lunes, diciembre", 2),  # taken back: Monday counts
+        ("lunes o martes, diciembre", 1),  # hedged: no point for the weekday
+        ("noviembre, diciembre", 0),  # the month said among rivals
+    ],
+)
+def test_orientation_in_time_said_in_spanish(said, expected):
+    assert understand(ORIENTATION, said).points == expected, said
+
+
+@pytest.mark.parametrize(
+    "said, expected",
+    [
+        ("noventa y tres, ochenta y seis, setenta y nueve, setenta y dos, sesenta y cinco", 5),
+        ("cien menos siete, noventa y tres; menos siete, ochenta y cinco", 1),
+        ("noventa y tres, ochenta y cinco, setenta y ocho", 2),
+    ],
+)
+def test_the_serial_sevens_said_in_spanish(said, expected):
+    assert understand(SERIAL, said).points == expected, said
+
+
+def test_a_language_that_is_not_shipped_is_named(tmp_path):
+    with pytest.raises(DefinitionError, match="no language 'xx'"):
+        languages.get("xx")
+    english = definitions.path_of("barthel").read_text(encoding="utf-8")
+    bad = english.replace("test: barthel", "test: barthel\nlanguage: xx", 1)
+    with pytest.raises(DefinitionError, match=r"barthel\.yaml:\d+: no language 'xx'"):
+        definitions.parse(bad, "barthel.yaml")
+    with pytest.raises(DefinitionError, match="shipped in: en, es"):
+        definitions.load("barthel", "fr")
+
+
+def test_a_language_file_is_read_strictly():
+    source = languages.path_of("es").read_text(encoding="utf-8")
+    assert languages.parse(source, "es.yaml").weekdays[0] == "lunes"
+    with pytest.raises(DefinitionError, match=r"es\.yaml:\d+: weekdays lists 7, got 6"):
+        languages.parse(source.replace("lunes, ", "", 1), "es.yaml")
+    with pytest.raises(DefinitionError, match="each is a text"):
+        languages.parse(source.replace('"tampoco"', "no", 1), "es.yaml")  # YAML's no: a bool
+    with pytest.raises(DefinitionError, match="missing"):
+        languages.parse(source.replace("hedges: [o, u]\n", ""), "es.yaml")
+
+
+def test_clarc_understand_in_spanish(capsys):
+    import json
+
+    from clarc_sim.console import clarc_cli
+
+    def run(*args):
+        code = clarc_cli.main(["understand", *args])
+        out, err = capsys.readouterr()
+        return code, out, err
+
+    code, out, _ = run("barthel", "feeding", "la segunda opción", "--language", "es", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["points"] == 5 and doc["language"] == "es", doc
+    code, out, _ = run("barthel", "feeding", "No puedo comer yo solo", "--language", "es")
+    assert code == 0 and out.startswith("barthel feeding (choose): answer, 0 of 10 points")
+    code, _, err = run("barthel", "feeding", "uno", "--language", "fr")
+    assert code == 1 and "shipped in: en, es" in err
+    mine = definitions.path_of("barthel", "es")
+    code, _, err = run(str(mine), "feeding", "uno", "--language", "en")
+    assert code == 1 and "is in 'es', not 'en'" in err
