@@ -110,6 +110,9 @@ fastdds shm clean > /dev/null 2>&1 || true
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2
 test_kind=$(clarc scenario --test "$scenario") || exit 2
+test_language=$(clarc scenario --language "$scenario") || exit 2
+in_language=""
+[ "$test_language" = en ] || in_language=" (in $test_language)"
 case "$test_kind" in
   get_up_and_go) test_name="Get Up & Go" ;; mmse) test_name="Mini-Mental" ;;
   lawton) test_name="Lawton" ;; *) test_name="Barthel" ;;
@@ -239,7 +242,7 @@ start() {  # start NAME COMMAND...: a supervised node of the run, logged to $run
   nodes+=("$name")
 }
 
-echo "[launch] $test_name test for $patient, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
+echo "[launch] $test_name test for $patient$in_language, scenario $(basename "$scenario"), pace x$scale, ROS_DOMAIN_ID=$ROS_DOMAIN_ID"
 echo "[launch] logs: $run/log; results store: $db"
 echo "[launch] DSR security: $security${DSR_KEYSTORE:+ (keystore $DSR_KEYSTORE)}"
 # The policy says who may write what (and with which claim priority); see docs/FORMAT.md.
@@ -285,7 +288,8 @@ fi
 if [ "$wait_start" = 1 ]; then
   echo "[launch] press Start on the clinician's dashboard: http://127.0.0.1:$dashboard_port/"
 else  # Start is a request in the DSR: PELEA takes it whenever it is up, even after a restart
-  clarc start "$patient" --test "$test_kind" --timeout 60 --ros-args -r __node:=clarc_start \
+  clarc start "$patient" --test "$test_kind" --language "$test_language" --timeout 60 \
+    --ros-args -r __node:=clarc_start \
     >> "$run/log/start.log" 2>&1 ||
     { echo "[launch] could not press Start:" >&2; cat "$run/log/start.log" >&2; exit 1; }
 fi

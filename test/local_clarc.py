@@ -22,6 +22,7 @@ from clarc_agents.questionnaire import confirmation, orientation
 from clarc_agents.questionnaire.item_options import awaited_item
 from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.result_checks import check_result
+from clarc_sim.patient import script
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from dsr_graph.formats.world_files import read_world
 from dsr_graph.protocol.local_bus import LocalBus
@@ -140,11 +141,13 @@ class Robot:
         present: bool = True,
         test: str = "barthel",
         policy=None,
+        language: str = "en",
     ):
         """``policy``: the server's (dsr_graph.model.policy.Policy); by default every write is
-        allowed."""
+        allowed. ``language``: what the test is asked and answered in."""
         self.patient = patient or Patient()
         self.test = test
+        self.language = language
         self.bus = LocalBus(read_world(ROOM).graph, **({"policy": policy} if policy else {}))
         self.windows: dict[str, int] = {}
         self.left: set[str] = set()
@@ -166,7 +169,7 @@ class Robot:
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link)
         self.hle = QuestionnaireExecutive(
-            self.port, QuestionnaireTimes(), log, definitions.load(test)
+            self.port, QuestionnaireTimes(), log, definitions.load(test, language)
         )
         self.pelea_restarts = 0
         self.dsr_boot = "boot-1"  # a test changes it to stand for a restarted DSR server
@@ -244,7 +247,7 @@ class Robot:
         self.pelea_link = self.bus.agent("/pelea")
         self.port = Port(self, self.pelea_link, events=self.port.events, stored=self.port.stored)
         self.hle = QuestionnaireExecutive(
-            self.port, QuestionnaireTimes(), log, definitions.load(self.test)
+            self.port, QuestionnaireTimes(), log, definitions.load(self.test, self.language)
         )
         self.pelea_link.add_listener(lambda d, r: self.hle.on_graph(self.pelea_link.graph))
         self.hle.on_graph(self.pelea_link.graph)  # its first snapshot
@@ -277,7 +280,8 @@ class Robot:
         """The test as the patient knows it: filled for the robot's today (a test lasts minutes
         of virtual time, within one day) and its place."""
         today = datetime.fromtimestamp(self.epoch()).date()
-        return definitions.load(self.test).filled(orientation.values(today))
+        known = orientation.values(today, code=self.language)
+        return definitions.load(self.test, self.language).filled(known)
 
     def _maybe_leave(self, text: str) -> None:
         for item, seconds in self.patient.leaves.items():
@@ -310,7 +314,8 @@ class Robot:
             return
         listening = self.speech.listening
         if listening is not None and listening["item"] == confirmation.KEY:
-            self.speech.on_heard("Yes, that's right." if said == "yes" else "No.")
+            yes, no = script.CONFIRMS[self.language]
+            self.speech.on_heard(yes if said == "yes" else no)
 
     def _respond(self, item: str, response: Any) -> None:
         if self.speech.listening is None or self.speech.listening["item"] != item:
@@ -334,7 +339,7 @@ class Robot:
             return
         if response == "garbled":  # with the clip an asr would have kept
             clip = f"clips/{item}-{self.windows[item]}.wav"
-            self.speech.on_heard("mmh... the, eh... brr", audio=clip)
+            self.speech.on_heard(script.GARBLED[self.language], audio=clip)
         elif response == "skip":
             self.speech.on_heard("skip this one please")
         else:

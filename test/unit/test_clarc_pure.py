@@ -9,10 +9,14 @@ from barthel_items import BY_KEY, DEFINITION, ITEMS, MAX_TOTAL, ORDER, band
 from clarc_agents.exceptions import ScenarioError
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.record import QuestionnaireRecord
+from clarc_agents.questionnaire.sentences import ASK
 from clarc_sim.exceptions import InvalidResult
 from clarc_sim.hospital.results_store import ResultsStore
+from clarc_sim.patient import script
 from clarc_sim.patient.scenario import parse
-from clarc_sim.patient.script import ASK, GARBLED, PatientScript
+from clarc_sim.patient.script import PatientScript
+
+GARBLED = script.GARBLED["en"]
 
 
 def test_barthel_items_and_points_follow_mahoney_and_barthel():

@@ -239,6 +239,7 @@ def test_the_graph_records_each_answer_and_how_it_was_given():
         # how it is answered, for the agents that hear and show answers (no copy of the table)
         "answer_kind": "choose",
         "max_points": 10,
+        "language": "en",
         "question": "Can you go up and down stairs?",
         "options": ["I cannot use stairs", "I need help on stairs", "I use stairs by myself"],
         "option_points": [0.0, 5.0, 10.0],

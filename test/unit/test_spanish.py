@@ -157,3 +157,48 @@ def test_clarc_understand_in_spanish(capsys):
     mine = definitions.path_of("barthel", "es")
     code, _, err = run(str(mine), "feeding", "uno", "--language", "en")
     assert code == 1 and "is in 'es', not 'en'" in err
+
+
+def test_a_whole_barthel_asked_and_answered_in_spanish():
+    """The robot asks in Spanish and understands Spanish answers through Speech's and Panel's
+    rules (the items' language in the DSR), the read-back confirmed with a Spanish yes; the
+    result is the one the same answers give in English."""
+    from local_clarc import Patient, Robot
+
+    answers = {
+        "bathing": [("touch", 0)],
+        "dressing": ["garbled", ("voice", 5)],
+        "bowels": ["silence", ("voice", 10)],
+        "transfers": [("unsure", 10)],
+    }
+    spanish = Robot(Patient(answers=dict(answers), confirms=["yes"]), language="es")
+    result = spanish.run_test("Carmen")
+    english = Robot(Patient(answers=dict(answers), confirms=["yes"])).run_test("Carmen")
+    got = {i["item"]: (i["points"], i["via"]) for i in result["items"]}
+    assert got == {i["item"]: (i["points"], i["via"]) for i in english["items"]}
+    assert result["total"] == english["total"] == 85 and got["transfers"] == (10, "voice")
+    said = " ".join(spanish.said)
+    assert "Pregunta 1 de 10, Comer. ¿Puede comer usted solo?" in said
+    assert "He entendido: Necesito un poco de ayuda. ¿Es correcto?" in said
+    assert "Perdone, no le he entendido." in said and "Question" not in said
+    graph = spanish.pelea_link.graph
+    assert graph.node("item_feeding").attrs["language"] == "es"
+    assert graph.node("test").attrs["language"] == "es"
+
+
+def test_a_start_asks_for_the_language_and_one_not_shipped_is_not_taken():
+    """The Start request names the language (requested_language): PELEA takes it in Spanish,
+    and leaves a Start for a language the test is not shipped in."""
+    from clarc_agents.test_node import request_start
+
+    from local_clarc import Robot
+
+    robot = Robot()
+    clinician = robot.bus.agent("/clarc_start")
+    clinician.send(request_start("Ana", "t1", "barthel", language="fr"))
+    robot.bus.run(until=lambda: False, limit=5.0)
+    assert not robot.hle.running and robot.said == []
+    clinician.send(request_start("Ana", "t2", "barthel", language="es"))
+    robot.bus.run(until=lambda: bool(robot.said), limit=30.0)
+    assert robot.hle.running and robot.hle.definition.language == "es"
+    assert robot.said[0].startswith("Hola Ana, soy CLARC.")

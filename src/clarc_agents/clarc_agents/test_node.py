@@ -9,7 +9,13 @@ from typing import Any
 
 from dsr_graph.model.graph import Graph
 
-REQUEST = ("requested_patient", "requested", "requested_test", "requested_patient_id")
+REQUEST = (
+    "requested_patient",
+    "requested",
+    "requested_test",
+    "requested_patient_id",
+    "requested_language",
+)
 
 
 def request_start(
@@ -18,15 +24,18 @@ def request_start(
     test: str = "barthel",
     patient_id: int | None = None,
     graph: Graph | None = None,
+    language: str = "en",
 ) -> dict[str, Any]:
     """The clinician pressed Start for a test (``barthel``, ``mmse``, ``get_up_and_go``, ...)
     and a patient (their record's id, if the Start named one): the request waits on the test
-    node until PELEA takes it. ``graph``: the DSR as the sender sees it, so that an id left by
-    an earlier request not taken yet goes."""
+    node until PELEA takes it, in ``language`` (en, or another the test is shipped in).
+    ``graph``: the DSR as the sender sees it, so that an id left by an earlier request not taken
+    yet goes."""
     attrs: dict[str, Any] = {
         "requested_patient": patient,
         "requested": requested,
         "requested_test": test,
+        "requested_language": language,
     }
     ops: list[dict[str, Any]] = []
     if patient_id is not None:
@@ -98,6 +107,11 @@ def start_request(graph: Graph) -> str | None:
     """The patient for whom Start was pressed and not yet taken, if any."""
     test = graph.find("test")
     return None if test is None else test.attrs.get("requested_patient")
+
+
+def requested_language(graph: Graph, default: str = "en") -> str:
+    """The language the waiting Start asked for (``default`` when it named none)."""
+    return str(graph.node("test").attrs.get("requested_language", default))
 
 
 def requested_test(graph: Graph) -> str:

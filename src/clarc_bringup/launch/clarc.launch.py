@@ -56,6 +56,7 @@ def press_start(context):
 
     scenario = load(LaunchConfiguration("scenario").perform(context))
     arguments = ["start", scenario.patient, "--test", scenario.test]
+    arguments += ["--language", scenario.language]
     # named as the policy and the keystore know it
     return [Node(package="clarc_sim", executable="clarc", name="clarc_start", arguments=arguments)]
 

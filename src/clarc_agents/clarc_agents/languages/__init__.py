@@ -37,8 +37,31 @@ WORD_LISTS = (
     "corrections",
     "weekdays",
     "months",
+    "yes_words",
+    "no_words",
 )
-KEYS = ("format", "version", "language", "name", *WORD_LISTS, "seasons")
+# what the robot says around a questionnaire's items (questionnaire/sentences.py, confirmation.py)
+SENTENCES = (
+    "introduce",
+    "options_are",
+    "option",
+    "ask",
+    "again",
+    "touch_too",
+    "ask_again",
+    "clarify",
+    "clarify_choose",
+    "clarify_words",
+    "sit_down",
+    "call_clinician",
+    "heard",
+    "is_it_right",
+    "confirm",
+    "points",
+    "yes",
+    "no",
+)
+KEYS = ("format", "version", "language", "name", *WORD_LISTS, "seasons", "sentences")
 
 
 @dataclass(frozen=True)
@@ -47,6 +70,11 @@ class Language:
     name: str
     lists: dict[str, tuple[str, ...]]  # WORD_LISTS: each a tuple of words or phrases
     seasons: tuple[tuple[str, ...], ...]  # winter, spring, summer, autumn: the ways of each
+    sentences: dict[str, str]  # SENTENCES
+
+    def say(self, name: str, **values: object) -> str:
+        """The robot's sentence ``name`` with its ``{...}`` filled in."""
+        return self.sentences[name].format(**values)
 
     def __getattr__(self, name: str) -> tuple[str, ...]:
         lists = self.__dict__.get("lists", {})
@@ -104,7 +132,10 @@ def parse(text: str, source: str = "language") -> Language:
     seasons = tuple(_list(source, n, "a season") for n in getattr(seasons_node, "value", []))
     if len(seasons) != 4 or not all(seasons):
         raise err(source, seasons_node, "seasons lists winter, spring, summer, autumn", DE)
-    return Language(code, name, lists, seasons)
+    sentences_node = top["sentences"][1]
+    said = fields(source, sentences_node, SENTENCES, "sentences: ", (), DE)
+    sentences = {key: _text(source, said, key) for key in SENTENCES}
+    return Language(code, name, lists, seasons, sentences)
 
 
 def _text(source: str, top: dict[str, tuple[Any, Any]], key: str) -> str:

@@ -125,14 +125,21 @@ class PeleaNode(DsrNode):
         patient = test_node.start_request(graph)
         if patient is None:
             return
-        test = test_node.requested_test(graph)
+        test, code = test_node.requested_test(graph), test_node.requested_language(graph)
         request = (patient, graph.node("test").attrs.get("requested"))
-        if test in {e.KIND for e in self.executives} or request in self._refused:
+        runs = next((e for e in self.executives if e.KIND == test), None)
+        if (runs is not None and code in runs.languages) or request in self._refused:
             return
         self._refused.add(request)
-        kinds = ", ".join(e.KIND for e in self.executives)
-        self.get_logger().error(f"Start for {patient}: no test {test!r} here ({kinds}); refused")
-        self.event(event="error", message=f"unknown test {test!r}: Start refused")
+        if runs is None:
+            kinds = ", ".join(e.KIND for e in self.executives)
+            why = f"no test {test!r} here ({kinds})"
+            message = f"unknown test {test!r}: Start refused"
+        else:
+            why = f"{test} is not shipped in {code!r} ({', '.join(runs.languages)})"
+            message = f"{test} in {code!r}: no such language, Start refused"
+        self.get_logger().error(f"Start for {patient}: {why}; refused")
+        self.event(event="error", message=message)
         self.dsr.send(test_node.refuse_start(graph, patient))
 
     # ------------------------------------------------------------------ the HLE's port

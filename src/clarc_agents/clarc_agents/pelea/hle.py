@@ -105,6 +105,7 @@ class Port(Protocol):
 
 class HighLevelExecutive(ABC):
     KIND: str = ""  # the test this executive runs (the Start request's requested_test)
+    languages: tuple[str, ...] = ("en",)  # what a Start may ask it in (requested_language)
     CLOSING: tuple[str, ...] = ()  # actions not broken off when the person leaves: it is over
     ACTIONS: ClassVar[dict[str, Callable[..., None]]] = {}  # the plan's actions, each a handler
     # what the test needs agents ready for (their can_do): no step begins without them, so the
@@ -209,6 +210,7 @@ class HighLevelExecutive(ABC):
             elif (
                 requested is not None
                 and test_node.requested_test(graph) == self.KIND
+                and test_node.requested_language(graph) in self.languages
                 and not (running and not ours)
             ):
                 self._handled.add(request)

@@ -116,7 +116,18 @@ class QuestionnaireExecutive(HighLevelExecutive):
         self._unsure: dict[str, tuple[int, str, int]] = {}
 
     # ------------------------------------------------------------------ the test's own part
+    @property
+    def languages(self) -> tuple[str, ...]:
+        """What a Start may ask this test in."""
+        return definitions.languages(self.KIND)
+
+    def _in_language(self, code: str) -> None:
+        """The test asked in ``code`` from now on (its definition shipped in it)."""
+        if code != self.template.language:
+            self.template = definitions.load(self.KIND, code)
+
     def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
+        self._in_language(test_node.requested_language(graph, self.template.language))
         self.definition = self._today()
         self.record = QuestionnaireRecord(self.definition, patient, self.port.now())
         self.state = planning.initial_state(test_node.person_present(graph), self.definition)
@@ -124,6 +135,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
 
     def _restore(self, graph: Graph) -> dict[str, Any]:
         """Goes on from the DSR, asking the item in progress again."""
+        self._in_language(str(graph.node("test").attrs.get("language", self.template.language)))
         self.definition = self._today()
         self.record = low_to_high.record(graph, self.definition)
         self.state = low_to_high.facts(graph, self.definition)
@@ -139,7 +151,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
         """The test's definition with orientation filled in: today's date (the robot's local
         time) and the place."""
         today = datetime.fromtimestamp(self.port.epoch()).date()
-        return self.template.filled(orientation.values(today, self.place))
+        return self.template.filled(orientation.values(today, self.place, self.template.language))
 
     def _plan(self, state: frozenset[str]) -> list[Step]:
         return plan(state, self.definition)
@@ -178,7 +190,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
 
     # ------------------------------------------------------------------ the plan's actions
     def _ask_to_sit(self, step: Step) -> None:
-        self._say(sentences.sit_down())
+        self._say(sentences.sit_down(self.definition))
 
     def _greet(self, step: Step) -> None:
         self._say(sentences.greet(self.definition, self.record.patient))
@@ -239,7 +251,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
             f"({', '.join(unanswered)}) in the {self.definition.title}: please come and attend.",
             unanswered,
         )
-        self._say(sentences.call_clinician())
+        self._say(sentences.call_clinician(self.definition))
 
     def _say_goodbye(self, step: Step, item: str) -> None:
         self._say(sentences.goodbye(self.definition, self.record.patient))

@@ -10,32 +10,53 @@ answer) the item is asked again as for words not understood, so a test does not 
 
 from __future__ import annotations
 
+from functools import cache
+
+from clarc_agents import languages
 from clarc_agents.definitions import Item, Option
 from clarc_agents.sentence import Sentence
 
 KEY = "confirmation"  # the node of the yes/no answer (test_item_confirmation)
-HEARD = "I heard:"  # how a confirmation starts (the simulated patient knows it so)
 YES, NO = 1, 0
-ITEM = Item(
-    KEY,
-    "Is that right?",
-    "",
-    options=(
-        Option(YES, "Yes", "Yes", ("yes", "yeah", "yep", "that's right", "correct", "it is")),
-        Option(NO, "No", "No", ("no", "nope", "wrong", "not right", "that's not", "it isn't")),
-    ),
-)
 MOST = 1  # confirmations an item
 
 
+@cache
+def item_in(code: str) -> Item:
+    """The yes/no item in language ``code`` (its words: the language's yes_words, no_words)."""
+    said_in = languages.get(code)
+    yes, no = said_in.say("yes"), said_in.say("no")
+    return Item(
+        KEY,
+        said_in.say("is_it_right"),
+        "",
+        options=(
+            Option(YES, yes, yes, said_in.yes_words),
+            Option(NO, no, no, said_in.no_words),
+        ),
+        language=code,
+    )
+
+
+def heard(code: str) -> str:
+    """How a confirmation starts ("I heard:"; the simulated patient knows it so)."""
+    return languages.get(code).say("heard")
+
+
+ITEM = item_in(languages.DEFAULT)
+HEARD = heard(languages.DEFAULT)
+
+
 def sentence(item: Item, points: int) -> Sentence:
-    """What the robot asks to confirm that ``item``'s answer is the option worth ``points``."""
+    """What the robot asks to confirm that ``item``'s answer is the option worth ``points``, in
+    the item's language."""
+    said_in, confirming = languages.get(item.language), item_in(item.language)
     option = item.option(points)
-    heard = option.text if option is not None else f"{points} points"
+    answer = option.text if option is not None else said_in.say("points", points=points)
     return Sentence(
-        f"{HEARD} {heard}. Is that right? Say yes or no, or touch it on the screen.",
+        f"{said_in.say('heard')} {answer}. {said_in.say('confirm')}",
         item=KEY,
-        options=[o.text for o in ITEM.options],
-        option_points=[float(o.points) for o in ITEM.options],
+        options=[o.text for o in confirming.options],
+        option_points=[float(o.points) for o in confirming.options],
         input="options",
     )

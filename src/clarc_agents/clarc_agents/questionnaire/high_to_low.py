@@ -84,6 +84,7 @@ def start_test(graph: Graph, patient: str, started: str, definition: Definition)
                 **patient_id,
                 "patient": patient,
                 "kind": definition.test,
+                "language": definition.language,
                 "status": "running",
                 "started": started,
                 "item": definition.order[0],
@@ -118,7 +119,7 @@ def start_test(graph: Graph, patient: str, started: str, definition: Definition)
     name = item_node(confirmation.KEY)
     if name in graph:
         ops.append({"op": "delete_node", "node": name})
-    attrs = {"item": confirmation.KEY, **answer_attrs(confirmation.ITEM)}
+    attrs = {"item": confirmation.KEY, **answer_attrs(confirmation.item_in(definition.language))}
     ops.append({"op": "insert_node", "name": name, "type": "test_item", "attrs": attrs})
     return {"preconditions": checks, "ops": ops}
 

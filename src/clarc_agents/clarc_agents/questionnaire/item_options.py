@@ -4,12 +4,14 @@ of any test's table. ``answer_kind`` is the item's kind (choose, words, touches,
 ``question`` and ``ask`` what the robot asks (a recogniser's context);
 a ``choose`` item has ``options``, ``option_points`` and ``option_words``; a ``words`` or
 ``touches`` item ``parts`` (the words that recognise each part); the points it is worth are
-``max_points``. Several phrases of one option or part are joined by "|"."""
+``max_points``; ``language`` what it is asked and answered in (an item without it: English).
+Several phrases of one option or part are joined by "|"."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from clarc_agents import languages
 from clarc_agents.definitions import KINDS, Item, Option, Part
 from dsr_graph.model.graph import Graph
 
@@ -21,6 +23,7 @@ def item_node(key: str) -> str:
 def answer_attrs(item: Item) -> dict[str, Any]:
     """What the item's node carries for the agents that take its answers."""
     attrs: dict[str, Any] = {"answer_kind": item.kind, "max_points": item.max}
+    attrs["language"] = item.language
     # what the robot asks, for a recogniser's context (asr/expectations.py): the words of the
     # exchange, never the answers
     attrs["question"] = item.question
@@ -58,6 +61,9 @@ def item_in(graph: Graph, key: str) -> Item | None:
     if kind not in KINDS:
         return None
     title = str(node.attrs.get("title", key))
+    language = str(node.attrs.get("language", languages.DEFAULT))
+    if language not in languages.codes():
+        return None  # understood by no rules here
     question, ask = str(node.attrs.get("question", "")), str(node.attrs.get("ask", ""))
     if kind != "choose":
         parts = node.attrs.get("parts", [])
@@ -74,6 +80,7 @@ def item_in(graph: Graph, key: str) -> Item | None:
             ask=ask,
             parts=tuple(Part(str(i), _phrases(ws)) for i, ws in enumerate(parts)),
             most=int(node.attrs.get("max_points", 0)),
+            language=language,
         )
     texts = node.attrs.get("options")
     points = node.attrs.get("option_points")
@@ -86,7 +93,7 @@ def item_in(graph: Graph, key: str) -> Item | None:
         Option(int(p), str(t), "", _phrases(ws))
         for t, p, ws in zip(texts, points, words, strict=True)
     )
-    return Item(key, title, question, options, ask=ask)
+    return Item(key, title, question, options, ask=ask, language=language)
 
 
 def awaited_item(graph: Graph) -> Item | None:

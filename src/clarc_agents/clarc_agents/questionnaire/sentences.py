@@ -2,17 +2,18 @@
 Each sentence says whether it needs the patient in front of the robot (speech stops and the
 screen clears if they leave), which options, if any, the touch screen shows with it, what else
 it shows (pictures, targets, a written instruction) and what it takes from the patient
-(``input``: options, targets, drawing, or nothing)."""
+(``input``: options, targets, drawing, or nothing). The robot's own words are the test's
+language's (clarc_agents/languages/<code>.yaml, ``sentences``)."""
 
 from __future__ import annotations
 
+from clarc_agents import languages
 from clarc_agents.definitions import Definition, Item
 from clarc_agents.sentence import Sentence
 
-ASK = "Which option fits you best? Say it, or touch it on the screen."
-AGAIN = "Let me say the options again."
-ASK_AGAIN = "Let me ask again."
-CLARIFY = "Sorry, I did not understand."
+_ENGLISH = languages.get("en")
+ASK = _ENGLISH.say("ask")
+AGAIN = _ENGLISH.say("again")  # also the Get Up & Go's, which is asked in English
 # what the screen takes from the patient while an item of each kind is asked
 INPUTS = {"choose": "options", "words": "", "touches": "targets", "drawing": "drawing"}
 INPUTS |= {"eyes": "", "serial": ""}
@@ -26,11 +27,18 @@ def explain(definition: Definition) -> Sentence:
     return Sentence(definition.sentence("explain"))
 
 
+def _said_in(definition: Definition) -> languages.Language:
+    return languages.get(definition.language)
+
+
 def introduce(definition: Definition, key: str) -> Sentence:
     item = definition.item(key)
     position = definition.order.index(key) + 1
+    count, title, question = len(definition.items), item.title, item.question
     return Sentence(
-        f"Question {position} of {len(definition.items)}, {item.title}. {item.question}",
+        _said_in(definition).say(
+            "introduce", position=position, count=count, title=title, question=question
+        ),
         item=key,
         shows=list(item.shows) if item.kind == "words" else [],
     )
@@ -49,50 +57,50 @@ def _answering(text: str, item: Item) -> Sentence:
     return Sentence(text, item=item.key, shows=list(item.shows), input=INPUTS[item.kind])
 
 
-def _spoken_options(item: Item) -> str:
-    return " ".join(f"Option {i + 1}: {o.text}." for i, o in enumerate(item.options))
+def _spoken_options(said_in: languages.Language, item: Item) -> str:
+    return " ".join(
+        said_in.say("option", number=i + 1, text=o.text) for i, o in enumerate(item.options)
+    )
 
 
 def describe_options(definition: Definition, key: str) -> Sentence:
-    item = definition.item(key)
-    return _answering(f"The options are. {_spoken_options(item)}", item)
+    item, said_in = definition.item(key), _said_in(definition)
+    return _answering(f"{said_in.say('options_are')} {_spoken_options(said_in, item)}", item)
 
 
 def ask(definition: Definition, key: str) -> Sentence:
     item = definition.item(key)
-    return _answering(ASK if item.kind == "choose" else item.ask, item)
+    return _answering(_said_in(definition).say("ask") if item.kind == "choose" else item.ask, item)
 
 
 def options_again(definition: Definition, key: str) -> Sentence:
     """No answer in time: the options again by voice, all of them on the screen (or, for an
     item without options, the question and the request again)."""
-    item = definition.item(key)
+    item, said_in = definition.item(key), _said_in(definition)
     if item.kind != "choose":
-        return _answering(f"{ASK_AGAIN} {item.question} {item.ask}", item)
-    return _answering(
-        f"{AGAIN} {_spoken_options(item)} You can also touch one on the screen.", item
-    )
+        return _answering(f"{said_in.say('ask_again')} {item.question} {item.ask}", item)
+    options = _spoken_options(said_in, item)
+    return _answering(f"{said_in.say('again')} {options} {said_in.say('touch_too')}", item)
 
 
 def clarify(definition: Definition, key: str) -> Sentence:
     """Not understood: repeat, offer the touch screen (if the item has options), offer to
     skip."""
-    item = definition.item(key)
+    item, said_in = definition.item(key), _said_in(definition)
+    sorry = said_in.say("clarify")
     if item.kind != "choose":
-        return _answering(f"{CLARIFY} {item.ask} Or say skip to go to the next question.", item)
-    return _answering(
-        f"{CLARIFY} {item.question} You can touch your answer "
-        "on the screen, or say skip to go to the next question.",
-        item,
-    )
+        return _answering(f"{sorry} {item.ask} {said_in.say('clarify_words')}", item)
+    return _answering(f"{sorry} {item.question} {said_in.say('clarify_choose')}", item)
 
 
-def sit_down() -> Sentence:
-    return Sentence("Please, sit down in front of me.", needs_person=False)
+def sit_down(definition: Definition | None = None) -> Sentence:
+    said_in = _said_in(definition) if definition is not None else _ENGLISH
+    return Sentence(said_in.say("sit_down"), needs_person=False)
 
 
-def call_clinician() -> Sentence:
-    return Sentence("I will ask the doctor to come and help us. We can go on meanwhile.")
+def call_clinician(definition: Definition | None = None) -> Sentence:
+    said_in = _said_in(definition) if definition is not None else _ENGLISH
+    return Sentence(said_in.say("call_clinician"))
 
 
 def goodbye(definition: Definition, patient: str) -> Sentence:

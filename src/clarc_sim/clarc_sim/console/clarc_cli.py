@@ -109,6 +109,9 @@ def scenario(args: argparse.Namespace) -> int:
     if args.test:
         print(s.test)
         return 0
+    if args.language:
+        print(s.language)
+        return 0
     print(f"patient: {s.patient}")
     if s.test == "get_up_and_go":
         m = s.motion
@@ -123,7 +126,7 @@ def scenario(args: argparse.Namespace) -> int:
             extras.append(f"walks out of view {s.leave:g} s after go")
         print(f"  ({', '.join(extras)})")
         return 0
-    print(f"test: {s.test}")
+    print(f"test: {s.test}" + (f", in {s.language}" if s.language != "en" else ""))
     for item in definitions.load(s.test).order:
         p = s.plan(item)
         what = "silent" if p.via == "silence" else f"{p.answer} points by {p.via}"
@@ -139,6 +142,15 @@ def start(args: argparse.Namespace) -> int:
     as it runs (a request made while PELEA is down or restarting waits there)."""
     from clarc_agents.test_node import request_start
     from dsr_graph.exceptions import DsrError
+
+    shipped = definitions.languages(args.test) if args.test in definitions.tests() else ("en",)
+    if args.language not in shipped:
+        print(
+            f"clarc: error: {args.test} is not shipped in {args.language!r} "
+            f"(it is in: {', '.join(shipped)})",
+            file=sys.stderr,
+        )
+        return 2
     from dsr_graph.ros.agent import DsrAgent
     from dsr_graph.ros.session import RosSession
 
@@ -149,7 +161,9 @@ def start(args: argparse.Namespace) -> int:
             agent = DsrAgent(describe=False)  # a one-shot tool
             agent.setup(ros.node, timeout_sec=args.timeout)
             ros.spin_until(lambda: agent.ready, args.timeout, "the DSR server")
-            request = request_start(args.patient, now(), args.test, args.patient_id, agent.graph)
+            request = request_start(
+                args.patient, now(), args.test, args.patient_id, agent.graph, args.language
+            )
             agent.send(request, verdicts.append)
             ros.spin_until(lambda: bool(verdicts), args.timeout, "the DSR server's verdict")
             # told before the session closes: a DDS goodbye that hangs ends the tool with this
@@ -157,7 +171,8 @@ def start(args: argparse.Namespace) -> int:
                 print(f"clarc: error: Start refused: {verdicts[0].error}", file=sys.stderr)
                 ros.stuck_exit = 1
             else:
-                print(f"Start pressed for {args.patient} ({args.test})")
+                in_language = f", in {args.language}" if args.language != "en" else ""
+                print(f"Start pressed for {args.patient} ({args.test}{in_language})")
                 ros.stuck_exit = 0
     except DsrError as e:
         print(f"clarc: error: {e}", file=sys.stderr)
@@ -179,11 +194,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file")
     p.add_argument("--patient", action="store_true", help="print only the patient's name")
     p.add_argument("--test", action="store_true", help="print only the test it is for")
+    p.add_argument("--language", action="store_true", help="print only the test's language")
     p.set_defaults(run=scenario)
     p = sub.add_parser("start", help="press Start for a patient")
     p.add_argument("patient")
     p.add_argument("--test", default="barthel", choices=tests_known(), help="which test (barthel)")
     p.add_argument("--patient-id", type=int, help="the patient's record in CGAmed's store")
+    p.add_argument(
+        "--language", default="en", help="what the test is asked in (en; es for the Barthel)"
+    )
     p.add_argument("--timeout", type=float, default=20.0)
     p.set_defaults(run=start)
     user_cli.add_parser(sub)

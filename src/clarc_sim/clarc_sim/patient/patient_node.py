@@ -60,8 +60,8 @@ class SimulatedPatient(DsrNode):
     def setup(self) -> None:
         scenario = load(param(self, "scenario"))  # a ScenarioError ends the node, naming the line
         if scenario.test in definitions.tests():
-            known = values(date.today(), tuple(param(self, "place")))
-            definition = definitions.load(scenario.test).filled(known)
+            known = values(date.today(), tuple(param(self, "place")), scenario.language)
+            definition = definitions.load(scenario.test, scenario.language).filled(known)
             self.script = PatientScript(scenario, definition, float_param(self, "reaction"))
         self._voice = self.create_publisher(String, sim_topics.PATIENT_VOICE, qos_stream())
         self._touch = self.create_publisher(String, sim_topics.PATIENT_TOUCH, qos_stream())

@@ -33,6 +33,10 @@ patient who does not close them, silent or not, is asked twice and scores 0). Th
 points of a writing or a copying are what the clinician would give the drawing (a line of
 handwriting or the pentagons for 1, a scribble for 0): they are scored in the dashboard.
 
+A questionnaire is asked and answered in English unless the scenario says another language its
+test is shipped in (``language: es``: the Barthel, clarc_agents/definitions/es/); the patient
+then says its answers in that language.
+
 With ``--audio`` the patient speaks with its own voice in a noisy room (optional, these defaults):
 
     voice: {name: en-us, rate: 150, pitch: 50}   # an espeak-ng voice, words a minute, 0-99
@@ -125,6 +129,7 @@ class Scenario:
     voice: tuple[str, int, int] = ("en-us", 150, 50)  # --audio: espeak-ng voice, wpm, pitch
     noise: str = "white"  # --audio: the room's noise
     snr_db: float = 30.0  # --audio: the patient's voice over the room's noise
+    language: str = "en"  # what the test is asked and answered in
 
     def plan(self, item: str) -> ItemPlan:
         return self.items[item]
@@ -142,11 +147,21 @@ def parse(text: str, source: str = "scenario") -> Scenario:
         raise _err(source, node, f"test must be one of {', '.join(tests)}, got {test!r}")
     if test == TIMED:
         return _get_up_and_go(source, root)
-    definition = definitions.load(test)
+    language = "en"
     sound: dict[str, Any] = {}
     for key_node, value_node in root.value:
         key = _scalar(key_node)
         if key == "test":
+            continue
+        if key == "language":
+            language = _scalar(value_node)
+            shipped = definitions.languages(test)
+            if language not in shipped:
+                raise _err(
+                    source,
+                    value_node,
+                    f"{test} is shipped in {', '.join(shipped)}, not in {language!r}",
+                )
             continue
         if key == "patient":
             patient = _scalar(value_node)
@@ -160,11 +175,15 @@ def parse(text: str, source: str = "scenario") -> Scenario:
             raise _err(
                 source,
                 key_node,
-                f"unknown key {key!r} (a scenario has patient and items, and voice and room)",
+                f"unknown key {key!r} (a scenario has patient and items, and language, voice "
+                "and room)",
             )
     if patient is None:
         raise _err(source, root, 'missing "patient"')
-    scenario = Scenario(patient.strip(), source=source, test=test, **_sound(source, sound))
+    definition = definitions.load(test, language)
+    scenario = Scenario(
+        patient.strip(), source=source, test=test, language=language, **_sound(source, sound)
+    )
     listed: dict[str, ItemPlan] = {}
     if items_node is not None and not (
         isinstance(items_node, yaml.ScalarNode) and _scalar(items_node) is None

@@ -2,23 +2,26 @@
 
 The patient reacts to sentences, as a person would: it recognises the question of an item, the
 request to answer, the options said again, the question asked again, the "did not
-understand" repetition and "I heard: ... Is that right?" (yes when it is the option meant), and
-answers according to its scenario, the way the item is answered
-(``answering.py``). ``heard(text, event)`` returns the actions to take, each after a delay in
-seconds of a real session (the node scales them).
+understand" repetition and "I heard: ... Is that right?" (yes when it is the option meant), in
+the test's language (the robot's sentences of clarc_agents/languages/<code>.yaml), and answers
+according to its scenario, the way the item is answered (``answering.py``). ``heard(text,
+event)`` returns the actions to take, each after a delay in seconds of a real session (the node
+scales them).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from clarc_agents import languages
 from clarc_agents.definitions import Definition
-from clarc_agents.questionnaire import confirmation
-from clarc_agents.questionnaire.sentences import AGAIN, ASK, ASK_AGAIN, CLARIFY
 from clarc_sim.patient.answering import drawing_for, touches_for, words_for
 from clarc_sim.patient.scenario import Scenario
 
-GARBLED = "mmh... the, eh... brr"
+# what the patient says of its own, in each language: a mumble no recogniser makes an answer
+# of, and its yes and no to a read-back answer
+GARBLED = {"en": "mmh... the, eh... brr", "es": "mmm... el, eh... brr"}
+CONFIRMS = {"en": ("Yes, that's right.", "No."), "es": ("Sí, eso es.", "No.")}
 EYES_CLOSED = 3.0  # seconds the patient keeps the eyes closed when asked to
 TOUCH_GAP = 0.8  # seconds between the shapes touched one after the other
 
@@ -39,6 +42,11 @@ class PatientScript:
         knows of the date and the place)."""
         self.scenario = scenario
         self.definition = definition
+        self.said_in = said_in = languages.get(definition.language)
+        self.asked = said_in.sentences["introduce"].split("{")[0]  # "Question "
+        self.ask = said_in.say("ask")
+        self.again = tuple(said_in.say(k) for k in ("again", "clarify", "ask_again"))
+        self.heard_prefix = said_in.say("heard")  # "I heard:"
         self.reaction = reaction
         self.item: str | None = None  # the item being asked, from the last question heard
         self._left: set[str] = set()
@@ -53,7 +61,7 @@ class PatientScript:
             (
                 i.key
                 for i in self.definition.items
-                if i.question in text and text.startswith("Question")
+                if i.question in text and text.startswith(self.asked)
             ),
             None,
         )
@@ -67,18 +75,19 @@ class PatientScript:
         if event != "end" or self.item is None:
             return []
         spec = self.definition.item(self.item)
-        if text.startswith(confirmation.HEARD):  # "I heard: ... Is that right?"
+        if text.startswith(self.heard_prefix):  # "I heard: ... Is that right?"
             return self._confirm(spec, text)
-        if text.startswith(ASK) or (spec.kind != "choose" and text == spec.ask):
+        if text.startswith(self.ask) or (spec.kind != "choose" and text == spec.ask):
             if self.item not in self._first_done:
                 self._first_done.add(self.item)
                 first = self.scenario.plan(self.item).first
                 if first == "silence":
                     return []
                 if first == "garbled":
-                    return [Action("say", self.reaction, text=GARBLED)]
+                    mumble = GARBLED.get(self.said_in.code, GARBLED["en"])
+                    return [Action("say", self.reaction, text=mumble)]
             return self._answer()
-        if text.startswith((AGAIN, CLARIFY, ASK_AGAIN)):
+        if text.startswith(self.again):
             return self._answer()
         return []
 
@@ -86,8 +95,9 @@ class PatientScript:
         """Yes if the robot heard the option the patient meant, else no."""
         plan = self.scenario.plan(self.item)
         meant = spec.option(plan.answer) if spec.kind == "choose" else None
-        right = meant is not None and text.startswith(f"{confirmation.HEARD} {meant.text}.")
-        return [Action("say", self.reaction, text="Yes, that's right." if right else "No.")]
+        right = meant is not None and text.startswith(f"{self.heard_prefix} {meant.text}.")
+        yes, no = CONFIRMS.get(self.said_in.code, CONFIRMS["en"])
+        return [Action("say", self.reaction, text=yes if right else no)]
 
     def _answer(self) -> list[Action]:
         plan = self.scenario.plan(self.item)
