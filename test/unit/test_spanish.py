@@ -202,3 +202,16 @@ def test_a_start_asks_for_the_language_and_one_not_shipped_is_not_taken():
     robot.bus.run(until=lambda: bool(robot.said), limit=30.0)
     assert robot.hle.running and robot.hle.definition.language == "es"
     assert robot.said[0].startswith("Hola Ana, soy CLARC.")
+
+
+def test_after_a_test_in_spanish_a_start_naming_no_language_is_in_english():
+    from local_clarc import Robot
+
+    robot = Robot()
+    graph = robot.pelea_link.graph
+    robot.hle._in_language("es")
+    assert robot.hle.template.language == "es"
+    robot.hle._in_language("xx")  # not shipped: stays as it was, saying so
+    assert robot.hle.template.language == "es"
+    robot.hle._begin(graph, "Ana")  # no requested_language on the test node
+    assert robot.hle.definition.language == "en"

@@ -1,10 +1,11 @@
-"""The words the understanding rules read, per language (pure): each language is a data file,
+"""A language the robot asks and understands questionnaires in (pure): the words the
+understanding rules read and the robot's own sentences around the items, as a data file,
 ``clarc_agents/languages/<code>.yaml`` (format ``clarc-language``, docs/FORMAT.md "Languages"),
-read strictly, so the rules of ``answers.py`` hold in every language and a language is added as
-data. A mistake is a ``DefinitionError`` naming the file and the line.
+read strictly, so the rules of ``questionnaire/answers.py`` hold in every language and a
+language is added as data. A mistake is a ``DefinitionError`` naming the file and the line.
 
-    spanish = language.get("es")
-    spanish.weekdays, spanish.negators, spanish.phrases("unknowing")
+    spanish = languages.get("es")
+    spanish.weekdays, spanish.words("negators"), spanish.say("heard")
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ from clarc_agents.exceptions import DefinitionError
 from clarc_agents.yaml_lines import compose, err, fields, scalar
 
 DEFAULT = "en"
-DE = DefinitionError
+DE = DefinitionError  # every mistake in a language file
 WORD_LISTS = (
     "skip",
     "hesitations",
@@ -85,10 +86,6 @@ class Language:
     def words(self, name: str) -> frozenset[str]:
         """A list of single words, as a set (``negators``, ``clause_ends``, ...)."""
         return frozenset(self.lists[name])
-
-    def phrases(self, name: str) -> tuple[tuple[str, ...], ...]:
-        """A list of phrases, each as the tokens it is said in ("i don't know")."""
-        return tuple(tuple(p.split()) for p in self.lists[name])
 
     def season(self, month: int) -> tuple[str, ...]:
         """The ways of saying the season of ``month`` (meteorological, northern hemisphere)."""

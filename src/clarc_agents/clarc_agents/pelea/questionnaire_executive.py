@@ -108,7 +108,8 @@ class QuestionnaireExecutive(HighLevelExecutive):
         # date and the place when it runs
         if definition is None:
             definition = definitions.load(self.KIND)
-        self.template = self.definition = definition
+        # base: the language a Start that names none is asked in
+        self.base = self.template = self.definition = definition
         self.KIND = definition.test
         self.place = tuple(place)
         self.record: QuestionnaireRecord | None = None
@@ -123,11 +124,17 @@ class QuestionnaireExecutive(HighLevelExecutive):
 
     def _in_language(self, code: str) -> None:
         """The test asked in ``code`` from now on (its definition shipped in it)."""
-        if code != self.template.language:
-            self.template = definitions.load(self.KIND, code)
+        if code == self.template.language:
+            return
+        if code not in self.languages:  # a Start for it is refused (nodes/pelea_node.py)
+            self.log.error(f"{self.KIND} is not shipped in {code!r}: asked in the last one")
+            return
+        self.template = (
+            self.base if code == self.base.language else definitions.load(self.KIND, code)
+        )
 
     def _begin(self, graph: Graph, patient: str) -> dict[str, Any]:
-        self._in_language(test_node.requested_language(graph, self.template.language))
+        self._in_language(test_node.requested_language(graph, self.base.language))
         self.definition = self._today()
         self.record = QuestionnaireRecord(self.definition, patient, self.port.now())
         self.state = planning.initial_state(test_node.person_present(graph), self.definition)
@@ -135,7 +142,7 @@ class QuestionnaireExecutive(HighLevelExecutive):
 
     def _restore(self, graph: Graph) -> dict[str, Any]:
         """Goes on from the DSR, asking the item in progress again."""
-        self._in_language(str(graph.node("test").attrs.get("language", self.template.language)))
+        self._in_language(str(graph.node("test").attrs.get("language", self.base.language)))
         self.definition = self._today()
         self.record = low_to_high.record(graph, self.definition)
         self.state = low_to_high.facts(graph, self.definition)

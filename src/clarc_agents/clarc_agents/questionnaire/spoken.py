@@ -58,7 +58,7 @@ _TENS_ES = "treinta|cuarenta|cincuenta|sesenta|setenta|ochenta|noventa"
 _ARTICLE = {"es": re.compile(rf"\b((?:(?:{_TENS_ES}) y |ciento )?)(un|una)\b")}
 _KEPT = "qxkeptqx"  # a word of no language: an article text2num must leave alone
 # an ordinal as text2num writes it ("2ª", "1º", "1.ᵉʳ"): the tokens' ordinal ("2nd", "1st")
-_ORDINAL_MARK = re.compile(r"(\d+)\.?(?:ª|º|ᵉʳ|ᵃ|ᵒ|\.ª|\.º)")
+_ORDINAL_MARK = re.compile(r"(\d+)\.?(?:ª|º|ᵉʳ|ᵃ|ᵒ)")
 
 
 def _digits_by_text2num(text: str, language: str) -> str:
