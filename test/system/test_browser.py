@@ -20,8 +20,8 @@ from ros_processes import (
 
 # scripts/test.sh runs these with no other test beside them: Chromium's renderer crashed
 # ("Target crashed", at a tap on a skeleton joint) in runs where another test loaded the
-# machine, and not in 8 runs of that test under busy loops alone; its cause is not found yet
-# (issue 36)
+# machine, and once (2026-12-05) alone under two busy loops; not in 28 other runs under load.
+# Its cause is not found yet (issue 36): a failure inside the page prints Chromium's log.
 pytestmark = pytest.mark.alone
 
 REPO = Path(__file__).resolve().parents[2]
