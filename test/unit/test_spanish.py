@@ -85,6 +85,13 @@ def test_not_knowing_mumbling_or_a_denied_option_chooses_nothing(said):
     assert understand(BARTHEL.item("feeding"), said).kind == "not_understood"
 
 
+def test_the_simulated_patient_s_mumble_is_no_answer_in_spanish():
+    from clarc_sim.patient.script import GARBLED
+
+    assert understand(SERIAL, GARBLED["es"]).kind == "not_understood"
+    assert understand(BARTHEL.item("feeding"), GARBLED["es"]).kind == "not_understood"
+
+
 def test_asking_to_skip_in_spanish():
     assert understand(BARTHEL.item("stairs"), "siguiente pregunta").kind == "skip"
 

@@ -38,15 +38,6 @@ def item_in(code: str) -> Item:
     )
 
 
-def heard(code: str) -> str:
-    """How a confirmation starts ("I heard:"; the simulated patient knows it so)."""
-    return languages.get(code).say("heard")
-
-
-ITEM = item_in(languages.DEFAULT)
-HEARD = heard(languages.DEFAULT)
-
-
 def sentence(item: Item, points: int) -> Sentence:
     """What the robot asks to confirm that ``item``'s answer is the option worth ``points``, in
     the item's language."""
