@@ -129,8 +129,10 @@ def test_a_language_that_is_not_shipped_is_named(tmp_path):
     bad = english.replace("test: barthel", "test: barthel\nlanguage: xx", 1)
     with pytest.raises(DefinitionError, match=r"barthel\.yaml:\d+: no language 'xx'"):
         definitions.parse(bad, "barthel.yaml")
-    with pytest.raises(DefinitionError, match="shipped in: en, es"):
+    with pytest.raises(DefinitionError, match=r"no language 'fr' \(there are: en, es\)"):
         definitions.load("barthel", "fr")
+    with pytest.raises(DefinitionError, match=r"'lawton' in 'es' \(it is shipped in: en\)"):
+        definitions.load("lawton", "es")
 
 
 def test_a_language_file_is_read_strictly():
@@ -159,8 +161,8 @@ def test_clarc_understand_in_spanish(capsys):
     assert code == 0 and doc["points"] == 5 and doc["language"] == "es", doc
     code, out, _ = run("barthel", "feeding", "No puedo comer yo solo", "--language", "es")
     assert code == 0 and out.startswith("barthel feeding (choose): answer, 0 of 10 points")
-    code, _, err = run("barthel", "feeding", "uno", "--language", "fr")
-    assert code == 1 and "shipped in: en, es" in err
+    code, _, err = run("lawton", "telephone", "uno", "--language", "es")
+    assert code == 1 and "shipped in: en" in err
     mine = definitions.path_of("barthel", "es")
     code, _, err = run(str(mine), "feeding", "uno", "--language", "en")
     assert code == 1 and "is in 'es', not 'en'" in err

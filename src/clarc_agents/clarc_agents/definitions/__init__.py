@@ -210,6 +210,7 @@ def languages(test: str) -> tuple[str, ...]:
 @cache
 def load(test: str, language: str = "en") -> Definition:
     """The definition of ``test`` in ``language`` shipped with the package (read once)."""
+    lang.get(language)  # a language there is (never a path): DefinitionError naming them
     path = path_of(test, language)
     try:
         text = path.read_text(encoding="utf-8")
