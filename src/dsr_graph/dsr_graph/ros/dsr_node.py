@@ -60,7 +60,8 @@ class DsrNode(Node):
     # signal thread walks while the main thread, stopping on the same signal, frees it (a node's
     # SIGSEGV at a launch's end, 1 launch in 24 under load; core: rcl_trigger_guard_condition
     # on a freed guard condition in rclpy's signal thread). The events executor is woken by a
-    # callback the signal thread calls under a lock.
+    # callback the signal thread calls under a lock; it has a rarer crash of its own (the
+    # server once, inside spin_once as rclpy's signal thread shut the context down: issue 36).
     EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
     _spinner = None  # the executor spin_once made
