@@ -258,15 +258,14 @@ def _replaces(item: Item) -> Callable[[int, int], bool]:
 
 def self_corrected(
     said: list[str],
-    taken_back: list[str] | None = None,
-    replaces: Callable[[int, int], bool] = lambda before, after: True,
-    r: Rules | None = None,
+    taken_back: list[str],
+    replaces: Callable[[int, int], bool],
+    r: Rules,
 ) -> list[str]:
     """``said`` with each value the speaker took back left out, and the words that took it back:
     a value, a correction ("no", "sorry", "I mean", ...) and another value of its kind ("Tuesday,
     no, Thursday": Thursday; "78, I mean 79": 79; two numbers only if ``replaces`` them), each
     appended to ``taken_back``. Articles may stand on either side."""
-    r = r or rules_of(languages.DEFAULT)
     articles = r.lang.articles
     out = list(said)
     i = 0
@@ -289,8 +288,7 @@ def self_corrected(
         ):
             i += 1
             continue
-        if taken_back is not None:
-            taken_back.append(out[before])
+        taken_back.append(out[before])
         del out[before:after]
         i = before
     return out

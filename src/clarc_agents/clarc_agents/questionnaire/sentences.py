@@ -27,8 +27,9 @@ def explain(definition: Definition) -> Sentence:
     return Sentence(definition.sentence("explain"))
 
 
-def _said_in(definition: Definition) -> languages.Language:
-    return languages.get(definition.language)
+def _said_in(definition: Definition | None) -> languages.Language:
+    """The definition's language (English for a sentence of no test's)."""
+    return _ENGLISH if definition is None else languages.get(definition.language)
 
 
 def introduce(definition: Definition, key: str) -> Sentence:
@@ -94,13 +95,11 @@ def clarify(definition: Definition, key: str) -> Sentence:
 
 
 def sit_down(definition: Definition | None = None) -> Sentence:
-    said_in = _said_in(definition) if definition is not None else _ENGLISH
-    return Sentence(said_in.say("sit_down"), needs_person=False)
+    return Sentence(_said_in(definition).say("sit_down"), needs_person=False)
 
 
 def call_clinician(definition: Definition | None = None) -> Sentence:
-    said_in = _said_in(definition) if definition is not None else _ENGLISH
-    return Sentence(said_in.say("call_clinician"))
+    return Sentence(_said_in(definition).say("call_clinician"))
 
 
 def goodbye(definition: Definition, patient: str) -> Sentence:

@@ -18,7 +18,7 @@ import sys
 from datetime import date
 from pathlib import Path
 
-from clarc_agents import definitions
+from clarc_agents import definitions, languages
 from clarc_agents.exceptions import DefinitionError
 from clarc_agents.questionnaire.answers import Understanding, touched_in_order, understand
 from clarc_agents.questionnaire.orientation import DEFAULT_PLACE, values
@@ -34,9 +34,7 @@ def add_parser(sub) -> None:
     p.add_argument(
         "--language",
         default=None,
-        help="a shipped test's language, as each is shipped ("
-        + "; ".join(f"{t}: {', '.join(definitions.languages(t))}" for t in definitions.tests())
-        + "); default en",
+        help=f"the test's language ({', '.join(languages.codes())}); default en",
     )
     p.add_argument(
         "--date", type=date.fromisoformat, default=None, help="orientation's date (today)"
