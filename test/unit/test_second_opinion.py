@@ -76,6 +76,9 @@ def test_only_a_words_or_serial_answer_understood_but_unsure_is_worth_a_second_o
     assert not wanted(FEEDING, Heard("Two.", 0.3, 0, 1), 0.5)  # a choose item: read back
     assert not wanted(None, Heard("Two.", 0.3, 0, 1), 0.5)
     assert not wanted(SERIAL, Heard("Skip.", 0.3, 0, 1), 0.5)  # no answer to confirm
+    # heard in noise: two recognisers agreeing on noise prove nothing (span.QUIET_ENOUGH_DB)
+    assert not wanted(RECALL, Heard("Apple table, penny.", 0.42, 0, 1, snr_db=11.0), 0.5)
+    assert wanted(RECALL, Heard("Apple table, penny.", 0.42, 0, 1, snr_db=22.0), 0.5)
 
 
 class _Fixed:

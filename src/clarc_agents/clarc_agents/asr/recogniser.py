@@ -40,6 +40,7 @@ class Heard:
     end: float
     transcript: str = ""  # what free decoding wrote, when ``text`` is a candidate rescored
     confirmed_by: str = ""  # what a second recogniser heard, when it agreed (second_opinion.py)
+    snr_db: float | None = None  # the voice over the room, where the recogniser measured it
 
 
 class Recogniser:

@@ -31,6 +31,7 @@ from dataclasses import replace
 
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.searches import ABSORBERS, MUMBLING, SERIAL_SOAKING
+from clarc_agents.asr.span import too_noisy
 from clarc_agents.definitions import Item
 from clarc_agents.questionnaire.agreement import KINDS, independent, same_answer
 from clarc_agents.questionnaire.answers import understand
@@ -48,8 +49,10 @@ IGNORED = (frozenset(ABSORBERS) | frozenset(MUMBLING) | frozenset(SERIAL_SOAKING
 
 def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
     """Whether ``heard`` is worth a second opinion: a words or serial answer understood but not
-    sure."""
+    sure, heard in a room quiet enough (``span.too_noisy``)."""
     if item is None or item.kind not in KINDS or not heard.text:
+        return False
+    if too_noisy(item.kind, heard.snr_db):  # two recognisers hearing noise prove nothing
         return False
     return heard.confidence < min_confidence and understand(item, heard.text).kind == "answer"
 

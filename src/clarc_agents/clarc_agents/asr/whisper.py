@@ -24,7 +24,8 @@ voice above the room (``speech_span``); what Whisper writes on silence or noise 
 "You.") when the decoder itself says there was no speech (no-speech probability over
 ``NO_SPEECH`` and average log-probability under ``LOGPROB_FLOOR``, faster-whisper's own
 thresholds), or any time for its known phrases of silence. Never sure: a transcript saying
-one sentence three times in a row (``LOOP``), the decoder running away on noise.
+one sentence three times in a row (``LOOP``), the decoder running away on noise; a words or
+serial answer heard with the voice less than ``span.QUIET_ENOUGH_DB`` over the room.
 """
 
 from __future__ import annotations
@@ -32,14 +33,15 @@ from __future__ import annotations
 import math
 import os
 import re
+from dataclasses import replace
 
 import numpy as np
-from pocketsphinx import Vad
 
 from clarc_agents.asr.audio import RATE, dithered
 from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
 from clarc_agents.asr.models import WHISPER_TINY_EN, verified_folder
 from clarc_agents.asr.recogniser import Heard
+from clarc_agents.asr.span import MIN_SPEECH, speech_span, too_noisy
 from clarc_agents.definitions import Item
 from clarc_agents.questionnaire.answers import find_phrase
 from clarc_agents.questionnaire.spoken import words
@@ -64,38 +66,10 @@ RIVAL_ODDS = 0.1
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
 LOOP = 3  # one sentence this many times in a row is the decoder running away, not an answer
-MIN_SPEECH = 0.12  # s of frames above the room's level: less is a click or a breath
-MIN_RANGE = 6.0  # dB from the room to the loudest frame: less is a steady noise, not a voice
 # what Whisper writes where there is no speech (its training subtitles' closing lines)
 SILENCE_PHRASES = frozenset(
     {"thank you", "thanks", "thank you very much", "thanks for watching", "you", "bye", "okay"}
 )
-
-
-def speech_span(samples: np.ndarray) -> tuple[float, float, float]:
-    """(start, end, seconds of speech) of the voice above the room in ``samples``: 30 ms frames
-    that WebRTC's voice activity detector calls speech and that stand out of the room: 10 dB
-    over the quietest tenth and within 35 dB of the loudest, or within 15 dB of the loudest
-    (a clip cut tight at the speech has little room in it). A sound as level as a hiss (less
-    than ``MIN_RANGE`` dB from its quietest tenth to its loudest frame) is no speech at all."""
-    vad = Vad(Vad.LOOSE, RATE)
-    size = vad.frame_bytes // 2
-    n = len(samples) // size
-    everything = (0.0, len(samples) / RATE, 0.0)
-    if n == 0:
-        return everything
-    frames = samples[: n * size].astype(np.int16).reshape(n, size)
-    energy = np.mean(frames.astype(np.float64) ** 2, axis=1)
-    level = 10 * np.log10(energy + 1.0)
-    peak, floor = float(level.max()), float(np.quantile(level, 0.1))
-    if peak - floor < MIN_RANGE:
-        return everything
-    threshold = min(max(floor + 10.0, peak - 35.0), peak - 15.0)
-    voiced = [k for k in np.flatnonzero(level >= threshold) if vad.is_speech(frames[k].tobytes())]
-    if not voiced:
-        return everything
-    seconds = size / RATE
-    return voiced[0] * seconds, (voiced[-1] + 1) * seconds, len(voiced) * seconds
 
 
 def _said(text: str) -> str:
@@ -147,8 +121,16 @@ class WhisperRecogniser:
 
     def hear(self, samples: np.ndarray, expectation: Expectation) -> Heard:
         """What ``samples`` (16 kHz mono int16, one utterance) say, as ``expectation`` reads
-        them."""
-        start, end, voiced = speech_span(samples)
+        them, with the voice's level over the room."""
+        span = speech_span(samples)
+        heard = self._heard(samples, expectation, span.start, span.end, span.voiced)
+        if heard.text and too_noisy(expectation.kind, span.snr_db):
+            # in noise Whisper is sure of its mistakes (section 9b: "A pen for the pencil." at
+            # 10 dB): a list of words or numbers is asked again, then left to the clinician
+            heard = replace(heard, confidence=0.0)
+        return replace(heard, snr_db=span.snr_db)
+
+    def _heard(self, samples, expectation: Expectation, start, end, voiced) -> Heard:
         nothing = Heard("", 0.0, start, end)
         if voiced < MIN_SPEECH:
             return nothing

@@ -17,8 +17,8 @@ clips_dir (read-only; "" is $ROS_HOME/clarc/clips, ~/.ros/clarc/clips without RO
 Subscriptions: clarc/microphone/audio (audio_common_msgs/AudioDataStamped, 16 kHz mono S16LE),
 clarc/speaker/events, the DSR. Publishers: clarc/asr/voice ({"start"}: the patient began to
 speak, not the robot), clarc/asr ({"text", "confidence", "start", "end", "recogniser", "audio"
-(the clip's path), and "transcript" when a choose item's options were rescored: what free
-decoding wrote}).
+(the clip's path), "snr_db" (the voice's level over the room), and "transcript" when a choose
+item's options were rescored: what free decoding wrote}).
 """
 
 from __future__ import annotations
@@ -144,8 +144,13 @@ class AsrAgent(DsrNode):
             said["transcript"] = heard.transcript
         if heard.confirmed_by:
             said["confirmed_by"] = heard.confirmed_by
+        if heard.snr_db is not None:
+            said["snr_db"] = round(heard.snr_db, 1)
         what = "free" if how == "free" else f"{item.key}'s {how}"
-        self.get_logger().info(f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search)")
+        room = "" if heard.snr_db is None else f", {heard.snr_db:.0f} dB over the room"
+        self.get_logger().info(
+            f"heard {heard.text!r} ({heard.confidence:.2f}, {what} search{room})"
+        )
         publish_json(self._asr, said)
 
     def close(self) -> None:

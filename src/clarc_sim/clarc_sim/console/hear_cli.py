@@ -75,6 +75,8 @@ def hear(
         out["transcript"] = heard.transcript
     if heard.confirmed_by:
         out["confirmed_by"] = heard.confirmed_by
+    if heard.snr_db is not None:
+        out["snr_db"] = round(heard.snr_db, 1)
     if key is not None:
         understood = explain(test, key, heard.text, today, DEFAULT_PLACE)
         out |= {k: understood[k] for k in ("test", "item", "understood", "points", "max")}
@@ -95,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
         return 0
     text = out["text"] or "(nothing)"
     how = f"{out['recogniser']}, {out['search']}"
+    if "snr_db" in out:
+        how += f", the voice {out['snr_db']:g} dB over the room"
     print(f"heard: {text}  (confidence {out['confidence']:.2f}, {how})")
     if "transcript" in out:
         print(f"  (free decoding wrote: {out['transcript'] or '(nothing)'})")
