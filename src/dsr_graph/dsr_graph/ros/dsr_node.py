@@ -12,12 +12,14 @@ used, a server that does not answer), a missing or out-of-range parameter, a bad
 port becomes one fatal log line and exit code 1 instead of a traceback; SIGINT and SIGTERM end
 it with exit 0, also while it waits for the DSR server.
 
-A node spins until ``stop_requested()``: rclpy's handler shuts ROS down on SIGINT and SIGTERM,
-but a signal it never saw (one that came before ``rclpy.init`` installed it, its
-KeyboardInterrupt swallowed on the way) left nodes spinning until launch killed them (seen
-under load: 4 of 300 stops in a stress of SIGINTs at random moments; ros2 launch's kinect in
-CI). ``StopSignals`` hears every stop from Python's own handler, which runs in either case;
-not one that lands during the imports, before ``run_node`` installs it.
+SIGINT and SIGTERM stop a node alike (``StopSignals``): the first raises KeyboardInterrupt in
+the main thread, which cuts a wait or a spin short, and a node spins until
+``stop_requested()``, which knows of a signal from the instant it came, also when its
+KeyboardInterrupt was swallowed on the way (seen under load, when rclpy's handler was the one:
+4 of 300 stops in a stress of SIGINTs at random moments left nodes spinning until launch killed
+them). rclpy's own handlers are off: they shut ROS down from a thread of their own, which
+crashed nodes at a launch's end (stop_signals.py). A signal that lands during the imports,
+before ``run_node`` installs the handlers, ends the process as Python's default does.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ from rclpy.exceptions import ParameterException
 from rclpy.executors import ExternalShutdownException
 from rclpy.experimental import EventsExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
@@ -55,13 +58,8 @@ class DsrNode(Node):
     # by side with itself on the old one, made a change visible at p50 0.76x and 0.86x in two
     # runs (bench --baseline). As on that one, a handler that blocks holds the node's other
     # callbacks (the recogniser runs in a thread of its own; the simulated devices' espeak
-    # calls block, as they did). It is also the one that stops safely on a signal: rclpy's
-    # wait-set executors register a SIGINT guard condition in a lock-free list that rclpy's
-    # signal thread walks while the main thread, stopping on the same signal, frees it (a node's
-    # SIGSEGV at a launch's end, 1 launch in 24 under load; core: rcl_trigger_guard_condition
-    # on a freed guard condition in rclpy's signal thread). The events executor is woken by a
-    # callback the signal thread calls under a lock; it has a rarer crash of its own (the
-    # server once, inside spin_once as rclpy's signal thread shut the context down: issue 36).
+    # calls block, as they did). rclpy's signal thread, which crashed both executors at a
+    # launch's end, is off in every node (stop_signals.py).
     EXECUTOR: Callable = EventsExecutor
     stops: StopSignals | None = None  # run_node's: the process's SIGINT and SIGTERM
     _spinner = None  # the executor spin_once made
@@ -159,8 +157,10 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     faulthandler.enable()
     set_private_umask()  # whatever the node writes is its user's alone
     process_gc.use_dsr_policy()
-    stops = StopSignals().install()  # before rclpy.init, which chains to it
-    rclpy.init(args=args)
+    stops = StopSignals().install()
+    # rclpy's handlers shut the context down from a thread of theirs while the main thread
+    # stops on the same signal (stop_signals.py): only the main thread stops ROS here
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
     node: DsrNode | None = None
     DsrNode.stops = stops
     try:

@@ -1,12 +1,17 @@
-"""Whether SIGINT or SIGTERM has arrived, known from the instant it did.
+"""SIGINT and SIGTERM, as every node of the suite takes them: the first one raises
+KeyboardInterrupt in the main thread (a wait or a spin cut short, as Ctrl-C does), and whether
+one has arrived is known from the instant it did (``arrived()``).
 
-rclpy's handler shuts the context down from a thread of its own, so an exception the signal
-causes in the main thread can come before ``rclpy.ok()`` turns false. Seen at launches' closing
-SIGINT: the KeyboardInterrupt raised inside a message's conversion comes out of rclpy's
-``take_message`` as pybind's "RuntimeError: Unable to convert call argument '0'", which looked
-like a crash (exit 1). Python's own C handler writes the signal's number to the wakeup fd
-before it returns, and rclpy calls the handler that was there before ``rclpy.init``, so the
-byte is in the socket before anything the signal causes.
+rclpy's own handlers are off (``run_node`` inits with ``SignalHandlerOptions.NO``): they shut
+the context down from a signal thread of rclpy's while the main thread, stopping on the same
+signal, frees what that thread walks (the wait-set executors' guard conditions: a SIGSEGV at a
+launch's end, core in rcl_trigger_guard_condition; and once the events executor's, inside its
+spin_once). With them off, only the main thread stops ROS, after it has left its spin.
+
+Python's own C handler writes the signal's number to the wakeup fd before anything the signal
+causes, so ``arrived()`` is true even where the KeyboardInterrupt came out disguised (seen: one
+raised inside a message's conversion came out of rclpy's ``take_message`` as pybind's
+"RuntimeError: Unable to convert call argument '0'").
 """
 
 from __future__ import annotations
@@ -19,8 +24,7 @@ STOPS = (signal.SIGINT, signal.SIGTERM)
 
 
 def _once_then_default(signum, _frame) -> None:
-    # rclpy's handler, which ran first, is stopping the node; a second one ends the process
-    # as the signal's default action would have without us.
+    # the process is stopping already; a second one ends it as the signal's default action does
     signal.signal(signum, signal.SIG_DFL)
 
 
@@ -36,10 +40,11 @@ def stopping_anyway() -> None:
 
 
 class StopSignals:
-    """Install before ``rclpy.init`` (rclpy chains to what it finds); ``arrived()`` after."""
+    """Install in the main thread, before ``rclpy.init``; ``arrived()`` after."""
 
     def __init__(self) -> None:
         self._seen = False
+        self._stopping = False
         self._reader: socket.socket | None = None
         self._writer: socket.socket | None = None
         self._handlers: dict[int, object] = {}
@@ -52,12 +57,17 @@ class StopSignals:
         self._reader.setblocking(False)
         self._writer.setblocking(False)
         for signum in STOPS:
-            handler = signal.getsignal(signum)
-            if not callable(handler):  # SIG_DFL or SIG_IGN: no Python handler, no wakeup byte
-                self._handlers[signum] = handler
-                signal.signal(signum, _once_then_default)
+            self._handlers[signum] = signal.getsignal(signum)
+            signal.signal(signum, self._on_stop)
         self._wakeup_fd = signal.set_wakeup_fd(self._writer.fileno(), warn_on_full_buffer=False)
         return self
+
+    def _on_stop(self, signum, frame) -> None:
+        if self._stopping:  # launch's SIGTERM after its SIGINT: the stop is under way
+            _once_then_default(signum, frame)
+            return
+        self._stopping = True
+        raise KeyboardInterrupt
 
     def arrived(self) -> bool:
         if self._seen or self._reader is None:
