@@ -258,7 +258,10 @@ if [ -n "$record" ]; then  # recording from the DSR's first state, before any ot
 fi
 
 scaled=(--ros-args -p time_scale:="$scale")
-start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio" -p voice_rate:="$voice_rate"
+robot_voice=en-us  # espeak-ng's voice for the test's language (scenario.py's voice_for)
+[ "$test_language" = en ] || robot_voice=$test_language
+start tts tts "${scaled[@]}" -p wav_dir:="$run/audio" -p audio:="$audio" -p voice_rate:="$voice_rate" \
+  -p voice:="$robot_voice"
 start microphone microphone "${scaled[@]}" -p audio:="$audio" -p wav_file:="$run/audio/microphone.wav"
 if [ "$audio" = true ]; then  # the recogniser, on the microphone's stream
   start asr asr --ros-args -p clips_dir:="$run/audio/clips"

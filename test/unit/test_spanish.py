@@ -224,3 +224,13 @@ def test_after_a_test_in_spanish_a_start_naming_no_language_is_in_english():
     assert robot.hle.template.language == "es"
     robot.hle._begin(graph, "Ana")  # no requested_language on the test node
     assert robot.hle.definition.language == "en"
+
+
+def test_a_scenario_in_spanish_is_said_in_a_spanish_voice_unless_it_names_one():
+    from clarc_sim.patient.scenario import load, parse, voice_for
+
+    assert load("scenarios/barthel_es.yaml").voice == ("es", 150, 50)
+    assert load("scenarios/default.yaml").voice == ("en-us", 150, 50)
+    named = parse("language: es\npatient: Carmen\nvoice: {name: es-419, rate: 130}\n")
+    assert named.voice == ("es-419", 130, 50)
+    assert (voice_for("es"), voice_for("en")) == ("es", "en-us")  # the robot's, launch.sh's too

@@ -4,6 +4,7 @@ heard as the options they chose, silence and noise are never an answer, and the 
 pinned one. Recordings are read from ../shared/data/speech (SOURCE.md there)."""
 
 import json
+from dataclasses import replace
 from datetime import date
 
 import numpy as np
@@ -204,3 +205,50 @@ def test_a_sentence_said_again_and_again_is_the_decoder_running_away():
     assert not _looping("Three, three.")  # a patient insisting
     assert not _looping("Option three. Option three.")
     assert not _looping("93. 86. 79. 72. 65.")
+
+
+def test_a_model_in_parts_is_joined_in_order_and_checked(tmp_path):
+    """A model too large for one package ships its weights in parts over several: joined in
+    the parts' order (part10 after part2), refused (and nothing left behind) when the joined
+    file is not the pinned one."""
+    import hashlib
+
+    from clarc_agents.asr.models import WHISPER_BASE, _joined
+
+    first, second = tmp_path / "a", tmp_path / "b"
+    first.mkdir(), second.mkdir()
+    chunks = {2: b"two-", 10: b"ten", 1: b"one-"}
+    for n, data in chunks.items():
+        ((first if n < 10 else second) / f"model.bin.part{n}").write_bytes(data)
+    digest = hashlib.sha256(b"one-two-ten").hexdigest()
+    probe = ModelFiles("probe", "p", "1", "p", ".", {"model.bin": digest})
+    _joined(probe, [first, second], "model.bin", tmp_path / "out")
+    assert (tmp_path / "out" / "model.bin").read_bytes() == b"one-two-ten"
+    wrong = replace(probe, sha256={"model.bin": "0" * 64})
+    with pytest.raises(ModelError, match="joined from 3 parts is not the pinned file"):
+        _joined(wrong, [first, second], "model.bin", tmp_path / "refused")
+    assert list((tmp_path / "refused").iterdir()) == []
+    # the multilingual base, joined at set-up from its two packages
+    assert (verified_folder(WHISPER_BASE) / "model.bin").stat().st_size > 100_000_000
+
+
+def test_an_answer_in_spanish_is_heard_by_the_multilingual_model():
+    """The paper's robot spoke Spanish: an item of the Spanish Barthel is heard by the
+    multilingual Whisper base, its context the Spanish sentences the robot said."""
+    needs_espeak()
+    from clarc_agents.asr.hearing import open_recogniser
+    from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
+
+    feeding = definitions.load("barthel", "es").item("feeding")
+    expected = expectation_for(feeding)
+    assert "Opción tres: Como solo." in expected.prompt and "Option" not in expected.prompt
+    assert {"tres", "opción dos", "No lo sé"} <= set(expected.candidates)
+    spanish = open_recogniser("whisper", "es")
+    for said, points in (("como solo", 10), ("la segunda", 5)):
+        speech = speak(said, Voice("es", 140)).astype(float)
+        signal = np.concatenate([np.zeros(RATE // 2), speech, np.zeros(RATE // 2)])
+        signal += RoomNoise("white", noise_level(speech_rms(speech), 30), 3).read(len(signal))
+        heard, _ = spanish.hear_item(mixed([signal]), feeding)
+        assert understand(feeding, heard.text).points == points and heard.confidence >= 0.5, heard
+    with pytest.raises(ValueError, match="pocketsphinx hears English only"):
+        open_recogniser("pocketsphinx", "es")

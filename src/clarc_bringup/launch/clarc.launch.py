@@ -61,6 +61,18 @@ def press_start(context):
     return [Node(package="clarc_sim", executable="clarc", name="clarc_start", arguments=arguments)]
 
 
+def speaker(context):
+    """The robot's speaker, in the voice of the scenario's language (as launch.sh does)."""
+    from clarc_sim.patient.scenario import load, voice_for
+
+    language = load(LaunchConfiguration("scenario").perform(context)).language
+    scale = LaunchConfiguration("time_scale")
+    audio = LaunchConfiguration("audio")
+    return [
+        supervised("clarc_sim", "tts", time_scale=scale, audio=audio, voice=voice_for(language))
+    ]
+
+
 def secure(context):
     """The keystore of this launch (made or completed: every node of the suite a key) and the
     variables every node reads (DSR_KEYSTORE, DSR_SECURITY); nothing with security:=off."""
@@ -155,7 +167,7 @@ def generate_launch_description() -> LaunchDescription:
             state_dir=LaunchConfiguration("state_dir"),
             policy_file=LaunchConfiguration("policy_file"),
         ),
-        supervised("clarc_sim", "tts", time_scale=scale, audio=LaunchConfiguration("audio")),
+        OpaqueFunction(function=speaker),
         supervised("clarc_sim", "microphone", time_scale=scale, audio=LaunchConfiguration("audio")),
         Node(
             package="clarc_agents",

@@ -25,14 +25,10 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
 
-from clarc_agents.asr.searches import ONES
+from clarc_agents import languages
 from clarc_agents.definitions import Item
 from clarc_agents.questionnaire.answers import understand
 from clarc_agents.questionnaire.spoken import words
-
-NO_OPTION = ("I don't know", "Skip")  # said to any item, never an option
-# how a choose item's options are read out and asked (questionnaire/sentences.py says them)
-ASKED = "Which option fits you best?"
 
 
 @dataclass(frozen=True)
@@ -67,16 +63,24 @@ def expectation_for(item: Item | None) -> Expectation | None:
         return None
     meaning = _meaning_for(item)
     if item.kind == "choose":
-        read_out = " ".join(f"Option {ONES[i + 1]}: {o.text}." for i, o in enumerate(item.options))
+        # as questionnaire/sentences.py reads them out, the numbers as words, as they are heard
+        said_in = languages.get(item.language)
+        numbers = said_in.option_numbers
+        read_out = [
+            said_in.say("option", number=numbers[i], text=o.text)
+            for i, o in enumerate(item.options)
+        ]
+        option = said_in.sentences["option"].split("{number}")[0].strip().lower()  # "option"
         candidates = [
             phrase
-            for i, option in enumerate(item.options)
-            for phrase in (ONES[i + 1], f"option {ONES[i + 1]}", option.text)
+            for i, o in enumerate(item.options)
+            for phrase in (numbers[i], f"{option} {numbers[i]}", o.text)
         ]
+        said = [item.question, said_in.say("options_are"), *read_out, said_in.say("ask")]
         return Expectation(
             "choose",
-            f"{item.question} The options are. {read_out} {ASKED}",
-            tuple(dict.fromkeys([*candidates, *NO_OPTION])),
+            " ".join(said),
+            tuple(dict.fromkeys([*candidates, *said_in.no_option])),
             meaning,
         )
     full = tuple(part.keywords[0] for part in item.parts if part.keywords)

@@ -15,16 +15,23 @@ MIN_CONFIDENCE = 0.5
 CONFIRM_CONFIDENCE = 0.2
 
 
-def open_recogniser(name: str = DEFAULT):
-    """The recogniser called ``name``; ValueError naming the choices for any other."""
+def open_recogniser(name: str = DEFAULT, language: str = "en"):
+    """The recogniser called ``name`` for answers in ``language``; ValueError naming the choices
+    for any other. pocketsphinx's model is American English: in another language Whisper hears
+    alone (the multilingual base), and pocketsphinx is no choice."""
+    if name not in RECOGNISERS:
+        raise ValueError(f"recogniser {name!r}: one of {', '.join(RECOGNISERS)}")
+    if name == "pocketsphinx" and language != "en":
+        raise ValueError(f"pocketsphinx hears English only, not {language!r}: use whisper")
     if name == "whisper":
-        from clarc_agents.asr.recogniser import Recogniser
-        from clarc_agents.asr.second_opinion import SecondOpinion
         from clarc_agents.asr.whisper import WhisperRecogniser
 
-        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE)
-    if name == "pocketsphinx":
+        if language != "en":
+            return WhisperRecogniser(language)
         from clarc_agents.asr.recogniser import Recogniser
+        from clarc_agents.asr.second_opinion import SecondOpinion
 
-        return Recogniser()
-    raise ValueError(f"recogniser {name!r}: one of {', '.join(RECOGNISERS)}")
+        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE)
+    from clarc_agents.asr.recogniser import Recogniser
+
+    return Recogniser()

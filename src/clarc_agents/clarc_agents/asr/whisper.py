@@ -1,5 +1,6 @@
-"""Whisper (tiny.en, through faster-whisper and CTranslate2, int8 on the CPU): an utterance's
-samples and what the DSR expects (``expectations.py``) in, what was heard out, with how sure.
+"""Whisper (tiny.en for English, the multilingual base for other languages, through
+faster-whisper and CTranslate2, int8 on the CPU): an utterance's samples and what the DSR
+expects (``expectations.py``) in, what was heard out, with how sure.
 
 How sure: beam search keeps its ``HYPOTHESES`` best transcripts with their log-probabilities;
 each is understood as the item's answer would be (``Expectation.meaning``), and the confidence
@@ -33,16 +34,18 @@ from __future__ import annotations
 import math
 import os
 import re
+import unicodedata
 from dataclasses import replace
 
 import numpy as np
 
 from clarc_agents.asr.audio import RATE, dithered
 from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
-from clarc_agents.asr.models import WHISPER_TINY_EN, verified_folder
+from clarc_agents.asr.models import WHISPER_BASE, WHISPER_TINY_EN, verified_folder
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.span import MIN_SPEECH, speech_span, too_noisy
 from clarc_agents.definitions import Item
+from clarc_agents.exceptions import ModelError
 from clarc_agents.questionnaire.answers import find_phrase
 from clarc_agents.questionnaire.spoken import words
 
@@ -66,30 +69,38 @@ RIVAL_ODDS = 0.1
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
 LOOP = 3  # one sentence this many times in a row is the decoder running away, not an answer
-# what Whisper writes where there is no speech (its training subtitles' closing lines)
+# what Whisper writes where there is no speech (its training subtitles' closing lines), in the
+# languages it hears for the robot, written as _said writes them
 SILENCE_PHRASES = frozenset(
     {"thank you", "thanks", "thank you very much", "thanks for watching", "you", "bye", "okay"}
+    | {"gracias", "muchas gracias", "adios", "hasta luego", "gracias por ver el video"}
+    | {"subtitulos realizados por la comunidad de amara org", "suscribete"}
 )
+# the model that hears each language: tiny.en heard English best (BENCHMARKS.md section 9b)
+MODEL_FOR = {"en": WHISPER_TINY_EN}
 
 
 def _said(text: str) -> str:
-    return re.sub(r"[^a-z' ]+", " ", text.lower()).strip()
+    folded = unicodedata.normalize("NFKD", text.lower()).encode("ascii", "ignore").decode()
+    return re.sub(r"[^a-z' ]+", " ", folded).strip()
 
 
 class WhisperRecogniser:
     name = "whisper"
 
-    def __init__(self, threads: int = 2):
+    def __init__(self, language: str = "en", threads: int = 2):
         from faster_whisper import WhisperModel
         from faster_whisper.tokenizer import Tokenizer
 
-        folder = verified_folder(WHISPER_TINY_EN)
+        folder = verified_folder(MODEL_FOR.get(language, WHISPER_BASE))
+        self.language = language
         self.model = WhisperModel(
             str(folder), device="cpu", compute_type="int8", cpu_threads=threads
         )
-        self.tokenizer = Tokenizer(
-            self.model.hf_tokenizer, self.model.model.is_multilingual, "transcribe", "en"
-        )
+        multilingual = self.model.model.is_multilingual
+        if not multilingual and language != "en":
+            raise ModelError(f"whisper: {folder.name} hears English only, not {language!r}")
+        self.tokenizer = Tokenizer(self.model.hf_tokenizer, multilingual, "transcribe", language)
 
     # -- the decoder's inputs ---------------------------------------------------------------
     def _encode(self, samples: np.ndarray):

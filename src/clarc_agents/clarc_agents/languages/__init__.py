@@ -40,6 +40,8 @@ WORD_LISTS = (
     "months",
     "yes_words",
     "no_words",
+    "option_numbers",
+    "no_option",
 )
 # what the robot says around a questionnaire's items (questionnaire/sentences.py, confirmation.py)
 SENTENCES = (

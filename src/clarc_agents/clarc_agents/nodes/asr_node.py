@@ -3,8 +3,10 @@ into utterances (voice activity detection, asr/utterances.py), recognises each b
 the DSR says is expected now (the awaited item, else the one on the screen just before its
 window opens): with Whisper, the item's sentences as the decoder's previous text and a choose
 item's options rescored (asr/whisper.py, asr/expectations.py); with pocketsphinx, a search
-restricted to them (asr/searches.py). It publishes what it heard, with its confidence and when
-it was said, on clarc/asr: Speech understands it and writes the answer, as from any recogniser.
+restricted to them (asr/searches.py). An item in a language other than English is heard by
+the multilingual Whisper base, loaded when the first such item is heard. It publishes what it
+heard, with its confidence and when it was said, on clarc/asr: Speech understands it and writes
+the answer, as from any recogniser.
 What the robot said itself (its speaker's start and end) is never published, nor what the
 recogniser's guards call no speech. It writes nothing in the DSR: it reads it. Recognition runs
 on a thread of its own, so the stream is never held up.
@@ -72,7 +74,9 @@ class AsrAgent(DsrNode):
     def setup(self) -> None:
         self.dsr.describe(can_do=["recognise speech"], listens_to=[topics.MICROPHONE_AUDIO])
         self.dsr.setup(self, timeout_sec=float_param(self, "setup_timeout"))
-        self._recogniser = open_recogniser(str(param(self, "recogniser")))  # a second or two
+        # English's now (a second or two), another language's when an item in it is heard
+        self._recognisers = {"en": open_recogniser(str(param(self, "recogniser")))}
+        self._language = "en"  # of the last item: what is said between items is heard in it
         self._clips = Clips(str(param(self, "clips_dir")) or default_folder())
         self._asr = self.create_publisher(String, topics.ASR, qos_stream())
         self._voice = self.create_publisher(String, topics.ASR_VOICE, qos_stream())
@@ -127,8 +131,19 @@ class AsrAgent(DsrNode):
             except Exception as e:  # noqa: BLE001 - a bad utterance never ends the thread
                 self.get_logger().error(f"recognition failed: {e!r}")
 
+    def _recogniser_for(self, item: Item | None):
+        """The recogniser for the item's language (loaded the first time: on this thread, so
+        the stream never waits)."""
+        self._language = item.language if item is not None else self._language
+        if self._language not in self._recognisers:
+            self.get_logger().info(f"loading the recogniser for {self._language!r}")
+            name = str(param(self, "recogniser"))
+            self._recognisers[self._language] = open_recogniser(name, self._language)
+        return self._recognisers[self._language]
+
     def _hear(self, utterance: Utterance, item: Item | None) -> None:
-        heard, how = self._recogniser.hear_item(utterance.samples, item)
+        recogniser = self._recogniser_for(item)
+        heard, how = recogniser.hear_item(utterance.samples, item)
         if not heard.text:
             self.get_logger().info("speech, but no words recognised in it")
             return
@@ -137,7 +152,7 @@ class AsrAgent(DsrNode):
             "confidence": round(heard.confidence, 3),
             "start": round(utterance.start + heard.start, 3),
             "end": round(utterance.start + heard.end, 3),
-            "recogniser": self._recogniser.name,
+            "recogniser": recogniser.name,
             "audio": self._clips.keep(utterance.samples, utterance.start),
         }
         if heard.transcript:

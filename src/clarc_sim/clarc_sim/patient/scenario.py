@@ -37,7 +37,8 @@ A questionnaire is asked and answered in English unless the scenario says anothe
 test is shipped in (``language: es``: the Barthel, clarc_agents/definitions/es/); the patient
 then says its answers in that language.
 
-With ``--audio`` the patient speaks with its own voice in a noisy room (optional, these defaults):
+With ``--audio`` the patient speaks with its own voice in a noisy room (optional, these defaults;
+the voice is the scenario's language's own, ``es`` for Spanish):
 
     voice: {name: en-us, rate: 150, pitch: 50}   # an espeak-ng voice, words a minute, 0-99
     room: {noise: white, snr_db: 30}             # white, babble or television; dB over the noise
@@ -84,6 +85,15 @@ from clarc_sim.patient.gait_motion import Motion
 NOISES = ("white", "babble", "television")
 
 TIMED = "get_up_and_go"
+
+
+def voice_for(language: str) -> str:
+    """espeak-ng's voice for a language a test is asked in: American English for English (the
+    suite's voice), else the language's own (``es``: Castilian Spanish); the robot's and, unless
+    a scenario names one, the patient's."""
+    return "en-us" if language == "en" else language
+
+
 MOTION_KEYS = ("reaction", "rise", "walk_out", "turn", "walk_back", "sit")
 GUG_KEYS = (
     "test",
@@ -182,7 +192,11 @@ def parse(text: str, source: str = "scenario") -> Scenario:
         raise _err(source, root, 'missing "patient"')
     definition = definitions.load(test, language)
     scenario = Scenario(
-        patient.strip(), source=source, test=test, language=language, **_sound(source, sound)
+        patient.strip(),
+        source=source,
+        test=test,
+        language=language,
+        **_sound(source, sound, language),
     )
     listed: dict[str, ItemPlan] = {}
     if items_node is not None and not (
@@ -207,13 +221,14 @@ def parse(text: str, source: str = "scenario") -> Scenario:
     return scenario
 
 
-def _sound(source: str, nodes: dict[str, Any]) -> dict[str, Any]:
-    """``voice: {name, rate, pitch}`` and ``room: {noise, snr_db}`` (--audio), checked."""
-    out: dict[str, Any] = {}
+def _sound(source: str, nodes: dict[str, Any], language: str) -> dict[str, Any]:
+    """``voice: {name, rate, pitch}`` and ``room: {noise, snr_db}`` (--audio), checked; the
+    voice is the language's own unless named."""
+    out: dict[str, Any] = {"voice": (voice_for(language), 150, 50)}
     if "voice" in nodes:
         keys = ("name", "rate", "pitch")
         got = fields(source, nodes["voice"], (), "voice: ", keys)
-        name, rate, pitch = ("en-us", 150, 50)
+        name, rate, pitch = out["voice"]
         for key, (_, node) in got.items():
             value = _scalar(node)
             if key == "name" and not (isinstance(value, str) and value.strip()):
