@@ -244,11 +244,32 @@ def test_an_answer_in_spanish_is_heard_by_the_multilingual_model():
     assert "Opción tres: Como solo." in expected.prompt and "Option" not in expected.prompt
     assert {"tres", "opción dos", "No lo sé"} <= set(expected.candidates)
     spanish = open_recogniser("whisper", "es")
-    for said, points in (("como solo", 10), ("la segunda", 5)):
+    barthel = definitions.load("barthel", "es")
+    # transfers' prompt is 97 tokens: CTranslate2 counts it in the decoding length (it once
+    # left none: "The maximum decoding length must be > 0", nothing heard)
+    for key, said, points in (
+        ("feeding", "como solo", 10),
+        ("feeding", "la segunda", 5),
+        ("transfers", "lo hago yo solo", 15),
+    ):
+        item = barthel.item(key)
         speech = speak(said, Voice("es", 140)).astype(float)
         signal = np.concatenate([np.zeros(RATE // 2), speech, np.zeros(RATE // 2)])
         signal += RoomNoise("white", noise_level(speech_rms(speech), 30), 3).read(len(signal))
-        heard, _ = spanish.hear_item(mixed([signal]), feeding)
-        assert understand(feeding, heard.text).points == points and heard.confidence >= 0.5, heard
+        heard, _ = spanish.hear_item(mixed([signal]), item)
+        assert understand(item, heard.text).points == points and heard.confidence >= 0.5, heard
     with pytest.raises(ValueError, match="pocketsphinx hears English only"):
         open_recogniser("pocketsphinx", "es")
+
+
+def test_a_mumble_is_never_rescored_into_an_option(whisper):
+    """The simulated patient's mumble, forced into a choose item's options, was heard as one
+    (the Spanish Barthel's dressing: option one at 0.78): a transcript of only hesitations is
+    not understood, and asked again."""
+    needs_espeak()
+    from clarc_sim.patient.script import GARBLED
+
+    dressing = definitions.load("barthel").item("dressing")
+    heard = whisper.hear(_in_white_noise(GARBLED["en"], 30.0, 2), expectation_for(dressing))
+    meaning = understand(dressing, heard.text)
+    assert meaning.kind != "answer" or heard.confidence < 0.5, heard

@@ -8,7 +8,8 @@
 - ``candidates`` (choose items): what chooses each option (its number, "option N", its text),
   and what is no option ("I don't know", "skip"), for closed-set rescoring when the free
   decoding means nothing (../shared/docs/SPEECH.md: 20 of 20 digits where the free one heard
-  "so", "see", "city").
+  "so", "see", "city"); never when it wrote only sounds of hesitation (``mumbled``): a mumble
+  forced into the options was heard as one, sure (the Spanish Barthel's dressing, at 0.78).
 - ``meaning(text)``: what a text would be worth as the answer (``understand``'s kind and
   points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
   add up, hypotheses that mean another one compete.
@@ -27,7 +28,7 @@ from dataclasses import dataclass, field
 
 from clarc_agents import languages
 from clarc_agents.definitions import Item
-from clarc_agents.questionnaire.answers import understand
+from clarc_agents.questionnaire.answers import only_hesitations, understand
 from clarc_agents.questionnaire.spoken import words
 
 
@@ -38,6 +39,8 @@ class Expectation:
     candidates: tuple[str, ...] = ()
     meaning: Callable[[str], Hashable | None] = field(default=lambda text: None, compare=False)
     full_marks: tuple[str, ...] = ()
+    # whether a text is only sounds of hesitation (a mumble: never rescored into an option)
+    mumbled: Callable[[str], bool] = field(default=lambda text: False, compare=False)
 
 
 # no item: hypotheses that are the same words agree
@@ -82,6 +85,7 @@ def expectation_for(item: Item | None) -> Expectation | None:
             " ".join(said),
             tuple(dict.fromkeys([*candidates, *said_in.no_option])),
             meaning,
+            mumbled=lambda text: only_hesitations(item, text),
         )
     full = tuple(part.keywords[0] for part in item.parts if part.keywords)
     if meaning(", ".join(full)) != ("answer", item.max):  # no one way to say it all

@@ -152,7 +152,7 @@ class WhisperRecogniser:
             [prompt],
             beam_size=BEAM,
             num_hypotheses=HYPOTHESES,
-            max_length=MAX_TOKENS,
+            max_length=len(prompt) + MAX_TOKENS,  # CTranslate2 counts the prompt in it
             return_scores=True,
             return_no_speech_prob=True,
         )[0]
@@ -173,6 +173,8 @@ class WhisperRecogniser:
             return Heard(best, 0.0, start, end)
         meaning = expectation.meaning
         if expectation.kind == "choose" and meaning(best) is None and expectation.candidates:
+            if expectation.mumbled(best):  # forced into the options, a mumble became one
+                return Heard(best, 0.0, start, end)
             return self._rescored(encoded, frames, prompt, expectation, best, start, end)
         confidence = _agreeing(hypotheses, meaning)
         if expectation.kind in TOKEN_DOUBT:

@@ -88,6 +88,13 @@ def _hesitating(rules: Rules, said: list[str]) -> bool:
     return all(t in rules.hesitations or (len(t) == 1 and t.isalpha()) for t in said)
 
 
+def only_hesitations(item: Item, text: str) -> bool:
+    """Whether ``text`` is only sounds of hesitation in ``item``'s language (a mumble)."""
+    r = rules_of(item.language)
+    said = r.said(text)
+    return bool(said) and _hesitating(r, said)
+
+
 @dataclass(frozen=True)
 class Understanding:
     kind: str  # "answer", "skip" or "not_understood"
