@@ -273,3 +273,19 @@ def test_a_mumble_is_never_rescored_into_an_option(whisper):
     heard = whisper.hear(_in_white_noise(GARBLED["en"], 30.0, 2), expectation_for(dressing))
     meaning = understand(dressing, heard.text)
     assert meaning.kind != "answer" or heard.confidence < 0.5, heard
+
+
+def test_clarc_hear_hears_a_recording_in_the_test_s_language(capsys, tmp_path):
+    needs_espeak()
+    import subprocess
+
+    from clarc_sim.console.clarc_cli import main
+
+    wav = tmp_path / "tres.wav"
+    subprocess.run(["espeak-ng", "-v", "es", "-w", str(wav), "la tercera"], check=True)
+    argv = ["hear", str(wav), "--test", "barthel", "--item", "feeding", "--language", "es"]
+    assert main([*argv, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["points"] == 10 and doc["sure"] and doc["recogniser"] == "whisper", doc
+    assert main([*argv[:-2], "--language", "es", "--recogniser", "pocketsphinx"]) == 1
+    assert "pocketsphinx hears English only" in capsys.readouterr().err

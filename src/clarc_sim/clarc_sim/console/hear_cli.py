@@ -1,5 +1,6 @@
-"""``clarc hear FILE [--test TEST --item ITEM] [--recogniser R] [--json]``: the recogniser the
-``asr`` node runs (Whisper unless ``--recogniser pocketsphinx``), on a recording (WAV, PCM 16
+"""``clarc hear FILE [--test TEST --item ITEM] [--language es] [--recogniser R] [--json]``: the
+recogniser the ``asr`` node runs (Whisper unless ``--recogniser pocketsphinx``; the
+multilingual Whisper base for a test in Spanish), on a recording (WAV, PCM 16
 bit, at 8, 16, 22.05 or 44.1 kHz or any other rate, resampled with soxr; or raw 16 kHz PCM 16
 bit, ``.raw``), biased as the node biases it while that item's answer is awaited (nothing
 expected without ``--item``), and how the text is understood for the item (``clarc
@@ -20,6 +21,7 @@ import sys
 import time
 from datetime import date
 
+from clarc_agents import languages
 from clarc_agents.asr.audio import RATE, read_audio
 from clarc_agents.asr.expectations import expectation_for
 from clarc_agents.asr.hearing import DEFAULT, MIN_CONFIDENCE, RECOGNISERS, open_recogniser
@@ -38,11 +40,23 @@ def add_parser(sub) -> None:
     )
     p.add_argument("--json", action="store_true", help="one JSON object")
     p.add_argument("--date", type=date.fromisoformat, default=None, help="orientation's date")
+    p.add_argument(
+        "--language",
+        choices=languages.codes(),
+        default=None,
+        help="the test's language (a shipped test's; default en): Spanish is heard by the "
+        "multilingual Whisper base",
+    )
     p.set_defaults(run=run)
 
 
 def hear(
-    path: str, test: str | None, key: str | None, today: date, recogniser: str = DEFAULT
+    path: str,
+    test: str | None,
+    key: str | None,
+    today: date,
+    recogniser: str = DEFAULT,
+    language: str | None = None,
 ) -> dict:
     """What ``clarc hear`` prints, as a dict."""
     if (test is None) != (key is None):
@@ -50,14 +64,19 @@ def hear(
     samples = read_audio(path)
     item = None
     if key is not None:
-        definition = definition_of(test).filled(values(today, DEFAULT_PLACE))
+        definition = definition_of(test, language)
+        definition = definition.filled(values(today, DEFAULT_PLACE, definition.language))
+        language = definition.language
         keys = [i.key for i in definition.items]
         if key not in keys:
             raise DefinitionError(f"{definition.test} has no item {key!r}; its items: {keys}")
         item = definition.item(key)
         if expectation_for(item) is None:
             raise DefinitionError(f"{definition.test}'s {key} is not answered by voice")
-    hearing = open_recogniser(recogniser)  # loads the model: only when hearing
+    try:
+        hearing = open_recogniser(recogniser, language or "en")  # loads the model: only now
+    except ValueError as e:
+        raise DefinitionError(str(e)) from None
     started = time.process_time()
     heard, how = hearing.hear_item(samples, item)
     cpu = time.process_time() - started
@@ -78,7 +97,7 @@ def hear(
     if heard.snr_db is not None:
         out["snr_db"] = round(heard.snr_db, 1)
     if key is not None:
-        understood = explain(test, key, heard.text, today, DEFAULT_PLACE)
+        understood = explain(test, key, heard.text, today, DEFAULT_PLACE, language)
         out |= {k: understood[k] for k in ("test", "item", "understood", "points", "max")}
         out["sure"] = heard.confidence >= MIN_CONFIDENCE
         if not out["sure"]:  # the robot would ask again: no points from it
@@ -88,7 +107,8 @@ def hear(
 
 def run(args: argparse.Namespace) -> int:
     try:
-        out = hear(args.file, args.test, args.item, args.date or date.today(), args.recogniser)
+        today = args.date or date.today()
+        out = hear(args.file, args.test, args.item, today, args.recogniser, args.language)
     except (AudioError, DefinitionError, ModelError, OSError) as e:
         print(f"clarc hear: {e}", file=sys.stderr)
         return 1
