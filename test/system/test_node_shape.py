@@ -337,3 +337,35 @@ def test_a_spinning_node_stops_on_a_signal_whose_interrupt_was_swallowed(ros, si
     proc.send_signal(sig)
     proc.wait(timeout=30)
     assert proc.returncode == 0 and "Traceback" not in ros.procs.log("missed")
+
+
+WHOLE = """
+import os, signal, sys, time
+from dsr_graph.ros.dsr_node import DsrNode, main_for
+
+class Whole(DsrNode):
+    NAME = "whole"
+
+    def setup(self):
+        self.create_timer(0.2, self.tick)
+
+    def tick(self):
+        os.kill(os.getpid(), signal.{sig})  # arrives inside the callback
+        time.sleep(0.2)  # Python runs the handler here: nothing may be raised
+        print("the callback ran to its end", flush=True)
+
+sys.exit(main_for(Whole)())
+"""
+
+
+@pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM"])
+def test_a_stop_never_tears_a_callback_in_half(ros, sig):
+    """A stop that lands while a callback runs is seen after it (a transaction is never half
+    applied); the events executor logged a KeyboardInterrupt raised there as FATAL."""
+    program = ros.tmp / "whole.py"
+    program.write_text(WHOLE.format(sig=sig))
+    proc = ros.procs.start("whole", ["python", program])
+    proc.wait(timeout=60)
+    log = ros.procs.log("whole")
+    assert proc.returncode == 0 and "the callback ran to its end" in log, log
+    assert "FATAL" not in log and "Traceback" not in log, log

@@ -13,8 +13,8 @@ port becomes one fatal log line and exit code 1 instead of a traceback; SIGINT a
 it with exit 0, also while it waits for the DSR server.
 
 SIGINT and SIGTERM stop a node alike (``StopSignals``): the first raises KeyboardInterrupt in
-the main thread, which cuts a wait or a spin short, and a node spins until
-``stop_requested()``, which knows of a signal from the instant it came, also when its
+the main thread, which cuts a wait short (never inside a spin's callbacks), and a node spins
+until ``stop_requested()``, which knows of a signal from the instant it came, also when its
 KeyboardInterrupt was swallowed on the way (seen under load, when rclpy's handler was the one:
 4 of 300 stops in a stress of SIGINTs at random moments left nodes spinning until launch killed
 them). rclpy's own handlers are off: they shut ROS down from a thread of their own, which
@@ -87,7 +87,14 @@ class DsrNode(Node):
         if self._spinner is None:
             self._spinner = type(self).EXECUTOR(context=self.context)  # a factory is not bound
             self._spinner.add_node(self)
-        self._spinner.spin_once(timeout_sec=timeout_sec)
+        stops = self.stops
+        if stops is not None:  # a stop is seen by stop_requested() after the turn, not inside it
+            stops.interrupting = False
+        try:
+            self._spinner.spin_once(timeout_sec=timeout_sec)
+        finally:
+            if stops is not None:
+                stops.interrupting = True
 
     def stop_spinning(self) -> None:
         if self._spinner is not None:

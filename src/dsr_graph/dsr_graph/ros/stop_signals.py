@@ -1,6 +1,8 @@
 """SIGINT and SIGTERM, as every node of the suite takes them: the first one raises
-KeyboardInterrupt in the main thread (a wait or a spin cut short, as Ctrl-C does), and whether
-one has arrived is known from the instant it did (``arrived()``).
+KeyboardInterrupt in the main thread (a wait cut short, as Ctrl-C does), but not while ROS
+callbacks run (``interrupting`` off in ``DsrNode.spin_once``: a callback is never torn in half,
+a transaction never half applied; the spin loop polls ``arrived()`` instead), and whether one
+has arrived is known from the instant it did (``arrived()``).
 
 rclpy's own handlers are off (``run_node`` inits with ``SignalHandlerOptions.NO``): they shut
 the context down from a signal thread of rclpy's while the main thread, stopping on the same
@@ -45,6 +47,7 @@ class StopSignals:
     def __init__(self) -> None:
         self._seen = False
         self._stopping = False
+        self.interrupting = True  # off while ROS callbacks run: the spin loop polls arrived()
         self._reader: socket.socket | None = None
         self._writer: socket.socket | None = None
         self._handlers: dict[int, object] = {}
@@ -67,7 +70,8 @@ class StopSignals:
             _once_then_default(signum, frame)
             return
         self._stopping = True
-        raise KeyboardInterrupt
+        if self.interrupting:
+            raise KeyboardInterrupt
 
     def arrived(self) -> bool:
         if self._seen or self._reader is None:
