@@ -205,6 +205,9 @@ def test_a_sentence_said_again_and_again_is_the_decoder_running_away():
     assert not _looping("Three, three.")  # a patient insisting
     assert not _looping("Option three. Option three.")
     assert not _looping("93. 86. 79. 72. 65.")
+    # a mumble Whisper wrote as one word again and again (rescored into an option, sure)
+    assert _looping("Eme, me, me, me, me, me...")
+    assert not _looping("No, no, no, I eat by myself.")
 
 
 def test_a_model_in_parts_is_joined_in_order_and_checked(tmp_path):

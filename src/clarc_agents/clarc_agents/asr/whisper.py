@@ -69,6 +69,7 @@ RIVAL_ODDS = 0.1
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
 LOOP = 3  # one sentence this many times in a row is the decoder running away, not an answer
+WORD_LOOP = 4  # and one word this many times in a row ("Eme, me, me, me, me, me..." for a mumble)
 # what Whisper writes where there is no speech (its training subtitles' closing lines), in the
 # languages it hears for the robot, written as _said writes them
 SILENCE_PHRASES = frozenset(
@@ -263,15 +264,22 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
 
 
 def _looping(text: str) -> bool:
-    """Whether ``text`` says one sentence ``LOOP`` times or more in a row: Whisper's known
-    runaway on noise ("Option three. Option three. Option three." in babble, scored as option
-    three; faster-whisper guards the same with a compression ratio, which a short answer never
-    reaches)."""
+    """Whether ``text`` says one sentence ``LOOP`` times or more in a row, or one word
+    ``WORD_LOOP`` times: Whisper's known runaway on noise ("Option three. Option three. Option
+    three." in babble, scored as option three) and on a mumble ("Eme, me, me, me, me, me...",
+    which rescoring then forced into an option, sure: the Spanish Barthel's dressing);
+    faster-whisper guards the same with a compression ratio, which a short answer never
+    reaches. A patient who repeats a word that often is left to the clinician, with the clip."""
     sentences = [_said(s) for s in re.split(r"[.!?]+", text) if _said(s)]
+    return _runs(sentences, LOOP) or _runs(_said(text).split(), WORD_LOOP)
+
+
+def _runs(units: list[str], length: int) -> bool:
+    """Whether one of ``units`` comes ``length`` times or more in a row."""
     run = 1
-    for before, after in zip(sentences, sentences[1:], strict=False):
+    for before, after in zip(units, units[1:], strict=False):
         run = run + 1 if after == before else 1
-        if run >= LOOP:
+        if run >= length:
             return True
     return False
 
