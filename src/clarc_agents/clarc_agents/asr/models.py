@@ -113,7 +113,7 @@ def _joined(model: ModelFiles, folders: list[Path], name: str, into: Path) -> No
     if not sources:
         raise ModelError(f"{model.name}: no package ships {name} or its parts")
     into.mkdir(parents=True, exist_ok=True)
-    temporary = into / f".{name}.joining"
+    temporary = into / f".{name}.joining.{os.getpid()}"  # two processes may join at once
     with temporary.open("wb") as out:
         for source in sources:
             with source.open("rb") as f:
