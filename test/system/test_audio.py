@@ -53,7 +53,7 @@ def test_a_barthel_test_with_sound_stores_what_the_patient_said(tmp_path):
     log = tmp_path / "run" / "log"
     asr = (log / "asr.log").read_text()
     # what the asr heard, and for which item's search: feeding's answer, as its option
-    heard = re.findall(r"heard ['\"](.*?)['\"] \(([\d.]+), (\w+)'s \w+ search\)", asr)
+    heard = re.findall(r"heard ['\"](.*?)['\"] \(([\d.]+), (\w+)'s \w+ search[^)]*\)", asr)
     feeding = definitions.load("barthel").item("feeding")
     said = [t for t, _, item in heard if item == "feeding"]
     assert any(understand(feeding, t).points == 10 for t in said), asr[-3000:]
