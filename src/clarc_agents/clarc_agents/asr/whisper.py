@@ -34,7 +34,6 @@ from __future__ import annotations
 import math
 import os
 import re
-import unicodedata
 from dataclasses import replace
 
 import numpy as np
@@ -43,11 +42,11 @@ from clarc_agents.asr.audio import RATE, dithered
 from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
 from clarc_agents.asr.models import WHISPER_BASE, WHISPER_TINY_EN, verified_folder
 from clarc_agents.asr.recogniser import Heard
-from clarc_agents.asr.span import MIN_SPEECH, speech_span, too_noisy
+from clarc_agents.asr.span import MIN_SPEECH, Span, speech_span, too_noisy
 from clarc_agents.definitions import Item
 from clarc_agents.exceptions import ModelError
 from clarc_agents.questionnaire.answers import find_phrase
-from clarc_agents.questionnaire.spoken import words
+from clarc_agents.questionnaire.spoken import unaccented, words
 
 os.environ.setdefault("HF_HUB_OFFLINE", "1")  # a local folder only: never a download
 
@@ -82,8 +81,7 @@ MODEL_FOR = {"en": WHISPER_TINY_EN}
 
 
 def _said(text: str) -> str:
-    folded = unicodedata.normalize("NFKD", text.lower()).encode("ascii", "ignore").decode()
-    return re.sub(r"[^a-z' ]+", " ", folded).strip()
+    return re.sub(r"[^a-z' ]+", " ", unaccented(text.lower())).strip()
 
 
 class WhisperRecogniser:
@@ -135,16 +133,12 @@ class WhisperRecogniser:
         """What ``samples`` (16 kHz mono int16, one utterance) say, as ``expectation`` reads
         them, with the voice's level over the room."""
         span = speech_span(samples)
-        heard = self._heard(samples, expectation, span.start, span.end, span.voiced)
-        if heard.text and too_noisy(expectation.kind, span.snr_db):
-            # in noise Whisper is sure of its mistakes (section 9b: "A pen for the pencil." at
-            # 10 dB): a list of words or numbers is asked again, then left to the clinician
-            heard = replace(heard, confidence=0.0)
-        return replace(heard, snr_db=span.snr_db)
+        return replace(self._heard(samples, expectation, span), snr_db=span.snr_db)
 
-    def _heard(self, samples, expectation: Expectation, start, end, voiced) -> Heard:
+    def _heard(self, samples, expectation: Expectation, span: Span) -> Heard:
+        start, end = span.start, span.end
         nothing = Heard("", 0.0, start, end)
-        if voiced < MIN_SPEECH:
+        if span.voiced < MIN_SPEECH:
             return nothing
         encoded, frames = self._encode(samples)
         prompt = self._start(expectation.prompt)
@@ -171,6 +165,10 @@ class WhisperRecogniser:
         if _said(best) in SILENCE_PHRASES:
             return nothing
         if _looping(best):  # someone spoke, but this is the decoder's, not theirs
+            return Heard(best, 0.0, start, end)
+        if too_noisy(expectation.kind, span.snr_db):
+            # in noise Whisper is sure of its mistakes (section 9b: "A pen for the pencil." at
+            # 10 dB): a list of words or numbers is asked again, then left to the clinician
             return Heard(best, 0.0, start, end)
         meaning = expectation.meaning
         if expectation.kind == "choose" and meaning(best) is None and expectation.candidates:

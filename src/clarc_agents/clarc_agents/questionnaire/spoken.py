@@ -40,7 +40,7 @@ def words(text: str, language: str = "en") -> list[str]:
     text = text.lower()
     if language != "en":
         text = _digits_by_text2num(text, language)
-    text = _unaccented(text).replace("\u2019", "'").replace("-", " ")
+    text = unaccented(text).replace("\u2019", "'").replace("-", " ")
     tokens = [PAUSE if t in ",.;:!?" else t.strip("'") for t in _TOKEN.findall(text)]
     tokens = [t for t in tokens if t]
     if language == "en":
@@ -71,7 +71,7 @@ def _digits_by_text2num(text: str, language: str) -> str:
     return _ORDINAL_MARK.sub(lambda m: suffixed(int(m[1])), text)
 
 
-def _unaccented(text: str) -> str:
+def unaccented(text: str) -> str:
     """Letters without their accents ("Rocío", "Málaga", "España": "rocio", "malaga", "espana"):
     a recogniser or a typist may write them either way, and a letter the tokens do not know
     would otherwise split the word."""
