@@ -17,7 +17,7 @@ from typing import Any, Protocol
 
 from clarc_agents.behaviours.early_answer import NO_GAP, EarlyAnswer
 from clarc_agents.questionnaire.answers import touched_in_order
-from clarc_agents.questionnaire.item_options import awaited_item
+from clarc_agents.questionnaire.item_options import awaited_item, item_on_screen
 from dsr_graph.model.graph import Graph
 from dsr_graph.rules.runner import ActionContext, Process, RuleRunner
 
@@ -102,8 +102,7 @@ class PanelBehaviour:
         item on the screen (the patient did not wait for the robot to finish asking)."""
         waiting, item = graph.edge("person", "answer", "waiting"), awaited_item(graph)
         if item is None or item.kind != kind:
-            shown = graph.edge("test", "test_part", "is_in")
-            on_screen = "" if shown is None else str(shown.attrs.get("item", ""))
+            on_screen = item_on_screen(graph)
             if early is not None and waiting is None and on_screen:
                 kept = self._early.peek(on_screen)
                 if early[0] == "targets" and kept is not None and kept[0] == "targets":

@@ -38,7 +38,7 @@ from clarc_agents.asr.clips import Clips, default_folder
 from clarc_agents.asr.hearing import DEFAULT, RECOGNISERS, open_recogniser
 from clarc_agents.asr.utterances import RobotSpeech, Utterance, Utterances
 from clarc_agents.definitions import Item
-from clarc_agents.questionnaire.item_options import awaited_item, item_in
+from clarc_agents.questionnaire.item_options import awaited_item, item_in, item_on_screen
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
@@ -118,8 +118,7 @@ class AsrAgent(DsrNode):
         graph = self.dsr.graph
         item = awaited_item(graph)
         if item is None:
-            shown = graph.edge("test", "test_part", "is_in")
-            key = "" if shown is None else str(shown.attrs.get("item", ""))
+            key = item_on_screen(graph)
             item = item_in(graph, key) if key else None
         return item
 

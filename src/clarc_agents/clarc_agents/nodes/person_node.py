@@ -3,7 +3,8 @@
 The face data also says whether the eyes are closed: while the DSR awaits the answer to an
 ``eyes`` item (the MMSE's "close your eyes", read on the screen), eyes seen closed for a second
 of the patient's time (``behaviours/closed_eyes.py``: a blink is no answer) are its answer
-(percept ``eyes_closed``, worth the item's points).
+(percept ``eyes_closed``, worth the item's points); a closing seen while that item is on the
+screen, just before its window opened, is kept a moment for it.
 
 A person counts as seen after ``seen_frames`` frames with a face and as lost after
 ``lost_frames`` frames without one, so one dropped frame does not end a test. The pose is
@@ -33,13 +34,12 @@ import time
 from typing import Any
 
 from clarc_agents import topics
-from clarc_agents.behaviours.closed_eyes import ClosedEyes
+from clarc_agents.behaviours.closed_eyes import EyesAnswer
 from clarc_agents.gug.posture import PostureTracker, pelvis_in_room
 from clarc_agents.gug.skeleton import SENSOR, frames_tx, heading, parse_skeleton
 from clarc_agents.humans import Absence, Pinhole
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import PersonHumans
-from clarc_agents.questionnaire.item_options import awaited_item
 from dsr_graph.formats.units import PER_METRE
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import subscribe_json
@@ -95,7 +95,7 @@ class PersonAgent(GrammarAgentNode):
         self._last_written: float | None = None  # the capture stamp of the last frame taken
         self.skeletons_dropped = 0
         self._posture = PostureTracker(self.scale)
-        self._closed_eyes = ClosedEyes(self.scale)
+        self._eyes = EyesAnswer(self.scale)
 
     def processes(self) -> dict[str, Process]:
         return {}
@@ -109,6 +109,7 @@ class PersonAgent(GrammarAgentNode):
         self.humans = PersonHumans(self, SENSOR, camera)
         subscribe_json(self, topics.KINECT_PERSON, self.on_frame, kept)
         self.dsr.describe(can_do=["track the person"], listens_to=[topics.KINECT_PERSON])
+        self.dsr.add_listener(lambda d, r: self._answer_eyes(self._eyes.on_graph(self.dsr.graph)))
         super().setup()
 
     def _with_robot(self) -> bool:
@@ -134,8 +135,7 @@ class PersonAgent(GrammarAgentNode):
         if present:
             self._present_frames = self._present_frames + 1
             self._absence.present()
-            if self._closed_eyes.see(eyes == "closed", stamp) and self._with_robot():
-                self._eyes_closed()
+            self._answer_eyes(self._eyes.see(self.dsr.graph, eyes == "closed", stamp))
             metres = joints["pelvis"][0].tolist() if joints is not None else face_m
             pose = {"translation": metres, "rotation_euler_xyz": [0.0, 0.0, 0.0]}
             if self._with_robot() and joints is not None:  # the person is where the pelvis is
@@ -153,7 +153,7 @@ class PersonAgent(GrammarAgentNode):
                 self._last_face = face
         else:
             self._last_written = None  # a frame without a body is not a hole in the stream
-            self._closed_eyes.see(False, stamp)
+            self._eyes.see(self.dsr.graph, False, stamp)
             self._absence.absent(stamp)
             self._present_frames = 0
             if self._with_robot() and self._gone(self._absence, stamp):
@@ -192,10 +192,9 @@ class PersonAgent(GrammarAgentNode):
             return float(stamp)
         return time.time()
 
-    def _eyes_closed(self) -> None:
-        item = awaited_item(self.dsr.graph)
-        if item is not None and item.kind == "eyes":
-            self.runner.signal("eyes_closed", points=item.max)  # once: the rule takes the window
+    def _answer_eyes(self, points: int | None) -> None:
+        if points is not None and self._with_robot():  # once: the rule takes the window
+            self.runner.signal("eyes_closed", points=points)
 
     def _follow_posture(self, joints, stamp: float) -> None:
         """Sitting, standing or walking, from the pelvis in the room (its height above the

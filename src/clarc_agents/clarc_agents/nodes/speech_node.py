@@ -26,6 +26,7 @@ from clarc_agents.asr.hearing import CONFIRM_CONFIDENCE, MIN_CONFIDENCE
 from clarc_agents.behaviours.speech import SpeechBehaviour
 from clarc_agents.nodes.grammar_agent import GrammarAgentNode
 from clarc_agents.nodes.humans_topics import SpeechHumans
+from clarc_agents.questionnaire.item_options import item_on_screen
 from dsr_graph.ros.dsr_node import main_for
 from dsr_graph.ros.json_topics import publish_json, subscribe_json
 from dsr_graph.ros.parameters import declare, float_param
@@ -130,8 +131,7 @@ class SpeechAgent(GrammarAgentNode):
         if not isinstance(audio, str) or len(audio) > 4096:
             raise ValueError(f"audio must be a clip's path, got {audio!r:.100}")
         self._humans.heard(text, confidence)
-        shown = self.dsr.graph.edge("test", "test_part", "is_in")
-        item_shown = shown.attrs.get("item", "") if shown is not None else ""
+        item_shown = item_on_screen(self.dsr.graph)
         self.behaviour.on_heard(text, item_shown, confidence=float(confidence), audio=audio)
 
 

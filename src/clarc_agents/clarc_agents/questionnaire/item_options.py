@@ -103,5 +103,11 @@ def awaited_item(graph: Graph) -> Item | None:
     return None if waiting is None else item_in(graph, str(waiting.attrs.get("item", "")))
 
 
+def item_on_screen(graph: Graph) -> str:
+    """The key of the item whose sentence is on test -is_in-> test_part ("" when none)."""
+    shown = graph.edge("test", "test_part", "is_in")
+    return "" if shown is None else str(shown.attrs.get("item", ""))
+
+
 def _phrases(joined: Any) -> tuple[str, ...]:
     return tuple(w for w in str(joined).split("|") if w)
