@@ -36,6 +36,8 @@ def points(item_key: str, text: str, test=MMSE):
         ("twenty twenty five", ["2025"]),
         ("two thousand and twenty-five", ["2025"]),
         ("two thousand twenty five", ["2025"]),
+        ("2000 and 26 winter", ["2026", "winter"]),  # as Whisper writes the year
+        ("2000, and 26", ["2000", "and", "26"]),  # a pause: two numbers
         ("nineteen ninety-nine", ["1999"]),
         ("twenty oh five", ["2005"]),
         ("twenty, twenty five", ["20", "25"]),  # a pause: two numbers

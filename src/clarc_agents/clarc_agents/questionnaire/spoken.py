@@ -145,6 +145,11 @@ def _number(tokens: list[str], k: int) -> tuple[str | None, int]:
         tens = int(tokens[k])
         if 20 <= tens <= 90 and tens % 10 == 0 and 0 < UNITS.get(nxt, 0) < 10:
             return str(tens + UNITS[nxt]), 2
+        # thousands and the rest in digits, as Whisper writes "two thousand and twenty six"
+        after = tokens[k + 2] if k + 2 < len(tokens) else ""
+        if 1000 <= tens <= 9000 and tens % 1000 == 0 and nxt == "and" and after.isdigit():
+            if int(after) < 1000:
+                return str(tens + int(after)), 3
         return tokens[k], 1
     if (m := ORDINAL_DIGITS.match(tokens[k])) is not None:
         return suffixed(int(m[1])), 1
