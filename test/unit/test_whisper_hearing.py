@@ -128,6 +128,39 @@ def test_a_serial_answer_comes_back_as_numbers_the_rules_read(whisper):
     assert understand(item, heard.text).points == 3, heard
 
 
+def test_a_number_whisper_could_write_two_ways_is_not_doubted_for_it(whisper, monkeypatch):
+    """ "One hundred minus seven is ninety three" was heard right at 0.41 to 0.47 and sent to
+    the clinician: "minus" (or "by"), "100" (or "One hundred") and "93" (or "ninety") each
+    shared the decoder's mass with another way of writing the same numbers. Those ways now
+    count with the token heard (whisper._doubt); another number there still doubts it."""
+    from clarc_agents.asr.whisper import TOKEN_DOUBT
+
+    item = definitions.load("mmse").item("attention")
+    expected = expectation_for(item)
+    assert (
+        expected.reading("Ninety-three, eighty-six.") == expected.reading("93 86") == ("93", "86")
+    )
+    assert expected.reading("100 minus 7 is 93") == expected.reading("One hundred by seven, 93")
+    assert expected.reading("93, 80") != expected.reading("93, 87")
+
+    encode = whisper.tokenizer.encode
+    ids = encode(" 93, 86.")
+    ninety, eighty_three = encode(" ninety")[0], encode(" 83")[0]
+    spread = [np.full(whisper.tokenizer.eot + 1, 1e-9) for _ in ids]
+    for k, token in enumerate(ids):
+        spread[k][token] = 0.95
+    spread[0][ids[0]], spread[0][ninety], spread[0][eighty_three] = 0.5, 0.3, 0.15
+    decoded_on = {ninety: "Ninety-three, eighty-six.", eighty_three: "83, 86."}
+    monkeypatch.setattr(
+        whisper, "_decoded_on", lambda encoded, starts: [decoded_on[s[-1]] for s in starts]
+    )
+    doubt = whisper._doubt(None, [], ids, spread, expected, "93, 86.")
+    assert doubt == pytest.approx(TOKEN_DOUBT["serial"] * 0.8)  # "ninety(-three)" counts
+    decoded_on[ninety] = "Ninety-four, eighty-six."  # another number: no longer the same
+    doubt = whisper._doubt(None, [], ids, spread, expected, "93, 86.")
+    assert doubt == pytest.approx(TOKEN_DOUBT["serial"] * 0.5)
+
+
 def _in_white_noise(text: str, snr_db: float, seed: int) -> np.ndarray:
     from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
 

@@ -13,6 +13,9 @@
 - ``meaning(text)``: what a text would be worth as the answer (``understand``'s kind and
   points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
   add up, hypotheses that mean another one compete.
+- ``reading(text)``: what two transcripts must share to be heard the same, however written:
+  a serial answer's numbers ("93" and "ninety-three"), a words answer's words. Another token
+  the decoder saw that leads to the same reading is no doubt of the one heard.
 - ``full_marks`` (words and serial items): what is worth every point (each part's first
   word), never given to the decoder: the rivals a heard answer worth less must beat clearly
   (all of it, or one missing part in place of a word heard), or the robot is not sure of it
@@ -39,6 +42,9 @@ class Expectation:
     candidates: tuple[str, ...] = ()
     meaning: Callable[[str], Hashable | None] = field(default=lambda text: None, compare=False)
     full_marks: tuple[str, ...] = ()
+    reading: Callable[[str], Hashable] = field(
+        default=lambda text: tuple(words(text)), compare=False
+    )
     # whether a text is only sounds of hesitation (a mumble: never rescored into an option)
     mumbled: Callable[[str], bool] = field(default=lambda text: False, compare=False)
 
@@ -90,4 +96,14 @@ def expectation_for(item: Item | None) -> Expectation | None:
     full = tuple(part.keywords[0] for part in item.parts if part.keywords)
     if meaning(", ".join(full)) != ("answer", item.max):  # no one way to say it all
         full = ()
-    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning, full)
+    said = _numbers_said if item.kind == "serial" else _words_said
+    reading = said(item.language)
+    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning, full, reading=reading)
+
+
+def _numbers_said(language: str) -> Callable[[str], tuple[str, ...]]:
+    return lambda text: tuple(w for w in words(text, language) if w.isdigit())
+
+
+def _words_said(language: str) -> Callable[[str], tuple[str, ...]]:
+    return lambda text: tuple(words(text, language))

@@ -6,11 +6,16 @@ How sure: beam search keeps its ``HYPOTHESES`` best transcripts with their log-p
 each is understood as the item's answer would be (``Expectation.meaning``), and the confidence
 is the probability mass of the hypotheses that mean what the best one means. "Two." and "Two"
 agree; "Two." against "Three." is a coin toss and says so. For words and serial answers, the
-least sure word of the best transcript (each token's probability, forced through the decoder)
-bounds it too (``TOKEN_DOUBT``); and a words or serial answer heard worth less than every point
-must beat the readings worth more (all of it, or a missing part in place of one of the least
-sure words), forced through the decoder too: one at least a fifth as likely leaves the robot
-unsure, so a misheard "ands" or "watch" goes to the clinician rather than costing a point.
+least sure token of the best transcript bounds it too (``TOKEN_DOUBT``), counting with it the
+other tokens the decoder saw there that lead to the same reading (``Expectation.reading``: the
+same numbers, the same words): "93" and "ninety-three" are one reading, so a number Whisper
+could write two ways is not doubted for it, while "87" against "80" still is. The
+``DOUBT_PLACES`` least sure tokens are looked into when they alone would leave the answer
+unsure: the decoder's ``ALTERNATIVES`` likeliest other tokens there, each decoded on to the end
+of the answer. And a words or serial answer heard worth less than every point must beat the
+readings worth more (all of it, or a missing part in place of one of the least sure words),
+forced through the decoder too: one at least a fifth as likely leaves the robot unsure, so a
+misheard "ands" or "watch" goes to the clinician rather than costing a point.
 
 A choose item whose best transcript means nothing ("So.", "City.") is rescored: each way of
 choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
@@ -56,11 +61,18 @@ MAX_TOKENS = 96  # an answer is a sentence or two; a runaway repetition stops he
 WINDOW_FRAMES = 3000  # Whisper's 30 s window of 10 ms mel frames (shorter ones hear worse)
 NO_SPEECH = 0.6
 LOGPROB_FLOOR = -1.0
-# words and serial answers: a word's probability times this bounds the confidence, so that at
-# Speech's 0.5 a words answer needs each word at 0.4 and a serial one each number at 0.6
-# (BENCHMARKS.md section 9: at 0.3 for words 3.8 to 15% were scored wrong; at 0.5 for serial,
-# 3 of 92 answers at 20 dB, heard at 0.54-0.59 ("80, 80" for "87, 80"), none at 0.6)
-TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.6}
+# words and serial answers: a token's probability (with the other tokens there of the same
+# reading) times this bounds the confidence, so that at Speech's 0.5 a words answer needs each
+# word at 0.4 and a serial one each number at 0.65 (BENCHMARKS.md section 9: at 0.3 for words
+# 3.8 to 15% were scored wrong; with other spellings counted, at 0.6 two serial answers were,
+# "eighty" heard "87" and "eighty six" "96", each number at 0.61 to 0.63)
+TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.65}
+# the least sure tokens looked into, and the other tokens tried at each (those the decoder gives
+# at least MIN_ALTERNATIVE): other spellings of the same reading count with the token heard
+DOUBT_PLACES = 3
+ALTERNATIVES = 5
+MIN_ALTERNATIVE = 0.01
+LOOKED_INTO_BELOW = 0.5  # a token bound under Speech's min_confidence: worth looking into
 # a words or serial answer heard worth less than every point: its confidence is at most this
 # over the odds of the likeliest reading worth more (at Speech's 0.5: such a reading may be at
 # most a fifth as likely as what was heard); checked only for answers sure enough otherwise
@@ -178,16 +190,71 @@ class WhisperRecogniser:
         confidence = _agreeing(hypotheses, meaning)
         if expectation.kind in TOKEN_DOUBT:
             # every hypothesis may agree on a word none is sure of ("Table unpainted." for
-            # "table and penny"): the least sure word bounds the whole answer
+            # "table and penny"): the least sure token bounds the whole answer
             ids = result.sequences_ids[0]
-            aligned = self.model.model.align(encoded, prompt, [ids], frames)[0]
-            said = self._words_of(ids, aligned.text_token_probs)
-            scale = TOKEN_DOUBT[expectation.kind]
-            confidence = min(confidence, min(1.0, scale * min((p for _, p in said), default=0.0)))
+            spread = self._spread(encoded, prompt, ids)
+            said = self._words_of(ids, [float(spread[k][t]) for k, t in enumerate(ids)])
+            doubt = self._doubt(encoded, prompt, ids, spread, expectation, best)
+            confidence = min(confidence, doubt)
             if confidence >= CHECKED_ABOVE:
                 rivals = _better_readings(said, expectation)
                 confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
         return Heard(best, confidence, start, end)
+
+    def _spread(self, encoded, prompt: list[int], ids: list[int]) -> list[np.ndarray]:
+        """The decoder's probabilities over its vocabulary at each token of ``ids``, forced."""
+        forced = self.model.model.generate(
+            encoded,
+            [prompt + list(ids)],
+            beam_size=1,
+            max_length=len(prompt) + len(ids) + 1,
+            return_logits_vocab=True,
+        )[0]
+        spread = []
+        for logits in forced.logits[0][: len(ids)]:
+            values = np.array(logits, dtype=np.float64)
+            values = np.exp(values - values.max())
+            spread.append(values / values.sum())
+        return spread
+
+    def _doubt(self, encoded, prompt, ids, spread, expectation: Expectation, best: str) -> float:
+        """The bound the least sure token of ``best`` puts on the confidence: its probability,
+        with those of the other tokens there that lead to the same reading, times the kind's
+        ``TOKEN_DOUBT``."""
+        scale = TOKEN_DOUBT[expectation.kind]
+        sure = [float(spread[k][t]) for k, t in enumerate(ids)]
+        places = [k for k, t in enumerate(ids) if any(c.isalnum() for c in self._text([t]))]
+        doubted = sorted(
+            (k for k in places if scale * sure[k] < LOOKED_INTO_BELOW), key=sure.__getitem__
+        )
+        others = [
+            (k, int(t))
+            for k in doubted[:DOUBT_PLACES]
+            for t in np.argsort(spread[k])[::-1][:ALTERNATIVES]
+            if t != ids[k] and t < self.tokenizer.eot and spread[k][t] >= MIN_ALTERNATIVE
+        ]
+        reading = expectation.reading(best), expectation.meaning(best)
+        endings = self._decoded_on(encoded, [prompt + list(ids[:k]) + [t] for k, t in others])
+        for (k, t), text in zip(others, endings, strict=True):
+            if (expectation.reading(text), expectation.meaning(text)) == reading:
+                sure[k] += float(spread[k][t])
+        return min((min(1.0, scale * sure[k]) for k in places), default=0.0)
+
+    def _decoded_on(self, encoded, starts: list[list[int]]) -> list[str]:
+        """What each of ``starts`` (a prompt and the first tokens of an answer) becomes,
+        decoded to its end by beam search, in one batch."""
+        if not starts:
+            return []
+        import ctranslate2
+
+        batch = np.repeat(np.array(encoded), len(starts), axis=0)
+        ended = self.model.model.generate(
+            ctranslate2.StorageView.from_array(np.ascontiguousarray(batch)),
+            starts,
+            beam_size=BEAM,
+            max_length=max(map(len, starts)) + MAX_TOKENS,
+        )
+        return [self._text(result.sequences_ids[0]) for result in ended]
 
     def _words_of(self, ids: list[int], probs: list[float]) -> list[tuple[str, float]]:
         """The transcript's words (those with a letter or a digit), each with the probability of
