@@ -193,6 +193,18 @@ def test_a_publisher_whose_node_is_not_known_yet_gives_no_verdict_yet():
     assert verdict.agent is None and verdict.pending and not verdict.intruders
 
 
+def test_a_publisher_matched_before_the_ros_graph_lists_it_gives_no_verdict_yet():
+    """A spoofer's request reached the server while the ROS graph still showed only the
+    topic's owner (a loaded whole-suite run): it was taken as the owner's. DDS had matched two
+    publishers; until the graph lists both, nobody is proven."""
+    owner_only = [Publisher("/", "speech")]
+    early = sender_on(T, "speech", owner_only, matched=2)
+    assert early.agent is None and early.pending and "2 matched publishers" in early.problem
+    assert sender_on(T, "speech", owner_only, matched=1).agent == "/speech"
+    listed = sender_on(T, "speech", [*owner_only, Publisher("/", "test_client")], matched=2)
+    assert listed.agent is None and listed.intruders == ("/test_client",) and not listed.pending
+
+
 def test_a_pending_verdict_is_waited_for_longer_than_what_it_waits_for():
     """A node's name comes on a reliable topic whose lost first sample Fast DDS sends again at the
     next heartbeat (3 s by default): three of them. A killed node goes when its lease (the suite's

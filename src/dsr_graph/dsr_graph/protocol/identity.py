@@ -61,15 +61,28 @@ def sender_on(
     owner: str | None,
     publishers: Sequence[Publisher],
     liveliness: tuple[int, int] | None = None,
+    matched: int | None = None,
 ) -> Sender:
     """``owner``: the node name a per-agent topic belongs to; None for the shared topic.
     ``liveliness``: (alive, matched but not alive) of the topic's publishers that offer the
-    agents' liveliness lease, as DDS last counted them (protocol/presence.py); None: unknown."""
+    agents' liveliness lease, as DDS last counted them (protocol/presence.py); None: unknown.
+    ``matched``: how many publishers the request subscription has matched (DDS's own count);
+    None: unknown."""
     if any(p.name == UNKNOWN for p in publishers):
         # DDS found the publisher before the ROS graph learnt its node (typically just after
         # a restart): not a verdict yet
         return Sender(
             None, f"{topic} has a publisher whose node is not known yet", pending=NODE_INFO_WAIT
+        )
+    if matched is not None and matched > len(publishers):
+        # DDS matched a publisher the ROS graph does not list yet (its discovery reaches the
+        # graph after the match, seen on a loaded machine): it may be this request's sender, so
+        # the owner alone in the graph proves nothing yet
+        return Sender(
+            None,
+            f"{topic} has {matched} matched publishers but the ROS graph lists "
+            f"{len(publishers)}: one is not known yet",
+            pending=NODE_INFO_WAIT,
         )
     # one node may publish through several endpoints (two DsrAgents in one node): what counts
     # is how many nodes publish, told apart by name and by DDS participant

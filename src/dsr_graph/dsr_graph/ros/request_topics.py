@@ -175,7 +175,7 @@ class RequestTopics:
             Publisher(info.node_namespace, info.node_name, bytes(info.endpoint_gid[:12]))
             for info in self.node.get_publishers_info_by_topic(topic)
         ]
-        verdict = sender_on(topic, owner, publishers, self.presence.liveliness(topic))
+        verdict = sender_on(topic, owner, publishers, self.presence.liveliness(topic), count)
         if not verdict.pending:
             self._verdicts[topic] = (count, now, verdict)
         return verdict
