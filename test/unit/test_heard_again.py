@@ -33,9 +33,9 @@ def test_the_same_answer_is_the_same_points_for_the_same_parts_something_credite
 
 def test_two_agreeing_hearings_combine_and_each_must_reach_the_floor():
     recall, attention = _mmse_item("recall"), _mmse_item("attention")
-    assert independent(0.4, 0.45) == pytest.approx(0.67)
-    both = heard_again(recall, [("apple and penny", 0.6), (WORDS, 0.45)], WORDS, 0.4)
-    assert both == (pytest.approx(0.67), WORDS)
+    assert independent(0.45, 0.45) == pytest.approx(0.6975)
+    both = heard_again(recall, [("apple and penny", 0.6), (WORDS, 0.45)], WORDS, 0.45)
+    assert both == (pytest.approx(0.6975), WORDS)
     assert heard_again(recall, [(WORDS, FLOOR - 0.01)], WORDS, 0.45) is None
     assert heard_again(recall, [(WORDS, 0.45)], WORDS, FLOOR - 0.01) is None
     assert heard_again(recall, [("apple, table", 0.45)], WORDS, 0.45) is None
@@ -43,7 +43,10 @@ def test_two_agreeing_hearings_combine_and_each_must_reach_the_floor():
     barthel = definitions.load("barthel").item("feeding")
     assert heard_again(barthel, [("two", 0.45)], "two", 0.45) is None
     serial = [("93, 86, 79, 72, 65.", 0.45)]
-    assert heard_again(attention, serial, "93 86 79 72 65", 0.4)[0] == pytest.approx(0.67)
+    assert heard_again(attention, serial, "93 86 79 72 65", 0.45)[0] == pytest.approx(0.6975)
+    # "93, 80, 80, 73." for "... eighty seven, eighty, seventy three", heard twice (the speech
+    # benchmark, once Whisper counted other spellings): the first at 0.40 is no second hearing
+    assert heard_again(attention, [("93, 80, 80, 73.", 0.40)], "93, 80, 80, 73.", 0.5) is None
 
 
 def _recall(result):
@@ -51,15 +54,15 @@ def _recall(result):
 
 
 def test_an_answer_heard_twice_the_same_counts_and_a_different_one_goes_to_the_clinician():
-    robot = Robot(Patient(answers={"recall": [("heard", WORDS, 0.4)] * 2}), test="mmse")
+    robot = Robot(Patient(answers={"recall": [("heard", WORDS, 0.45)] * 2}), test="mmse")
     recall = _recall(robot.run_test())
     assert (recall["points"], recall["via"], recall["needs_clinician"]) == (3, "voice", False)
     assert recall["audio"] == ["clips/recall-1.wav", "clips/recall-2.wav"]
     node = robot.pelea_link.graph.node("item_recall").attrs
     assert node["outcomes"] == ["not_understood", "answered"]
-    assert node["hearings"] == [WORDS] and node["hearing_confidences"] == [0.4]
+    assert node["hearings"] == [WORDS] and node["hearing_confidences"] == [0.45]
 
-    changed = [("heard", WORDS, 0.4), ("heard", "Apple, table.", 0.4)]
+    changed = [("heard", WORDS, 0.45), ("heard", "Apple, table.", 0.45)]
     robot = Robot(Patient(answers={"recall": changed}), test="mmse")
     recall = _recall(robot.run_test())
     assert (recall["points"], recall["needs_clinician"]) == (None, True)
@@ -71,7 +74,7 @@ def test_an_answer_heard_twice_the_same_counts_and_a_different_one_goes_to_the_c
 
 @pytest.mark.parametrize("agent", ["pelea", "speech"])
 def test_the_first_hearing_outlives_a_restart_between_the_two(agent):
-    patient = Patient(answers={"recall": [("heard", WORDS, 0.4)] * 2})
+    patient = Patient(answers={"recall": [("heard", WORDS, 0.45)] * 2})
     robot = Robot(patient, test="mmse")
     robot.run_test()
     windows = [e for e in robot.port.events if e.get("item") == "recall"]

@@ -150,15 +150,24 @@ def test_a_number_whisper_could_write_two_ways_is_not_doubted_for_it(whisper, mo
     for k, token in enumerate(ids):
         spread[k][token] = 0.95
     spread[0][ids[0]], spread[0][ninety], spread[0][eighty_three] = 0.5, 0.3, 0.15
+    probs = [float(spread[k][t]) for k, t in enumerate(ids)]
     decoded_on = {ninety: "Ninety-three, eighty-six.", eighty_three: "83, 86."}
+    monkeypatch.setattr(whisper, "_spread", lambda encoded, prompt, ids: spread)
     monkeypatch.setattr(
         whisper, "_decoded_on", lambda encoded, starts: [decoded_on[s[-1]] for s in starts]
     )
-    doubt = whisper._doubt(None, [], ids, spread, expected, "93, 86.")
+    doubt = whisper._doubt(None, [], ids, probs, expected, "93, 86.")
     assert doubt == pytest.approx(TOKEN_DOUBT["serial"] * 0.8)  # "ninety(-three)" counts
     decoded_on[ninety] = "Ninety-four, eighty-six."  # another number: no longer the same
-    doubt = whisper._doubt(None, [], ids, spread, expected, "93, 86.")
+    doubt = whisper._doubt(None, [], ids, probs, expected, "93, 86.")
     assert doubt == pytest.approx(TOKEN_DOUBT["serial"] * 0.5)
+    # a words answer's least sure word is its own bound (words gained nothing at equal safety)
+    naming = expectation_for(definitions.load("mmse").item("naming"))
+    ids = encode(" A pen for a pencil.")
+    probs = [0.9] * len(ids)
+    probs[3] = 0.3
+    doubt = whisper._doubt(None, [], ids, probs, naming, "A pen for a pencil.")
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.3)
 
 
 def _in_white_noise(text: str, snr_db: float, seed: int) -> np.ndarray:
@@ -221,11 +230,15 @@ def test_a_lower_score_must_beat_the_readings_worth_more():
     assert _better_readings(heard, naming) == [
         "pencil, watch",
         "Pencil under watch",
+        "Pencil watch",  # "under wash." was one word
         "Pencil watch wash.",
     ]
     repetition = expectation_for(mmse.item("repetition"))
     heard = [("No", 0.9), ("ifs,", 0.8), ("and,", 0.4), ("or", 0.9), ("buts.", 0.7)]
-    assert _better_readings(heard, repetition) == ["no ifs ands or buts"]
+    assert _better_readings(heard, repetition)[0] == "no ifs ands or buts"
+    # a part heard as two words: "Some will." for "Seville" (the speech benchmark, sure at 0.52)
+    place = expectation_for(mmse.item("orientation_place"))
+    assert "seville" in _better_readings([("Some", 0.6), ("will.", 0.41)], place)
     # worth every point already: nothing to beat
     assert _better_readings([("Pencil,", 0.9), ("watch.", 0.9)], naming) == []
 

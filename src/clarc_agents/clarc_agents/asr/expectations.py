@@ -15,7 +15,8 @@
   add up, hypotheses that mean another one compete.
 - ``reading(text)``: what two transcripts must share to be heard the same, however written:
   a serial answer's numbers ("93" and "ninety-three"), a words answer's words. Another token
-  the decoder saw that leads to the same reading is no doubt of the one heard.
+  the decoder saw that leads to the same reading is no doubt of the one heard (serial
+  answers: asr/whisper.py).
 - ``full_marks`` (words and serial items): what is worth every point (each part's first
   word), never given to the decoder: the rivals a heard answer worth less must beat clearly
   (all of it, or one missing part in place of a word heard), or the robot is not sure of it
