@@ -317,10 +317,8 @@ def _batch(encoded, size: int):
     """The encoded audio ``size`` times over, for one decoder call on several sequences."""
     if size == 1:
         return encoded
-    import ctranslate2
-
     batch = np.repeat(np.array(encoded), size, axis=0)
-    return ctranslate2.StorageView.from_array(np.ascontiguousarray(batch))
+    return type(encoded).from_array(np.ascontiguousarray(batch))  # CTranslate2's StorageView
 
 
 def _better_readings(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
