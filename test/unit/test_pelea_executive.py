@@ -397,7 +397,7 @@ def test_a_window_the_dsr_server_restarted_in_is_asked_again_not_counted_as_sile
     robot = Robot(Patient(answers={"feeding": ["silence", ("voice", 5)]}))
     robot.bus.after(opened + 0.5, lambda: setattr(robot, "dsr_boot", "boot-2"))
     result = robot.run_test()
-    assert items(result)["feeding"] == (5, "voice", 2)
+    assert items(result)["feeding"] == (5, "voice", 1)  # the window nobody heard is no attempt
     feeding = [
         (e["event"], e.get("window")) for e in robot.port.events if e.get("item") == "feeding"
     ]
@@ -585,3 +585,21 @@ def test_a_graph_without_agent_info_is_taken_as_before():
     robot = Robot()  # no agent describes itself here: nothing to wait for
     assert robot.run_test()["total"] == 100
     assert not [e for e in robot.port.events if e["event"] == "waiting_for_agents"]
+
+
+def test_a_window_nobody_could_be_heard_in_is_no_attempt():
+    # Speech restarted during the first window of an item the patient leaves silent twice: that
+    # window is asked again, and the result says two tries, as undisturbed (a loaded run of the
+    # suite stored 3 for a window no listener took in time)
+    silent = Patient(answers={"grooming": ["silence", "silence"]})
+    probe = Robot(silent)
+    undisturbed = items(probe.run_test())["grooming"]
+    assert undisturbed == (None, None, 2)
+    opened = next(
+        e["t"] for e in probe.port.events if e["event"] == "listening" and e["item"] == "grooming"
+    )
+    robot = Robot(Patient(answers={"grooming": ["silence", "silence"]}))
+    robot.bus.after(opened + 0.5, robot.restart_speech)
+    assert items(robot.run_test())["grooming"] == undisturbed
+    node = robot.pelea_link.graph.node("item_grooming").attrs
+    assert node["outcomes"][0] == "interrupted" and node["attempts"] == 2

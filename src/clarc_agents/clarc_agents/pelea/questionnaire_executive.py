@@ -363,9 +363,13 @@ class QuestionnaireExecutive(HighLevelExecutive):
         self._complete(wait.token, monitoring.confirmation_failed(self.state, item, window))
 
     def _window_ended(self, item: str, outcome: str, heard: str = "") -> None:
-        """Written to the item's node: how its window ended, for observers and for a restart."""
+        """Written to the item's node: how its window ended, for observers and for a restart. A
+        window nobody could be heard in (``interrupted``: no listener took it, or one restarted
+        during it, or the server did) is no attempt of the patient's: its count is taken back."""
         result = self.record.items[item]
         result.outcomes.append(outcome)
+        if outcome == "interrupted":
+            result.attempts = max(0, result.attempts - 1)
         if heard:
             result.heard = heard
         self.port.send(high_to_low.record_item(result))

@@ -18,7 +18,7 @@ class ItemResult:
     item: str
     points: int | None = None  # None: unanswered, or waiting for the clinician to score it
     via: str | None = None  # "voice" | "touch" | "camera" | None
-    attempts: int = 0  # answer windows opened for this item
+    attempts: int = 0  # answer windows opened for this item, but those nobody could be heard in
     closed: bool = False  # answered, or given up on
     outcomes: list[str] = field(default_factory=list)  # how each window ended (WINDOW_OUTCOMES)
     heard: str = ""  # the last words heard (or targets touched) for it
