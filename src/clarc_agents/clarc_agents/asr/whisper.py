@@ -61,11 +61,11 @@ MAX_TOKENS = 96  # an answer is a sentence or two; a runaway repetition stops he
 WINDOW_FRAMES = 3000  # Whisper's 30 s window of 10 ms mel frames (shorter ones hear worse)
 NO_SPEECH = 0.6
 LOGPROB_FLOOR = -1.0
-# words and serial answers: a token's probability (with the other tokens there of the same
-# reading) times this bounds the confidence, so that at Speech's 0.5 a words answer needs each
-# word at 0.4 and a serial one each number at 0.65 (BENCHMARKS.md section 9: at 0.3 for words
-# 3.8 to 15% were scored wrong; with other spellings counted, at 0.6 two serial answers were,
-# "eighty" heard "87" and "eighty six" "96", each number at 0.61 to 0.63)
+# words and serial answers: a token's probability (a serial answer's with the other tokens
+# there of the same reading) times this bounds the confidence, so that at Speech's 0.5 a words
+# answer needs each word at 0.4 and a serial one each number at 0.65 (BENCHMARKS.md section 9:
+# at 0.3 for words 3.8 to 15% were scored wrong; with other spellings counted, at 0.6 two
+# serial answers were, "eighty" heard "87" and "eighty six" "96", each number at 0.61 to 0.63)
 TOKEN_DOUBT = {"words": 0.5 / 0.4, "serial": 0.5 / 0.65}
 # the least sure tokens looked into, and the other tokens tried at each (those the decoder gives
 # at least MIN_ALTERNATIVE): other spellings of the same reading count with the token heard
