@@ -32,7 +32,9 @@ class ItemAudit:
 
     @staticmethod
     def say(record: dict) -> None:
-        print(json.dumps(record), flush=True)
+        # the line and its end in one write: the ROS logger writes to stderr, which a supervisor
+        # may send to the same file, and an unbuffered stdout would write them apart
+        print(json.dumps(record) + "\n", end="", flush=True)
 
     # -- signal handlers, with CORTEX's signatures ---------------------------------------------
     def update_node(self, id: int, type: str) -> None:

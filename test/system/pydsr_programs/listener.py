@@ -11,7 +11,7 @@ from pydsr import DSRGraph, signals
 
 
 def out(*fields):
-    print(json.dumps(fields), flush=True)
+    print(json.dumps(fields) + "\n", end="", flush=True)  # one write: a log line never splits it
 
 
 g = DSRGraph(0, "listener", 2)

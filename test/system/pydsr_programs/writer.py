@@ -9,7 +9,7 @@ from pydsr import Attribute, DSRGraph, Edge, Node, rt_api, signals
 
 
 def out(*fields):
-    print(json.dumps(fields), flush=True)
+    print(json.dumps(fields) + "\n", end="", flush=True)  # one write: a log line never splits it
 
 
 g = DSRGraph(0, "writer", 1)

@@ -74,6 +74,9 @@ __all__ = ["SERVER_SILENCE", "DsrAgent"]
 
 BLOB_DISCOVERY_PERIOD = 0.2  # seconds between looks for agents' dsr/blobs/<node name> (blobs=True)
 DESCRIBE_PERIOD = 0.25  # seconds between looks at whether the agent info node is as it should be
+# after a refusal (a program with no key of its own under an enforcing server, a policy without
+# its info node): the next try, and its warning, this much later, not four times a second
+DESCRIBE_REFUSED = 10.0
 
 
 class DsrAgent:
@@ -183,7 +186,11 @@ class DsrAgent:
     def _described_done(self, result: Result) -> None:
         self._describing = False
         if not result.accepted:
-            self.node.get_logger().warning(f"could not describe this agent: {result.error}")
+            self._described = time.monotonic() + DESCRIBE_REFUSED - DESCRIBE_PERIOD
+            self.node.get_logger().warning(
+                f"could not describe this agent (tried again in {DESCRIBE_REFUSED:g} s): "
+                f"{result.error}"
+            )
 
     def _listen_to_agents(self) -> None:
         self._blob_inbox.listen_to_agents(self.node.get_topic_names_and_types())
