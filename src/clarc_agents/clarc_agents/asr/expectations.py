@@ -14,7 +14,7 @@
   points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
   add up, hypotheses that mean another one compete.
 - ``reading(text)``: what two transcripts must share to be heard the same, however written:
-  a serial answer's numbers ("93" and "ninety-three"), a words answer's words. Another token
+  a serial answer's numbers ("93" and "ninety-three"; by default, the words). Another token
   the decoder saw that leads to the same reading is no doubt of the one heard (serial
   answers: asr/whisper.py).
 - ``full_marks`` (words and serial items): what is worth every point (each part's first
@@ -28,7 +28,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Hashable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from clarc_agents import languages
 from clarc_agents.definitions import Item
@@ -97,14 +97,11 @@ def expectation_for(item: Item | None) -> Expectation | None:
     full = tuple(part.keywords[0] for part in item.parts if part.keywords)
     if meaning(", ".join(full)) != ("answer", item.max):  # no one way to say it all
         full = ()
-    said = _numbers_said if item.kind == "serial" else _words_said
-    reading = said(item.language)
-    return Expectation(item.kind, f"{item.question} {item.ask}", (), meaning, full, reading=reading)
+    expected = Expectation(item.kind, f"{item.question} {item.ask}", (), meaning, full)
+    if item.kind == "serial":
+        return replace(expected, reading=_numbers_said(item.language))
+    return expected
 
 
 def _numbers_said(language: str) -> Callable[[str], tuple[str, ...]]:
     return lambda text: tuple(w for w in words(text, language) if w.isdigit())
-
-
-def _words_said(language: str) -> Callable[[str], tuple[str, ...]]:
-    return lambda text: tuple(words(text, language))
