@@ -35,10 +35,5 @@ fi
 if [ $# -gt 0 ]; then  # the caller's selection, on both workers
   exec python -m pytest -n 2 --dist loadfile --junitxml=test-results/junit.xml "$@"
 fi
-# The whole suite: everything on both workers but the tests marked `alone` (the browser's: a
-# renderer crash seen mostly while another test loaded the machine, not yet understood, issue
-# 36), then those on their own.
-code=0
-python -m pytest -n 2 --dist loadfile -m "not alone" --junitxml=test-results/junit.xml || code=$?
-python -m pytest -m alone --junitxml=test-results/junit-alone.xml || code=$?
-exit "$code"
+# The whole suite, on both workers.
+exec python -m pytest -n 2 --dist loadfile --junitxml=test-results/junit.xml

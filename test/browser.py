@@ -54,15 +54,17 @@ def chromium_page(width=1280, height=860, resolve=None, csp=False):
     assert exe, (
         "Debian's chromium is missing: scripts/test.sh installs it (setup.sh --with-browser)"
     )
-    # Chromium's own log, shown when the test fails inside the page: the renderer crashed
-    # ("Target crashed") in 1 of 2 loaded whole-suite runs, at a tap on a skeleton joint, with
-    # nothing to say why (issue 36)
+    # Chromium's own log, shown when the test fails inside the page. Chromium logs nothing when
+    # a renderer dies, even of a SIGSEGV, so each renderer runs under a shell that records how
+    # it ended and its stderr: that found why the renderer crashed at a tap in the viewer
+    # (killed by SIGTRAP, "V8 javascript OOM": test_browser.tap says why, issue 36).
     folder = Path(tempfile.mkdtemp(prefix="chromium-log-"))
     log = folder / "chrome_debug.log"
     with sync_playwright() as p:
         rules = ", ".join(f"MAP {name} {address}" for name, address in (resolve or {}).items())
         args = CHROMIUM_ARGS + ([f"--host-resolver-rules={rules}"] if rules else [])
         args += ["--enable-logging", f"--log-file={log}", "--v=0"]
+        args += [f"--renderer-cmd-prefix={renderer_recorder(folder)}"]
         browser = p.chromium.launch(executable_path=exe, args=args)
         try:
             page = browser.new_page(viewport={"width": width, "height": height}, bypass_csp=not csp)
@@ -76,6 +78,7 @@ def chromium_page(width=1280, height=860, resolve=None, csp=False):
             yield page
         except Exception:
             print(chromium_log_tail(log))
+            print(renderer_ends(folder))
             raise
         finally:
             browser.close()
@@ -90,3 +93,32 @@ def chromium_log_tail(log: Path, lines: int = 40) -> str:
         return f"----- no Chromium log: {e}"
     kept = [line for line in text if "dbus" not in line and "Floss" not in line]
     return "\n".join([f"----- Chromium's log ({log}, last {lines} lines)", *kept[-lines:]])
+
+
+def renderer_recorder(folder: Path) -> Path:
+    """A shell that runs a renderer, keeps its stderr and appends how it ended (exit status,
+    or the signal that killed it) to ``folder/renderers.log``."""
+    script = folder / "renderer.sh"
+    script.write_text(
+        "#!/bin/sh\n"
+        f'"$@" 2>>"{folder}/renderers.err"\n'
+        "status=$?\n"
+        'ended="exit $status"\n'
+        '[ "$status" -gt 128 ] && ended="killed by SIG$(kill -l $((status - 128)))"\n'
+        f'echo "$(date +%T.%N) renderer $$: $ended" >>"{folder}/renderers.log"\n'
+        "exit $status\n"
+    )
+    script.chmod(0o755)
+    return script
+
+
+def renderer_ends(folder: Path, lines: int = 20) -> str:
+    """How each renderer that ended did, and the end of their stderr."""
+    parts = []
+    for name in ("renderers.log", "renderers.err"):
+        try:
+            text = (folder / name).read_text(errors="replace").splitlines()
+        except OSError:
+            text = ["(none)"]
+        parts += [f"----- {name} (last {lines} lines)", *text[-lines:]]
+    return "\n".join(parts)

@@ -7,20 +7,12 @@ import subprocess
 from contextlib import contextmanager
 from pathlib import Path
 
-import pytest
-
 from browser import chromium_page, free_port, http_get
 from ros_processes import (
     fresh_domain_id,
     stored_tests,
     wait_for,
 )
-
-# scripts/test.sh runs these with no other test beside them: Chromium's renderer crashed
-# ("Target crashed", at a tap on a skeleton joint) in runs where another test loaded the
-# machine, and not in 8 runs of that test under busy loops alone; its cause is not found yet
-# (issue 36)
-pytestmark = pytest.mark.alone
 
 REPO = Path(__file__).resolve().parents[2]
 PASSWORD = "a long enough passphrase"
