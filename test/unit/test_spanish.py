@@ -43,13 +43,18 @@ def test_spanish_words_and_numbers_however_said(text, expected):
     assert words(text, "es") == expected
 
 
-def test_the_spanish_barthel_is_the_english_one_item_for_item():
-    english = definitions.load("barthel")
-    assert BARTHEL.language == "es" and all(i.language == "es" for i in BARTHEL.items)
-    assert BARTHEL.order == english.order and BARTHEL.bands == english.bands
-    for ours, theirs in zip(BARTHEL.items, english.items, strict=True):
+@pytest.mark.parametrize("test", ["barthel", "lawton"])
+def test_a_spanish_test_is_the_english_one_item_for_item(test):
+    english, spanish = definitions.load(test), definitions.load(test, "es")
+    assert spanish.language == "es" and all(i.language == "es" for i in spanish.items)
+    assert spanish.order == english.order and spanish.bands == english.bands
+    for ours, theirs in zip(spanish.items, english.items, strict=True):
         assert ours.points == theirs.points and ours.kind == theirs.kind
-    assert "Hola Ana" in BARTHEL.sentence("greet", patient="Ana")
+        # each option as the simulated patient says it, and as it is written, is that option
+        for option in ours.options:
+            for said in (option.says, option.text):
+                assert understand(ours, said).points == option.points, (ours.key, said)
+    assert "Hola Ana" in spanish.sentence("greet", patient="Ana")
 
 
 @pytest.mark.parametrize(
@@ -76,6 +81,27 @@ def test_the_spanish_barthel_is_the_english_one_item_for_item():
 )
 def test_the_barthel_answered_in_spanish_as_people_say_it(item, said, expected):
     assert understand(BARTHEL.item(item), said).points == expected, said
+
+
+LAWTON = definitions.load("lawton", "es")
+
+
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("telephone", "No, no lo uso", 0),  # "lo uso" denied
+        ("telephone", "Sí, llamo a mi hija todos los días", 1),
+        ("food_preparation", "Nunca cocino, me cocina mi hija", 0),
+        ("food_preparation", "Cocino yo sola", 1),
+        ("finances", "Mi hija lleva mi dinero", 0),
+        ("finances", "Me encargo yo", 1),
+        ("transportation", "Cojo el autobús", 1),
+        ("transportation", "la primera", 0),
+        ("medication", "No", None),  # a bare no is no option of this item
+    ],
+)
+def test_the_lawton_answered_in_spanish_as_people_say_it(item, said, expected):
+    assert understand(LAWTON.item(item), said).points == expected, said
 
 
 @pytest.mark.parametrize(
@@ -131,8 +157,8 @@ def test_a_language_that_is_not_shipped_is_named(tmp_path):
         definitions.parse(bad, "barthel.yaml")
     with pytest.raises(DefinitionError, match=r"no language 'fr' \(there are: en, es\)"):
         definitions.load("barthel", "fr")
-    with pytest.raises(DefinitionError, match=r"'lawton' in 'es' \(it is shipped in: en\)"):
-        definitions.load("lawton", "es")
+    with pytest.raises(DefinitionError, match=r"'mmse' in 'es' \(it is shipped in: en\)"):
+        definitions.load("mmse", "es")
 
 
 def test_a_language_file_is_read_strictly():
@@ -161,7 +187,7 @@ def test_clarc_understand_in_spanish(capsys):
     assert code == 0 and doc["points"] == 5 and doc["language"] == "es", doc
     code, out, _ = run("barthel", "feeding", "No puedo comer yo solo", "--language", "es")
     assert code == 0 and out.startswith("barthel feeding (choose): answer, 0 of 10 points")
-    code, _, err = run("lawton", "telephone", "uno", "--language", "es")
+    code, _, err = run("mmse", "registration", "manzana", "--language", "es")
     assert code == 1 and "shipped in: en" in err
     mine = definitions.path_of("barthel", "es")
     code, _, err = run(str(mine), "feeding", "uno", "--language", "en")
@@ -193,6 +219,28 @@ def test_a_whole_barthel_asked_and_answered_in_spanish():
     graph = spanish.pelea_link.graph
     assert graph.node("item_feeding").attrs["language"] == "es"
     assert graph.node("test").attrs["language"] == "es"
+
+
+def test_a_whole_lawton_asked_and_answered_in_spanish():
+    from local_clarc import Patient, Robot
+
+    answers = {
+        "shopping": [("voice", 0)],
+        "transportation": [("touch", 0)],
+        "laundry": ["garbled", ("voice", 1)],
+    }
+
+    def run(language):
+        robot = Robot(Patient(answers=dict(answers)), test="lawton", language=language)
+        return robot, robot.run_test("Elena")
+
+    spanish, result = run("es")
+    _, english = run("en")
+    got = {i["item"]: (i["points"], i["via"]) for i in result["items"]}
+    assert got == {i["item"]: (i["points"], i["via"]) for i in english["items"]}
+    assert result["total"] == english["total"] == 6 and result["band"] == "mostly independent"
+    said = " ".join(spanish.said)
+    assert "Pregunta 1 de 8, Usar el teléfono." in said and "Question" not in said
 
 
 def test_a_start_asks_for_the_language_and_one_not_shipped_is_not_taken():
