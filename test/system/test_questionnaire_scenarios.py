@@ -63,6 +63,8 @@ def test_a_questionnaire_scenario_through_the_launch(scenario, tmp_path):
         i["needs_clinician"] == (i["item"] in ("writing", "copying")) for i in stored["items"]
     )
     assert "RESULT" in run.stdout and definition.title in run.stdout
+    # asked in the scenario's language: how the robot introduces a question
+    assert {"en": "CLARC: Question ", "es": "CLARC: Pregunta "}[truth.language] in run.stdout
     assert stored["person_lost"] == any(truth.plan(k).leave is not None for k in definition.order)
 
 

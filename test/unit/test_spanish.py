@@ -43,13 +43,14 @@ def test_spanish_words_and_numbers_however_said(text, expected):
     assert words(text, "es") == expected
 
 
-@pytest.mark.parametrize("test", ["barthel", "lawton"])
+@pytest.mark.parametrize("test", ["barthel", "lawton", "mmse"])
 def test_a_spanish_test_is_the_english_one_item_for_item(test):
     english, spanish = definitions.load(test), definitions.load(test, "es")
     assert spanish.language == "es" and all(i.language == "es" for i in spanish.items)
     assert spanish.order == english.order and spanish.bands == english.bands
     for ours, theirs in zip(spanish.items, english.items, strict=True):
         assert ours.points == theirs.points and ours.kind == theirs.kind
+        assert len(ours.parts) == len(theirs.parts)
         # each option as the simulated patient says it, and as it is written, is that option
         for option in ours.options:
             for said in (option.says, option.text):
@@ -148,7 +149,45 @@ def test_the_serial_sevens_said_in_spanish(said, expected):
     assert understand(SERIAL, said).points == expected, said
 
 
-def test_a_language_that_is_not_shipped_is_named(tmp_path):
+MMSE = definitions.load("mmse", "es").filled(values(date(2026, 12, 6), code="es"))  # a Sunday
+
+
+@pytest.mark.parametrize(
+    "item, said, expected",
+    [
+        ("orientation_time", "dos mil veintiséis, invierno, seis, domingo, diciembre", 5),
+        ("orientation_time", "estamos a seis de diciembre de dos mil veintiséis, domingo", 4),
+        ("orientation_place", "España, Andalucía, Sevilla, el Virgen del Rocío, primera planta", 5),
+        ("orientation_place", "Spain, Seville, en el primer piso", 3),  # the English names too
+        ("registration", "manzana, bicicleta y cuchara", 3),
+        ("recall", "una cuchara y una mesa", 1),
+        (
+            "attention",
+            "noventa y tres, ochenta y seis, setenta y nueve, setenta y dos, sesenta y cinco",
+            5,
+        ),
+        ("attention", "cien menos siete noventa y tres, menos siete ochenta y seis", 2),
+        ("naming", "un lápiz y un reloj", 2),
+        ("naming", "un bolígrafo y un reloj de pulsera", 1),
+        ("repetition", "Ni sí, ni no, ni pero", 1),
+        ("repetition", "ni sí ni no", 0),
+    ],
+)
+def test_the_mini_mental_answered_in_spanish_as_people_say_it(item, said, expected):
+    assert understand(MMSE.item(item), said).points == expected, said
+
+
+def test_the_simulated_patient_earns_each_score_in_spanish():
+    from clarc_sim.patient.answering import words_for
+
+    for item in MMSE.items:
+        for points in range(item.max + 1) if item.kind in ("words", "serial") else ():
+            said = words_for(item, points)
+            assert understand(item, said).points == points, (item.key, said)
+    assert words_for(MMSE.item("recall"), 0) == "No lo sé"
+
+
+def test_a_language_that_is_not_shipped_is_named(tmp_path, monkeypatch):
     with pytest.raises(DefinitionError, match="no language 'xx'"):
         languages.get("xx")
     english = definitions.path_of("barthel").read_text(encoding="utf-8")
@@ -157,8 +196,18 @@ def test_a_language_that_is_not_shipped_is_named(tmp_path):
         definitions.parse(bad, "barthel.yaml")
     with pytest.raises(DefinitionError, match=r"no language 'fr' \(there are: en, es\)"):
         definitions.load("barthel", "fr")
+    shipped = definitions.path_of
+
+    def hidden(test, language="en"):  # as if the Spanish Mini-Mental were not shipped
+        return (
+            tmp_path / "none.yaml"
+            if (test, language) == ("mmse", "es")
+            else shipped(test, language)
+        )
+
+    monkeypatch.setattr(definitions, "path_of", hidden)
     with pytest.raises(DefinitionError, match=r"'mmse' in 'es' \(it is shipped in: en\)"):
-        definitions.load("mmse", "es")
+        definitions.load.__wrapped__("mmse", "es")  # not the cached one
 
 
 def test_a_language_file_is_read_strictly():
@@ -187,8 +236,10 @@ def test_clarc_understand_in_spanish(capsys):
     assert code == 0 and doc["points"] == 5 and doc["language"] == "es", doc
     code, out, _ = run("barthel", "feeding", "No puedo comer yo solo", "--language", "es")
     assert code == 0 and out.startswith("barthel feeding (choose): answer, 0 of 10 points")
-    code, _, err = run("mmse", "registration", "manzana", "--language", "es")
-    assert code == 1 and "shipped in: en" in err
+    code, out, _ = run("mmse", "registration", "manzana y cuchara", "--language", "es")
+    assert code == 0 and out.startswith("mmse registration (words): answer, 2 of 3 points")
+    code, _, err = run("lawton", "telephone", "uno", "--language", "fr")
+    assert code == 1 and "no language 'fr'" in err
     mine = definitions.path_of("barthel", "es")
     code, _, err = run(str(mine), "feeding", "uno", "--language", "en")
     assert code == 1 and "is in 'es', not 'en'" in err
@@ -241,6 +292,31 @@ def test_a_whole_lawton_asked_and_answered_in_spanish():
     assert result["total"] == english["total"] == 6 and result["band"] == "mostly independent"
     said = " ".join(spanish.said)
     assert "Pregunta 1 de 8, Usar el teléfono." in said and "Question" not in said
+
+
+def test_a_whole_mini_mental_asked_and_answered_in_spanish():
+    """Orientation against today said in Spanish and the default place's Spanish names, the
+    Spanish words to remember, the serial sevens in Spanish numbers: the English result."""
+    from local_clarc import Patient, Robot
+
+    answers = {
+        "orientation_place": [("voice", 3)],
+        "recall": [("voice", 2)],
+        "attention": ["garbled", ("voice", 4)],
+        "naming": ["silence", ("voice", 2)],
+    }
+
+    def run(language):
+        robot = Robot(Patient(answers=dict(answers)), test="mmse", language=language)
+        return robot, robot.run_test("Ana")
+
+    spanish, result = run("es")
+    _, english = run("en")
+    got = {i["item"]: (i["points"], i["via"], i["attempts"]) for i in result["items"]}
+    assert got == {i["item"]: (i["points"], i["via"], i["attempts"]) for i in english["items"]}
+    assert got["orientation_time"][0] == 5 and got["attention"] == (4, "voice", 2)
+    said = " ".join(spanish.said)
+    assert "bicicleta, cuchara, manzana" in said and "apple" not in said
 
 
 def test_a_start_asks_for_the_language_and_one_not_shipped_is_not_taken():

@@ -20,6 +20,18 @@ DEFAULT_PLACE = (
     "Hospital Universitario Virgen del Rocio|Virgen del Rocio",
     "first floor",
 )
+# The default place as a test in another language says it: its names in that language first
+# (the simulated patient says a part's first way), the English ones still right. A configured
+# place is used as it is in every language: a site lists every way it accepts.
+DEFAULT_PLACE_IN = {
+    "es": (
+        "España|Spain",
+        "Andalucía|provincia de Sevilla|Andalusia|Seville province",
+        "Sevilla|Seville",
+        "Hospital Universitario Virgen del Rocío|Virgen del Rocío|Virgen del Rocio",
+        "primera planta|planta primera|primer piso|la primera|first floor",
+    ),
+}
 # The names of the days, months and seasons are the test's language's (clarc_agents/languages/),
 # whatever the machine's locale; the seasons are the meteorological ones of the northern
 # hemisphere (where the place is). English's, for the recogniser's vocabularies:
@@ -72,5 +84,8 @@ def values(
     place: tuple[str, ...] | list[str] = DEFAULT_PLACE,
     code: str = languages.DEFAULT,
 ):
-    """Every placeholder's values on ``today`` at ``place``, the date's said in ``code``."""
+    """Every placeholder's values on ``today`` at ``place``, the date's said in ``code`` (and
+    the default place's, ``DEFAULT_PLACE_IN``)."""
+    if tuple(place) == DEFAULT_PLACE:
+        place = DEFAULT_PLACE_IN.get(code, DEFAULT_PLACE)
     return date_values(today, code) | place_values(place)

@@ -11,16 +11,18 @@ import math
 
 from clarc_agents.definitions import Item
 
-DONT_KNOW = "I don't know"
-REST = "I don't remember the rest"
+# what the patient says for what it does not know, in the item's language
+DONT_KNOW = {"en": "I don't know", "es": "No lo sé"}
+REST = {"en": "I don't remember the rest", "es": "No me acuerdo del resto"}
 
 
 def words_for(item: Item, points: int) -> str:
     """What to say to a ``words`` item: the first ``points`` parts right, the rest not known."""
     right = [part.keywords[0] for part in item.parts[:points]]
     if not right:
-        return DONT_KNOW
-    return ", ".join(right + ([REST] if points < len(item.parts) else []))
+        return DONT_KNOW.get(item.language, DONT_KNOW["en"])
+    rest = [REST.get(item.language, REST["en"])] if points < len(item.parts) else []
+    return ", ".join(right + rest)
 
 
 def touches_for(item: Item, points: int) -> list[str]:

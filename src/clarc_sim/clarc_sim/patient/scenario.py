@@ -34,8 +34,8 @@ points of a writing or a copying are what the clinician would give the drawing (
 handwriting or the pentagons for 1, a scribble for 0): they are scored in the dashboard.
 
 A questionnaire is asked and answered in English unless the scenario says another language its
-test is shipped in (``language: es``: the Barthel, clarc_agents/definitions/es/); the patient
-then says its answers in that language.
+test is shipped in (``language: es``: the Barthel, the Lawton and the Mini-Mental,
+clarc_agents/definitions/es/); the patient then says its answers in that language.
 
 With ``--audio`` the patient speaks with its own voice in a noisy room (optional, these defaults;
 the voice is the scenario's language's own, ``es`` for Spanish):
