@@ -77,3 +77,20 @@ def test_an_answer_stale_before_the_cut_stays_stale():
     assert early.take("stairs") is None
     early.keep(5, "feeding")
     assert early.take("stairs") is None  # another item's answer is never taken
+
+
+def test_an_agent_whose_request_publisher_is_alive_is_not_gone_whatever_the_ros_graph_lists():
+    from dsr_graph.protocol.absence import Absences
+
+    presence = Presence()
+    presence.observe("/dsr/transactions/panel", "/panel", alive=1, not_alive=0)
+    presence.observe("/dsr/transactions/speech", "/speech", alive=0, not_alive=1)  # killed
+    assert presence.alive == {"/panel"}
+    # the ROS graph lists neither (a loaded machine's discovery, for minutes): only the agent
+    # whose process ended is marked gone, as the server composes them (ros/server_node.py)
+    absences = Absences()
+    for now in (10.0, 13.0):
+        claims, info = absences.update(
+            set(), {"/panel", "/speech"}, presence.alive, now, grace=5, info_grace=2, warm=True
+        )
+    assert info == ["/speech"] and claims == []

@@ -65,3 +65,10 @@ class Presence:
     def away(self) -> list[str]:
         """Agents out of reach at the last ``update``."""
         return sorted(self._away_since)
+
+    @property
+    def alive(self) -> set[str]:
+        """Agents with a request publisher alive now: their processes run, whatever the ROS
+        graph lists (under heavy load it left live nodes out for minutes, and the server marked
+        their info nodes gone every few seconds: protocol/absence.py)."""
+        return {agent for agent, alive, _ in self._counts.values() if alive}

@@ -467,7 +467,8 @@ class DsrServer(DsrNode):
         if holders or described:  # one query of the ROS graph per heartbeat, when it matters
             graph = self.get_node_names_and_namespaces()
             live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {n for n, _ in graph}
-        return self._absences.update(
+        live |= self.requests.presence.alive  # its request publisher alive: its process runs
+        claims_gone, info_gone = self._absences.update(
             holders,
             described,
             live,
@@ -476,6 +477,9 @@ class DsrServer(DsrNode):
             info_grace=INFO_GRACE,
             warm=time.monotonic() - self._started >= DISCOVERY,
         )
+        for agent in info_gone:
+            self.get_logger().info(f"{agent} has left the ROS graph: its info node says gone")
+        return claims_gone, info_gone
 
     # ------------------------------------------------------------------ services
     def on_get_attribute(self, request: GetAttribute.Request, response: GetAttribute.Response):
