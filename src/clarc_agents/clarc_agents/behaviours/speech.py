@@ -65,6 +65,7 @@ class SpeechBehaviour:
         self.speaking: dict[int, ActionContext] = {}  # sentence id -> the say process
         self.listening: ActionContext | None = None
         self._sends: dict[int, int] = {}
+        self._stopping: set[int] = set()  # sentences this agent asked the speaker to stop
         self._watchdogs: dict[int, Timer] = {}
         self._early = EarlyAnswer(now, server_gap)  # words heard just before their window opened
 
@@ -105,6 +106,7 @@ class SpeechBehaviour:
     def _end(self, sid: int, outcome: str, stamp: float | None = None) -> None:
         ctx = self.speaking.pop(sid)
         self._sends.pop(sid, None)
+        self._stopping.discard(sid)
         watchdog = self._watchdogs.pop(sid, None)
         if watchdog is not None:
             watchdog.cancel()
@@ -112,6 +114,7 @@ class SpeechBehaviour:
 
     def stop(self, ctx: ActionContext) -> str:
         for sid in list(self.speaking):
+            self._stopping.add(sid)
             self.speaker.stop(sid)
         return "done"
 
@@ -127,6 +130,12 @@ class SpeechBehaviour:
             self._watch(
                 sid, 2 * (words / WORDS_PER_SECOND + SLACK) * self.scale + self.start_patience
             )
+        elif event == "stopped" and sid not in self._stopping:
+            # cut by the speaker itself, not at our request: the sentence is over all the same.
+            # As "interrupted" (which only a stop this agent asked for leaves to the stop rule)
+            # the robot's speaking edge stayed busy and PELEA waited for it for good
+            self.log.warning(f"the speaker cut sentence {sid} on its own: taken as said")
+            self._end(sid, "done", stamp)
         elif event in ("end", "stopped"):
             self._end(sid, "done" if event == "end" else "interrupted", stamp)
 
