@@ -228,13 +228,10 @@ class WhisperRecogniser:
         scale = TOKEN_DOUBT[expectation.kind]
         sure = [float(p) for p in probs]
         places = [k for k, t in enumerate(ids) if any(c.isalnum() for c in self._text([t]))]
-        doubted = (
-            []
-            if expectation.kind not in LOOKED_INTO
-            else sorted(
-                (k for k in places if scale * sure[k] < LOOKED_INTO_BELOW), key=sure.__getitem__
-            )[:DOUBT_PLACES]
-        )
+        doubted = []
+        if expectation.kind in LOOKED_INTO:
+            unsure = [k for k in places if scale * sure[k] < LOOKED_INTO_BELOW]
+            doubted = sorted(unsure, key=sure.__getitem__)[:DOUBT_PLACES]
         if doubted:
             spread = self._spread(encoded, prompt, ids)
             others = [
