@@ -5,6 +5,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from crash_safe_scheduling import pytest_xdist_make_scheduler  # noqa: F401 (a hook: registered)
 from hypothesis import settings
 
 # CI explores a fixed set of examples (reproducible); a developer's run explores new ones.
