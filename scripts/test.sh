@@ -2,8 +2,7 @@
 # The README's test command: sets the workspace up if needed (idempotent), lints (ruff, pinned,
 # ruff.toml), then runs the tests.
 #   scripts/test.sh            the whole suite (what CI runs), on both cores: test/unit (no ROS,
-#                              seconds) and test/system (processes, launches, docs), then the
-#                              browser's tests on their own
+#                              seconds) and test/system (processes, launches, docs, browser)
 #   scripts/test.sh --quick    the five-minute loop: the unit tests and one system smoke test a
 #                              package (pytest -m smoke), on both cores
 # Extra arguments go to pytest (scripts/test.sh test/unit -x; scripts/test.sh --quick -x).

@@ -1,12 +1,16 @@
 """Shared test helpers. The suite runs inside `source scripts/env.sh` (scripts/test.sh does it)."""
 
+import ctypes
 import os
+import shutil
 import sys
 from pathlib import Path
 
 import pytest
 from crash_safe_scheduling import pytest_xdist_make_scheduler  # noqa: F401 (a hook: registered)
 from hypothesis import settings
+
+from dsr_graph.ros.exit_timer import CTimer, c_function
 
 # CI explores a fixed set of examples (reproducible); a developer's run explores new ones.
 settings.register_profile("ci", derandomize=True, print_blob=True)
@@ -20,6 +24,7 @@ CORTEX_WORLDS = SHARED / "data" / "cortex_worlds"
 MOTION = SHARED / "data" / "motion"
 SPEECH = SHARED / "data" / "speech"
 _watch_fd = pytest.StashKey[int]()
+_native_stacks = pytest.StashKey[CTimer | None]()
 
 
 def unavailable(why: str) -> None:
@@ -41,18 +46,41 @@ def shared_folder(path: Path, what: str) -> Path:
 # DDS deadlock in a teardown: Fast-DDS issue 6502) would hang the run until CI's limit. Each
 # phase of a test is also watched by faulthandler's C thread, which prints every thread's stack
 # and ends the run MARGIN seconds after the test's timeout.
-MARGIN = 120.0
+# (test_watchdog.py sets a shorter margin for a suite of its own.)
+MARGIN = float(os.environ.get("DSR_TEST_WATCH_MARGIN", "120"))
+# ... and, a third of the margin before that, gdb writes every thread's native stack there too:
+# the lock a stuck DDS call waits on, which Python's stacks do not show.
+NATIVE_BEFORE = MARGIN / 3
 LOG_TAIL = 40  # lines of each ROS process's log shown with a failed test
 
 
 def pytest_configure(config):
     config.stash[_watch_fd] = os.dup(sys.stderr.fileno())  # pytest's own stderr, not a test's
+    config.stash[_native_stacks] = native_stacks_timer(config.stash[_watch_fd])
+
+
+def native_stacks_timer(fd: int):
+    """A timer that runs gdb on this process from a C thread (Python may be stuck holding the
+    GIL); None without gdb."""
+    gdb = shutil.which("gdb")
+    if gdb is None:
+        return None
+    out = f"/proc/{os.getpid()}/fd/{fd}"  # a dup'ed fd is not inherited: its path is
+    command = ctypes.create_string_buffer(
+        f"echo '--- native stacks (gdb) ---' >> {out}; timeout 30 {gdb} -p {os.getpid()} "
+        f"-batch -nx -ex 'thread apply all bt' >> {out} 2>&1".encode()
+    )
+    timer = CTimer(c_function("system"), ctypes.addressof(command))
+    timer.command = command  # the C string lives as long as the timer
+    return timer if timer.ok else None
 
 
 def pytest_unconfigure(config):
     import faulthandler
 
     faulthandler.cancel_dump_traceback_later()
+    if config.stash[_native_stacks] is not None:
+        config.stash[_native_stacks].close()
     os.close(config.stash[_watch_fd])
 
 
@@ -64,6 +92,8 @@ def pytest_runtest_protocol(item):
         return (yield)
     finally:
         faulthandler.cancel_dump_traceback_later()
+        if item.config.stash[_native_stacks] is not None:
+            item.config.stash[_native_stacks].stop()
 
 
 @pytest.hookimpl(wrapper=True)
@@ -89,6 +119,8 @@ def _watch(item) -> None:
     faulthandler.dump_traceback_later(
         float(limit) + MARGIN, exit=True, file=item.config.stash[_watch_fd]
     )
+    if item.config.stash[_native_stacks] is not None:
+        item.config.stash[_native_stacks].start(float(limit) + MARGIN - NATIVE_BEFORE)
 
 
 def pytest_collection_modifyitems(config, items):

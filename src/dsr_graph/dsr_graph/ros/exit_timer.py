@@ -59,22 +59,41 @@ def _libc():
             return None
 
 
-def _arm(seconds: float, code: int = 0):
-    """A timer that calls ``_exit(code)`` in ``seconds``; None where there is none."""
-    libc = _libc()
-    if libc is None or sys.platform != "linux":
-        return None
-    exit_now = ctypes.cast(ctypes.CDLL(None)._exit, ctypes.c_void_p).value
-    event = _SigEvent(value=code or None, signo=0, notify=SIGEV_THREAD, function=exit_now)
-    timer = ctypes.c_void_p()
-    if libc.timer_create(CLOCK_MONOTONIC, ctypes.byref(event), ctypes.byref(timer)) != 0:
-        return None
-    whole = int(seconds)
-    spec = _ITimerSpec(value=_TimeSpec(whole, int((seconds - whole) * 1e9)))
-    if libc.timer_settime(timer, 0, ctypes.byref(spec), None) != 0:
-        libc.timer_delete(timer)
-        return None
-    return libc, timer
+class CTimer:
+    """A POSIX timer whose expiry calls a C function of one pointer argument from a thread the C
+    library starts: it runs while Python is stuck holding the GIL. ``ok`` is False where there
+    is no such timer (then start and stop do nothing)."""
+
+    def __init__(self, function: int, argument: int | None = None):
+        self._libc = _libc() if sys.platform == "linux" else None
+        self._timer = ctypes.c_void_p()
+        event = _SigEvent(value=argument, signo=0, notify=SIGEV_THREAD, function=function)
+        self.ok = self._libc is not None and (
+            self._libc.timer_create(CLOCK_MONOTONIC, ctypes.byref(event), ctypes.byref(self._timer))
+            == 0
+        )
+
+    def start(self, seconds: float) -> bool:
+        """(Re)arm: the call happens in ``seconds`` unless stopped first."""
+        whole = int(seconds)
+        return self._set(_TimeSpec(whole, int((seconds - whole) * 1e9)))
+
+    def stop(self) -> None:
+        self._set(_TimeSpec(0, 0))
+
+    def close(self) -> None:
+        if self.ok:
+            self._libc.timer_delete(self._timer)
+            self.ok = False
+
+    def _set(self, value: _TimeSpec) -> bool:
+        spec = _ITimerSpec(value=value)
+        return self.ok and self._libc.timer_settime(self._timer, 0, ctypes.byref(spec), None) == 0
+
+
+def c_function(name: str) -> int:
+    """The address of a C library function, for a CTimer."""
+    return ctypes.cast(getattr(ctypes.CDLL(None), name), ctypes.c_void_p).value
 
 
 @contextmanager
@@ -87,11 +106,11 @@ def exit_if_stuck(seconds: float, code: int = 0) -> Iterator[None]:
         except (OSError, ValueError):
             pass
     faulthandler.dump_traceback_later(max(0.0, seconds - STACKS_BEFORE), exit=False)
-    armed = _arm(seconds, code)
+    timer = CTimer(c_function("_exit"), code or None)
+    if not timer.start(seconds):
+        timer.close()
     try:
         yield
     finally:
-        if armed is not None:
-            libc, timer = armed
-            libc.timer_delete(timer)
+        timer.close()
         faulthandler.cancel_dump_traceback_later()
