@@ -35,3 +35,28 @@ def test_a_sentence_speech_stops_is_still_interrupted():
 
     result = Robot(EVERY_PATH).run_test()
     assert result["person_lost"] >= 1 and len(result["items"]) == 10
+
+
+class StuckSpeaker(Robot):
+    """The speaker starts the greeting and reports its end only ``stuck_for`` seconds later (a
+    speaker, or a Speech, that never frees the robot's speaking channel)."""
+
+    stuck_for = 200.0
+
+    def say(self, sid, text):
+        if text.startswith("Hello"):
+            self.said.append(text)
+            self.bus.soon(lambda: self.speech.on_speaker(sid, "start"))
+            self.bus.after(self.stuck_for, lambda: self.speech.on_speaker(sid, "end"))
+            return
+        super().say(sid, text)
+
+
+def test_a_channel_never_freed_is_told_to_the_clinician_and_the_test_goes_on_once_free():
+    robot = StuckSpeaker()
+    result = robot.run_test("Carlos", limit=3600.0)
+    busy = [e for e in robot.port.events if e["event"] == "channels_busy"]
+    assert [e["busy"] for e in busy] == [["speaking"]]
+    told = [n for n in robot.port.notifications if "has not ended its speaking" in n]
+    assert len(told) == 1
+    assert result["total"] == 100 and len(result["items"]) == 10

@@ -378,6 +378,29 @@ class HighLevelExecutive(ABC):
         self.port.event(event="say", text=sentence.text, item=sentence.item)
         if low_to_high.channels_idle(self.graph):
             self._write_sentence()
+        else:
+            token = self._token
+            self.port.after(
+                self.times(self.times.agents_patience), lambda: self._still_busy(token, sentence)
+            )
+
+    def _still_busy(self, token: int, sentence: Sentence) -> None:
+        """A sentence has waited ``agents_patience`` for Speech or Panel to end their last
+        action (a channel an agent never freed): the clinician is told, once; the sentence is
+        said when the channel is free."""
+        if token != self._token or self._pending_say is not sentence or self.graph is None:
+            return
+        busy = low_to_high.busy_channels(self.graph)
+        if not busy:
+            return
+        self.log.warning(
+            f"waiting for the robot to end its {' and '.join(busy)} to say {sentence.text!r}"
+        )
+        self.port.event(event="channels_busy", busy=busy)
+        self.port.notify_clinician(
+            f"The robot is waiting to go on with the {self.KIND} test: it has not ended its "
+            f"{' and '.join(busy)} for {self.times(self.times.agents_patience):g} s. Please check it."
+        )
 
     def _write_sentence(self) -> None:
         sentence, token = self._pending_say, self._token

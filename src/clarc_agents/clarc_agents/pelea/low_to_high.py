@@ -47,7 +47,13 @@ def sentence_taken(graph: Graph, sid: int) -> bool:
 
 def channels_idle(graph: Graph) -> bool:
     """Neither Speech nor Panel is in the middle of an action (a new sentence may be written)."""
-    return _first(graph, "busy_speaking") is None and _first(graph, "busy_showing") is None
+    return not busy_channels(graph)
+
+
+def busy_channels(graph: Graph) -> list[str]:
+    """What the robot is in the middle of: "speaking" (Speech), "showing" (Panel)."""
+    busy = (("speaking", "busy_speaking"), ("showing", "busy_showing"))
+    return [what for what, pattern in busy if _first(graph, pattern) is not None]
 
 
 def last_sentence_id(graph: Graph) -> int:
