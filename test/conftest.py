@@ -45,7 +45,8 @@ def shared_folder(path: Path, what: str) -> Path:
 # pytest-timeout's signal reaches a test only between Python bytecodes: one stuck inside C (a
 # DDS deadlock in a teardown: Fast-DDS issue 6502) would hang the run until CI's limit. Each
 # phase of a test is also watched by faulthandler's C thread, which prints every thread's stack
-# and ends the run MARGIN seconds after the test's timeout.
+# and ends the worker MARGIN seconds after the test's timeout (the test fails as the worker's
+# crash and the run goes on: crash_safe_scheduling.py).
 # (test_watchdog.py sets a shorter margin for a suite of its own.)
 MARGIN = float(os.environ.get("DSR_TEST_WATCH_MARGIN", "120"))
 # ... and, a third of the margin before that, gdb writes every thread's native stack there too:
