@@ -397,9 +397,10 @@ class HighLevelExecutive(ABC):
             f"waiting for the robot to end its {' and '.join(busy)} to say {sentence.text!r}"
         )
         self.port.event(event="channels_busy", busy=busy)
+        waited = self.times(self.times.agents_patience)
         self.port.notify_clinician(
             f"The robot is waiting to go on with the {self.KIND} test: it has not ended its "
-            f"{' and '.join(busy)} for {self.times(self.times.agents_patience):g} s. Please check it."
+            f"{' and '.join(busy)} for {waited:g} s. Please check it."
         )
 
     def _write_sentence(self) -> None:
