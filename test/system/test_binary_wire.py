@@ -1,9 +1,10 @@
-"""Large binary values through a running server (protocol/blobs.py): a camera frame written by
-one agent reaches a replica that asks for the bytes as equal arrays, from the agent's own
-dsr/blobs/<name> (the server does not send them again), while the JSON on dsr/deltas names
-them by digest (a few hundred bytes, not megabytes of base64); a replica that
-does not ask holds a BlobRef; a request whose bytes never come, or come forged, is refused by
-name and changes nothing."""
+"""Large binary values through a running server (protocol/blobs.py): a camera frame (sensor data)
+written by one agent reaches a replica that asks for the bytes as equal arrays, one hop, from the
+agent's own dsr/sensor_blobs/<name>, which the server never reads, while the JSON on dsr/deltas
+names them by digest (a few hundred bytes, not megabytes of base64); a replica that does not ask
+holds a BlobRef naming the writer, whose dsr/get_blob/<name> gives the bytes (the server's says
+where they are); a durable binary value's request whose bytes never come, or come forged, is
+refused by name and changes nothing."""
 
 import json
 
@@ -11,11 +12,13 @@ import numpy as np
 from std_msgs.msg import String
 
 from dsr_graph.model.binary import BlobRef, dumps
+from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol import topic_names
 from dsr_graph.protocol.blobs import digest_of, extract
 from dsr_graph.ros.blob_topics import blob_message
 from dsr_graph.ros.qos import qos_blobs, qos_stream
 from dsr_msgs.msg import Blob
+from dsr_msgs.srv import GetBlob
 
 from ros_processes import agent_in_session, agent_on_node, send_and_wait, wait_for
 
@@ -63,7 +66,17 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
     assert np.array_equal(seen["cam_rgb"][1:], RGB[1:]) and np.array_equal(seen["cam_depth"], DEPTH)
     wait_for(lambda: "cam_rgb" in plain.graph.node("kinect").attrs, 10, "the plain replica")
     held = plain.graph.node("kinect").attrs["cam_rgb"]
-    assert isinstance(held, BlobRef) and held.shape == (480, 640, 3)
+    writer_name = ros.session.node.get_name()
+    assert isinstance(held, BlobRef) and held.shape == (480, 640, 3) and held.at == writer_name
+    # the server never had the bytes: it says who has them, and that one gives them
+    from_server = get_blob(ros, topic_names.GET_BLOB)
+    assert not from_server.found and f"dsr/get_blob/{writer_name}" in from_server.error
+    from_writer = get_blob(ros, f"{topic_names.GET_BLOB}/{writer_name}")
+    assert from_writer.found and digest_of(bytes(from_writer.data)) == held.digest
+    readers = ros.session.node.get_subscriptions_info_by_topic(
+        f"/{topic_names.SENSOR_BLOBS}/{writer_name}"
+    )
+    assert sorted(r.node_name for r in readers) == ["reader"]  # never the server
     mine = writer.graph.node("kinect").attrs["cam_rgb"]  # its own write, whole
     assert isinstance(mine, np.ndarray) and mine[0, 0, 0] == 2
     wait_for(lambda: sum("cam_rgb" in t for t in texts) == 3, 10, "3 deltas", ros.session)
@@ -73,11 +86,15 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
 
 
 def test_a_request_whose_bytes_never_come_or_come_forged_is_refused_by_name(ros):
-    ros.procs.start_server(ros.tmp / "state")
+    # a binary value that is not sensor data (journalled): its bytes must reach the server
+    vocabulary = Vocabulary.default().to_json()
+    vocabulary["attributes"]["photo"] = {"type": "uint8_array", "doc": "a picture kept"}
+    (ros.tmp / "vocabulary.json").write_text(json.dumps(vocabulary))
+    ros.procs.start_server(ros.tmp / "state", vocabulary_file=ros.tmp / "vocabulary.json")
     writer = agent_in_session(ros)
     insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
     assert send_and_wait(ros, writer, {"ops": [insert]}).accepted
-    op = {"op": "set_node_attrs", "node": "kinect", "attrs": {"cam_rgb": RGB}}
+    op = {"op": "set_node_attrs", "node": "kinect", "attrs": {"photo": RGB}}
     doc, blobs = extract({"ops": [op]})
     [digest] = blobs
     # the JSON alone, its bytes never published: held a few seconds, then refused
@@ -95,7 +112,16 @@ def test_a_request_whose_bytes_never_come_or_come_forged_is_refused_by_name(ros)
     forged.publish(blob_message(digest, other))
     result = send_raw(ros, writer, sent)
     assert not result.accepted and result.reason["rule"] == "blob-missing"
-    assert "cam_rgb" not in writer.graph.node("kinect").attrs
+    assert "photo" not in writer.graph.node("kinect").attrs
+
+
+def get_blob(ros, service):
+    """kinect.cam_rgb asked of ``service`` (a dsr_msgs/GetBlob), bounded."""
+    client = ros.session.node.create_client(GetBlob, service)
+    wait_for(client.service_is_ready, 10, service, ros.session)
+    return ros.session.call(
+        client, GetBlob.Request(node="kinect", attribute="cam_rgb"), 10, service
+    )
 
 
 def send_raw(ros, agent, doc):

@@ -117,6 +117,15 @@ def test_the_inspector_draws_a_camera_image_the_json_never_carries(ros, viewer):
     import numpy as np
 
     agent = agent_in_session(ros)
+    # sensor data goes one hop, writer to viewer: the viewer takes the bytes once it has found
+    # this agent's topic (it looks every 0.2 s)
+    sensor_topic = f"dsr/sensor_blobs/{ros.session.node.get_name()}"
+    wait_for(
+        lambda: ros.session.node.count_subscribers(sensor_topic) > 0,
+        10,
+        "the viewer on this agent's sensor blobs",
+        ros.session,
+    )
     rgb = np.zeros((480, 640, 3), dtype=np.uint8)
     rgb[100:200, 300:400] = (200, 30, 60)  # a red square
     depth = np.full((480, 640), 2.5, dtype=np.float32)
@@ -136,15 +145,20 @@ def test_the_inspector_draws_a_camera_image_the_json_never_carries(ros, viewer):
     status, body = http_get(viewer + "api/image?node=kinect&attr=cam_rgb", VIEWER_TOKEN)
     assert status == 200 and len(body) == rgb.nbytes
     # bytes the viewer missed (sent before it listened to the agent's topic) come from the
-    # server, and only as they are under the digest the viewer holds
+    # agent that wrote them (sensor data: the server never had them), and only as they are
+    # under the digest the viewer holds
     from dsr_graph.protocol.blobs import digest_of
     from dsr_graph.ros.blob_service import AsyncBlobClient
 
+    writer = ros.session.node.get_name()
     client = AsyncBlobClient(ros.session.node, timeout=10)
-    assert spun_while(ros, client.fetch("kinect", "cam_rgb", digest_of(rgb))) == rgb.tobytes()
-    assert spun_while(ros, client.fetch("kinect", "cam_rgb", "sha256:" + "0" * 64)) is None
+    assert spun_while(ros, client.fetch("kinect", "cam_rgb", digest_of(rgb), writer)) == (
+        rgb.tobytes()
+    )
+    assert spun_while(ros, client.fetch("kinect", "cam_rgb", "sha256:" + "0" * 64, writer)) is None
     missing = AsyncBlobClient(ros.session.node, timeout=10)  # its own, empty, cache
-    assert spun_while(ros, missing.fetch("kinect", "no_such", digest_of(rgb))) is None
+    assert spun_while(ros, missing.fetch("kinect", "no_such", digest_of(rgb), writer)) is None
+    assert spun_while(ros, missing.fetch("kinect", "cam_rgb", digest_of(rgb))) is None  # server
     # kept by digest: the same digest is the same bytes, asked once
     assert spun_while(ros, client.fetch("kinect", "no_such", digest_of(rgb))) == rgb.tobytes()
     assert http_get(viewer + "api/image?node=kinect&attr=color", VIEWER_TOKEN)[0] == 400

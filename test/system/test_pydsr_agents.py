@@ -142,7 +142,8 @@ def audit_lines(ros):
 
 
 def test_a_pydsr_agent_reads_the_cameras_images_it_was_not_sent(ros):
-    """camera_api on a replica that holds only the images' digests: dsr/get_blob brings them."""
+    """camera_api on a replica that holds only the images' digests: the writer's
+    dsr/get_blob/<node name> brings them (sensor data: the server never had the bytes)."""
     import zlib
 
     import numpy as np
@@ -159,9 +160,12 @@ def test_a_pydsr_agent_reads_the_cameras_images_it_was_not_sent(ros):
         ros, agent, {"ops": [{"op": "set_node_attrs", "node": "kinect", "attrs": image}]}
     )
     assert written.accepted, written.error
-    read = ros.procs.run(sys.executable, PROGRAMS / "camera_reader.py", timeout=WAIT)
-    assert read.returncode == 0, read.stdout + read.stderr
-    got = json.loads(read.stdout.splitlines()[-1])
+    # the writer (this session) answers while the program runs: spun until it ends
+    reader = ros.procs.start("camera_reader", [sys.executable, PROGRAMS / "camera_reader.py"])
+    ros.session.spin_until(lambda: reader.poll() is not None, WAIT, "camera_reader to end")
+    out = ros.procs.log("camera_reader")
+    assert reader.returncode == 0, out
+    got = json.loads([x for x in out.splitlines() if x.startswith("{")][-1])
     assert got["rgb"] == [[480, 640, 3], "uint8", zlib.crc32(rgb.tobytes())]
     assert got["depth"] == [[480, 640], "float32", zlib.crc32(depth.tobytes())]
     assert got["size"] == [640, 480]

@@ -19,8 +19,10 @@ from dsr_graph.protocol.blobs import (
     BlobCache,
     digest_of,
     extract,
+    held_refs_in_text,
     refs_in_text,
     resolve,
+    sensor_refs,
 )
 from dsr_graph.protocol.replica import Replica
 from dsr_graph.protocol.server_core import Rejection, ServerCore
@@ -82,9 +84,20 @@ def test_the_server_takes_a_request_with_its_bytes_and_the_delta_goes_out_as_ref
     assert np.array_equal(replica.graph.node("kinect").attrs["cam_rgb"], RGB)
 
 
+def durable_binary_core() -> ServerCore:
+    """A server whose vocabulary also has a binary value that is not sensor data (journalled:
+    its bytes must come to the server)."""
+    doc = Vocabulary.default().to_json()
+    doc["attributes"]["photo"] = {"type": "uint8_array", "doc": "a picture kept"}
+    core = ServerCore(Graph(Vocabulary.from_json(doc)))
+    insert = {"op": "insert_node", "name": "kinect", "type": "rgbd"}
+    assert not isinstance(core.submit(dumps({"ops": [insert]})), Rejection)
+    return core
+
+
 def test_a_request_whose_bytes_never_came_is_refused_naming_the_digest_and_changes_nothing():
-    core = camera_core()
-    doc, blobs = extract(frame())
+    core = durable_binary_core()
+    doc, blobs = extract(frame(photo=RGB))
     before = core.snapshot()
     rejection = core.submit(dumps(doc), sender="/camera", blobs=lambda d: None)
     assert isinstance(rejection, Rejection) and rejection.violation.rule == "blob-missing"
@@ -92,6 +105,54 @@ def test_a_request_whose_bytes_never_came_is_refused_naming_the_digest_and_chang
         d in rejection.violation.element for d in blobs
     )
     assert core.snapshot() == before
+
+
+def sensor_frame(**more):
+    """A camera frame as an agent sends it: sensor data's references name their writer."""
+    volatile = Vocabulary.default().volatile
+    return extract(frame(**more), sensor_at=lambda a: "camera" if a in volatile else None)
+
+
+def test_sensor_data_is_taken_by_its_digest_and_its_bytes_never_reach_the_server():
+    """One hop: a camera frame's references name the writer ("at"), the server keeps them as
+    BlobRefs (digest, type, shape, writer) and sends them on as they came, never the bytes; a
+    replica that was sent the bytes by the writer holds the image."""
+    core = camera_core()
+    doc, blobs = sensor_frame()
+    text = dumps(doc)
+    assert sensor_refs(doc) == set(blobs) == refs_in_text(text) and not held_refs_in_text(text)
+    delta = core.submit(text, sender="/camera", blobs=lambda d: None)
+    assert not isinstance(delta, Rejection), delta
+    stored = core.graph.node("kinect").attrs["cam_rgb"]
+    assert isinstance(stored, BlobRef) and stored.at == "camera" and stored.shape == (480, 640, 3)
+    out, sent = extract(delta)
+    out = json.loads(dumps(out))  # as it goes on dsr/deltas
+    assert sent == {} and out["ops"][0]["attrs"]["cam_rgb"]["at"] == "camera"
+    assert sensor_refs(out) == set(blobs)
+    cache = BlobCache()  # the replica's, filled from dsr/sensor_blobs/camera
+    for digest, data in blobs.items():
+        cache.put(digest, data)
+    replica = Replica(Vocabulary.default())
+    replica.load_snapshot(json.loads(dumps(camera_core().snapshot())))
+    replica.receive(resolve(out, cache.get, lazy=True))
+    assert np.array_equal(replica.graph.node("kinect").attrs["cam_rgb"], RGB)
+    # the writer is the request's sender, whatever the request claims
+    claimed, _ = extract(frame(), sensor_at=lambda a: "someone_else")
+    assert not isinstance(core.submit(dumps(claimed), sender="/camera"), Rejection)
+    assert core.graph.node("kinect").attrs["cam_depth"].at == "camera"
+    # a late joiner's snapshot and a restarted server: the reference, with its writer
+    restored = ServerCore.from_snapshot(json.loads(dumps(core.snapshot())), Vocabulary.default())
+    kept = restored.graph.node("kinect").attrs["cam_depth"]
+    assert isinstance(kept, BlobRef) and kept.at == "camera" and kept.dtype == "float32"
+
+
+def test_a_durable_binary_value_still_needs_its_bytes_whatever_its_reference_says():
+    """Only a sensor attribute's value may be kept by reference: an "at" on a durable value's
+    reference does not spare it its bytes (they are journalled)."""
+    core = durable_binary_core()
+    doc, blobs = extract(frame(photo=RGB), sensor_at=lambda a: "camera")
+    rejection = core.submit(dumps(doc), sender="/camera", blobs=lambda d: None)
+    assert isinstance(rejection, Rejection) and rejection.violation.rule == "blob-missing"
 
 
 @pytest.mark.parametrize(
@@ -102,6 +163,10 @@ def test_a_request_whose_bytes_never_came_is_refused_naming_the_digest_and_chang
         ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": 5, "shape": [3]}, "not 5"),
         ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": -1, "shape": [3]}, "size"),
         ({"$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": 3, "shape": [3], "x": 1}, "x"),
+        (
+            {"at": "a/b", "$blob": "sha256:" + "0" * 64, "dtype": "uint8", "size": 3, "shape": [3]},
+            '"at"',
+        ),
     ],
 )
 def test_a_malformed_reference_is_refused_by_name(ref, error):
@@ -255,8 +320,8 @@ def test_the_viewer_asks_the_server_for_bytes_it_missed_and_serves_only_that_seq
     server = {"cam_rgb": RGB.tobytes()}  # what dsr/get_blob answers now
     asked = []
 
-    async def fetch_blob(node, attribute, digest):
-        asked.append((node, attribute))
+    async def fetch_blob(node, attribute, digest, at):
+        asked.append((node, attribute, at))
         if server.get(attribute) is None:
             raise TimeoutError
         data = server[attribute]
@@ -270,7 +335,8 @@ def test_the_viewer_asks_the_server_for_bytes_it_missed_and_serves_only_that_seq
             return r.status, body, r.headers, body.decode(errors="replace")
 
     status, body, headers, _ = asyncio.run(main(fetch_blob))
-    assert status == 200 and body == RGB.tobytes() and asked == [("kinect", "cam_rgb")]
+    # the server's test frame came with its bytes (no writer named): the server is asked
+    assert status == 200 and body == RGB.tobytes() and asked == [("kinect", "cam_rgb", None)]
     assert headers["X-DSR-Dtype"] == "uint8" and headers["X-DSR-Shape"] == "480,640,3"
     server["cam_rgb"] = bytes(RGB.nbytes)  # a newer frame: not this seq's image
     status, _, _, text = asyncio.run(main(fetch_blob))

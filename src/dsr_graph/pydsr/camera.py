@@ -2,7 +2,8 @@
 of old): a camera node's images and intrinsics. The DSR's camera nodes (the Kinect stand-in's
 ``kinect``) hold ``cam_rgb``, height x width x 3 RGB bytes, and ``cam_depth``, height x width
 metres (float32, 0: no reading); an agent's replica holds an image's digest when its bytes were
-not sent to it, and the image is then asked of the server (``dsr/get_blob``).
+not sent to it, and the image is then asked of the agent that wrote it
+(``dsr/get_blob/<node name>``: the server never holds sensor data's bytes).
 """
 
 from __future__ import annotations

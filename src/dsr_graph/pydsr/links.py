@@ -80,7 +80,7 @@ class RosLink:
             from dsr_graph.protocol.topic_names import GET_BLOB
             from dsr_msgs.srv import GetBlob
 
-            self._blob_client = self.node.create_client(GetBlob, GET_BLOB)
+            self._blob_clients = {GET_BLOB: self.node.create_client(GetBlob, GET_BLOB)}
             self._thread = threading.Thread(target=self._spin, name=f"pydsr {name}", daemon=True)
             self._running = True
             self._thread.start()
@@ -116,27 +116,34 @@ class RosLink:
 
     def binary(self, node: str, attribute: str, timeout: float) -> Any:
         """A binary value (bytes or an array): the replica's, or, where it holds only the
-        value's digest (the bytes were not sent to it), the server's (dsr/get_blob)."""
+        value's digest (the bytes were not sent to it), the server's (dsr/get_blob), or for
+        sensor data its writer's (dsr/get_blob/<node name>)."""
         with self.lock:
             found = self.graph.find(node)
             value = None if found is None else found.attrs.get(attribute)
         if not isinstance(value, BlobRef):
             return value
+        from dsr_graph.protocol.blobs import holder_of
         from dsr_graph.ros.blob_service import value_of
         from dsr_msgs.srv import GetBlob
 
         deadline = time.monotonic() + timeout
-        # a request sent before the server's service is matched is lost: on a busy machine a
-        # program's first request can come before discovery has matched it
-        self._wait(self._blob_client.service_is_ready, timeout, "the DSR server's dsr/get_blob")
+        service = holder_of(value.at)  # sensor data: its writer alone holds the bytes
+        with self.lock:
+            if service not in self._blob_clients:
+                self._blob_clients[service] = self.node.create_client(GetBlob, service)
+            client = self._blob_clients[service]
+        # a request sent before the service is matched is lost: on a busy machine a program's
+        # first request can come before discovery has matched it
+        self._wait(client.service_is_ready, timeout, service)
         done = threading.Event()
         with self.lock:
-            future = self._blob_client.call_async(GetBlob.Request(node=node, attribute=attribute))
+            future = client.call_async(GetBlob.Request(node=node, attribute=attribute))
         future.add_done_callback(lambda f: done.set())
         if not done.wait(max(0.0, deadline - time.monotonic())):
             with self.lock:
-                self._blob_client.remove_pending_request(future)
-            raise TimedOutError(f"no answer from dsr/get_blob within {timeout} s")
+                client.remove_pending_request(future)
+            raise TimedOutError(f"no answer from {service} within {timeout} s")
         return value_of(future.result())
 
     def _spin(self) -> None:

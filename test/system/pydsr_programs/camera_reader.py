@@ -1,6 +1,6 @@
 """A pydsr agent that reads the camera's latest images (CORTEX's camera_api) and prints their
 shapes, types and checksums as one JSON line: its replica holds only their digests, so the
-images come from the server (dsr/get_blob)."""
+images come from the agent that wrote them (dsr/get_blob/<node name>)."""
 
 import json
 import zlib

@@ -42,15 +42,26 @@ MAX_DIMENSIONS = 8
 class BlobRef:
     """A binary value a replica knows by its digest only: its bytes travel beside the delta
     (``protocol/blobs.py``) and did not reach this replica (fetched with dsr/get_blob).
-    ``dtype``: "bytes" or an array element type; ``shape``: an array's (None for bytes)."""
+    ``dtype``: "bytes" or an array element type; ``shape``: an array's (None for bytes); ``at``:
+    for sensor data, the name of the node that wrote it, which alone holds the bytes (the
+    server never receives them: they are fetched with that node's dsr/get_blob/<name>)."""
 
-    __slots__ = ("digest", "dtype", "shape", "size")
+    __slots__ = ("digest", "dtype", "shape", "size", "at")
 
-    def __init__(self, digest: str, dtype: str, shape: tuple[int, ...] | None, size: int):
-        self.digest, self.dtype, self.shape, self.size = digest, dtype, shape, size
+    def __init__(
+        self,
+        digest: str,
+        dtype: str,
+        shape: tuple[int, ...] | None,
+        size: int,
+        at: str | None = None,
+    ):
+        self.digest, self.dtype, self.shape, self.size, self.at = digest, dtype, shape, size, at
 
     def to_json(self) -> dict[str, Any]:
-        doc: dict[str, Any] = {"$blob": self.digest, "dtype": self.dtype, "size": self.size}
+        # "at" first: the server tells a sensor blob from the text, before parsing it
+        doc: dict[str, Any] = {} if self.at is None else {"at": self.at}
+        doc.update({"$blob": self.digest, "dtype": self.dtype, "size": self.size})
         if self.shape is not None:
             doc["shape"] = list(self.shape)
         return doc

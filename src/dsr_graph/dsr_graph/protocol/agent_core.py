@@ -183,8 +183,10 @@ class AgentCore:
         doc = dict(doc)
         doc.setdefault("agent", self.name)
         doc.setdefault("id", self.next_id())
-        # large binary values go beside the request, as bytes; the JSON names their digests
-        doc, blobs = extract(doc)
+        # large binary values go beside the request, as bytes; the JSON names their digests,
+        # and sensor data's names this agent, whose sensor blob topic alone carries its bytes
+        volatile, at = self.replica.graph.vocabulary.volatile, self.name.rsplit("/", 1)[-1]
+        doc, blobs = extract(doc, sensor_at=lambda attribute: at if attribute in volatile else None)
         for digest, data in blobs.items():  # our own values come back whole to our replica
             self.blobs.put(digest, data, verified=True)
         text = sign(dumps(doc))

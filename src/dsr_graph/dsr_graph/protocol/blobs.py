@@ -11,6 +11,15 @@ that do not hash to it are nobody's.
 
 Values under ``INLINE_MAX`` bytes stay inline (base64, ``binary.py``): a blob's own message
 costs more than they do.
+
+Sensor data (a volatile attribute's value, a camera frame) goes one hop: its reference names
+the writer, ``{"at": "<node name>", "$blob": ...}``, its bytes go on the writer's
+``dsr/sensor_blobs/<node name>``, which the server never reads, straight to the replicas that
+want them; the server sequences and signs the change by its digest and keeps a ``BlobRef``.
+
+    doc, blobs = extract(request, sensor_at=lambda attr: name if attr in volatile else None)
+    sensor = sensor_refs(doc)                 # the digests that go on dsr/sensor_blobs/<name>
+    resolve(request, cache.get, lazy=volatile)   # the server: a BlobRef for sensor data only
 """
 
 from __future__ import annotations
@@ -20,13 +29,14 @@ import hashlib
 import math
 import re
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Container
 from typing import Any
 
 import numpy as np
 
 from dsr_graph.exceptions import MissingBlob, ValueTypeError
 from dsr_graph.model.binary import ARRAYS, BYTES, ELEMENT_OF, ITEMSIZE_OF, BlobRef, _shape
+from dsr_graph.protocol.topic_names import GET_BLOB
 
 REF = "$blob"
 INLINE_MAX = 16 * 1024  # bytes: a binary value this big or bigger travels as a blob
@@ -34,6 +44,11 @@ DIGEST = re.compile(r"sha256:[0-9a-f]{64}")
 DTYPES = {element: dtype for element, dtype in ARRAYS.values()}
 Blob = bytes | array.array  # a blob's bytes: a received message's array is kept as it came
 _REF_IN_TEXT = re.compile(r'"\$blob"\s*:\s*"(sha256:[0-9a-f]{64})"')
+# a sensor blob's reference as BlobRef.to_json writes it: "at" first
+_SENSOR_REF_IN_TEXT = re.compile(
+    r'"at"\s*:\s*"[^"\\]*"\s*,\s*"\$blob"\s*:\s*"(sha256:[0-9a-f]{64})"'
+)
+NODE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,254}")  # a ROS node's name: where bytes are held
 
 
 def digest_of(data: Blob | memoryview) -> str:
@@ -63,12 +78,15 @@ ELEMENTS = ("ops", "nodes", "edges")  # where a request, a delta or a snapshot h
 
 
 def extract(
-    doc: dict[str, Any], known: Callable[[Blob], str | None] = lambda data: None
+    doc: dict[str, Any],
+    known: Callable[[Blob], str | None] = lambda data: None,
+    sensor_at: Callable[[str], str | None] = lambda attribute: None,
 ) -> tuple[dict[str, Any], dict[str, Blob]]:
     """``doc`` (a request, a delta or a snapshot) with each large binary value of its ops',
     nodes' or edges' ``attrs`` replaced by its reference, and the bytes by digest. ``doc``
     itself is not changed. ``known``: the digest of bytes already hashed (a value made from a
-    blob), else None."""
+    blob), else None. ``sensor_at``: for an attribute that holds sensor data, the name of the
+    node whose sensor blob topic carries its bytes (the reference says so), else None."""
     blobs: dict[str, Blob] = {}
 
     def referenced(attrs: dict[str, Any]) -> dict[str, Any] | None:
@@ -81,10 +99,24 @@ def extract(
             digest = known(data) or digest_of(data)
             blobs[digest] = data
             new_attrs = dict(attrs) if new_attrs is None else new_attrs
-            new_attrs[name] = BlobRef(digest, dtype, shape, len(data)).to_json()
+            ref = BlobRef(digest, dtype, shape, memoryview(data).nbytes, sensor_at(name))
+            new_attrs[name] = ref.to_json()
         return new_attrs
 
     return _rewrite(doc, referenced), blobs
+
+
+def sensor_refs(doc: dict[str, Any]) -> set[str]:
+    """The digests of the sensor blobs ``doc``'s references name (those with an ``at``)."""
+    found: set[str] = set()
+
+    def look(attrs: dict[str, Any]) -> None:
+        for value in attrs.values():
+            if type(value) is dict and REF in value and "at" in value:
+                found.add(value[REF])
+
+    _rewrite(doc, look)
+    return found
 
 
 def _rewrite(doc: dict[str, Any], change: Callable[[dict[str, Any]], dict[str, Any] | None]):
@@ -108,9 +140,29 @@ def _rewrite(doc: dict[str, Any], change: Callable[[dict[str, Any]], dict[str, A
     return doc if out is None else out
 
 
+def holder_of(at: str | None) -> str:
+    """The dsr/get_blob service that holds a value's bytes: the server's, or for sensor data
+    (a ``BlobRef`` with ``at``) its writer's, ``dsr/get_blob/<node name>``."""
+    return GET_BLOB if not at else f"{GET_BLOB}/{at}"
+
+
 def refs_in_text(text: str) -> set[str]:
     """The digests a request's or a delta's JSON text references (before it is parsed)."""
     return set(_REF_IN_TEXT.findall(text)) if REF in text else set()
+
+
+def sensor_refs_in_text(text: str) -> set[str]:
+    """The digests of the sensor blobs a request's JSON text references (an "at" before the
+    "$blob", as ``BlobRef.to_json`` writes it): their bytes go on the writer's sensor topic."""
+    return set(_SENSOR_REF_IN_TEXT.findall(text)) if REF in text else set()
+
+
+def held_refs_in_text(text: str) -> set[str]:
+    """The digests a request's JSON text references whose bytes come to the server: all but the
+    sensor blobs' (each an "at" before its "$blob", as ``BlobRef.to_json`` writes it)."""
+    if REF not in text:
+        return set()
+    return refs_in_text(text) - sensor_refs_in_text(text)
 
 
 def _ref(value: Any) -> BlobRef:
@@ -127,10 +179,13 @@ def _ref(value: Any) -> BlobRef:
         shape = _shape(value.get("shape"))
         if math.prod(shape) * ITEMSIZE_OF[dtype] != size:
             raise ValueTypeError(f"a blob of shape {list(shape)} of {dtype} is not {size} bytes")
-    extra = set(value) - {REF, "dtype", "size", "shape"}
+    at = value.get("at")
+    if at is not None and (not isinstance(at, str) or not NODE_NAME.fullmatch(at)):
+        raise ValueTypeError(f'a blob\'s "at" is the name of the node holding it, got {at!r}')
+    extra = set(value) - {REF, "dtype", "size", "shape", "at"}
     if extra:
         raise ValueTypeError(f"unknown key(s) in a blob reference: {', '.join(sorted(extra))}")
-    return BlobRef(digest, dtype, shape, size)
+    return BlobRef(digest, dtype, shape, size, at)
 
 
 def _value(ref: BlobRef, data: Blob) -> Any:
@@ -151,13 +206,18 @@ def binary_value(dtype: str, shape: tuple[int, ...] | None, data: Blob) -> Any:
 
 
 def resolve(
-    doc: dict[str, Any], lookup: Callable[[str], Blob | None], lazy: bool = False
+    doc: dict[str, Any],
+    lookup: Callable[[str], Blob | None],
+    lazy: bool | Container[str] = False,
+    held_at: str | None = None,
 ) -> dict[str, Any]:
     """``doc`` with each reference in its ops', nodes' or edges' ``attrs`` replaced by its
     value (bytes or a read-only array). A reference whose bytes ``lookup`` does not have:
-    ``MissingBlob``, or with ``lazy`` a ``BlobRef`` (a replica fetches it when it is read). A
-    malformed reference: ``ValueTypeError``."""
-    return _rewrite(doc, _resolver(lookup, lazy))
+    ``MissingBlob``, or with ``lazy`` a ``BlobRef`` (a replica fetches it when it is read);
+    ``lazy`` may be the attributes for which a ``BlobRef`` is taken (the server: sensor data),
+    and ``held_at`` the node such a ``BlobRef`` names as holding the bytes (the server: the
+    request's sender, whatever the request said). A malformed reference: ``ValueTypeError``."""
+    return _rewrite(doc, _resolver(lookup, lazy, held_at))
 
 
 def attrs_resolver(
@@ -169,7 +229,9 @@ def attrs_resolver(
     return lambda attrs: resolved(attrs) or attrs
 
 
-def _resolver(lookup: Callable[[str], Blob | None], lazy: bool):
+def _resolver(
+    lookup: Callable[[str], Blob | None], lazy: bool | Container[str], held_at: str | None = None
+):
     def resolved(attrs: dict[str, Any]) -> dict[str, Any] | None:
         for value in attrs.values():  # (a loop: this runs for every element of a snapshot)
             if type(value) is dict and REF in value:
@@ -183,8 +245,10 @@ def _resolver(lookup: Callable[[str], Blob | None], lazy: bool):
             ref = _ref(value)
             data = lookup(ref.digest)
             if data is None:
-                if not lazy:
+                if not (lazy is True or (lazy is not False and name in lazy)):
                     raise MissingBlob(ref.digest)
+                if held_at is not None:
+                    ref.at = held_at
                 new_attrs[name] = ref
             else:
                 new_attrs[name] = _value(ref, data)

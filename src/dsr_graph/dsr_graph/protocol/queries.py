@@ -10,7 +10,7 @@ import numpy as np
 
 from dsr_graph.exceptions import LookupFailed
 from dsr_graph.model import provenance, rigid
-from dsr_graph.model.binary import BYTES, ELEMENT_OF
+from dsr_graph.model.binary import BYTES, ELEMENT_OF, BlobRef
 from dsr_graph.model.graph import Edge, Graph
 from dsr_graph.model.vocabulary import RT
 
@@ -122,6 +122,13 @@ def read_binary(graph: Graph, node: str, attribute: str) -> BinaryAnswer:
         return BinaryAnswer(True, BYTES, (), value)
     if isinstance(value, np.ndarray):
         return BinaryAnswer(True, ELEMENT_OF[value.dtype], value.shape, value.tobytes())
+    if isinstance(value, BlobRef):
+        where = f"dsr/get_blob/{value.at}" if value.at else "a replica that was sent them"
+        return BinaryAnswer(
+            False,
+            error=f"node {node!r}: the bytes of {attribute!r} ({value.digest}) are not held here: "
+            f"ask {where}",
+        )
     return BinaryAnswer(
         False, error=f"node {node!r}: {attribute!r} is not a binary value (dsr/get_attribute)"
     )

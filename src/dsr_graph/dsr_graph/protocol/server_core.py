@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Container, Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,7 +26,7 @@ from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touc
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.transaction import apply_ops, parse_transaction
-from dsr_graph.protocol.blobs import resolve
+from dsr_graph.protocol.blobs import NODE_NAME, resolve
 from dsr_graph.protocol.volatility import VOLATILE, only_volatile, without_absent_volatile
 
 SERVER_AGENT = "dsr_server"
@@ -134,7 +134,8 @@ class ServerCore:
             if isinstance(doc, dict):
                 if sender is None:
                     agent = doc["agent"] if isinstance(doc.get("agent"), str) else ""
-                doc = _with_blobs(doc, blobs)
+                # sensor data's bytes stay with its writer: the reference names it
+                doc = _with_blobs(doc, blobs, self.graph.vocabulary.volatile, agent)
             return self.submit_doc(doc, now, sender)
         except Duplicate as e:
             return Rejection(ident, agent, e.violation, duplicate_of=e.seq)
@@ -355,6 +356,7 @@ class ServerCore:
             raise ValueError(
                 f"journal out of order: expected seq {self.seq + 1}, found {delta.get('seq')!r}"
             )
+        delta = resolve(delta, _no_bytes, lazy=True)  # sensor data's bytes: never held here
         ops = [without_absent_volatile(self.graph, op) for op in delta["ops"]]
         provenance.apply_delta(self.graph, delta, ops)
         self.claims.apply_changes(delta.get("claims", {}))
@@ -391,6 +393,7 @@ class ServerCore:
 
     @classmethod
     def from_snapshot(cls, doc: dict[str, Any], vocabulary=None, **kwargs: Any) -> ServerCore:
+        doc = resolve(doc, _no_bytes, lazy=True)  # sensor data's bytes: never held here
         graph, seq = dsr_json.snapshot_from_json(doc, vocabulary)
         core = cls(graph, seq, ClaimTable.from_json(doc.get("claims", [])), **kwargs)
         for ident, accepted_at in doc.get("accepted_ids", []):
@@ -398,14 +401,25 @@ class ServerCore:
         return core
 
 
-def _with_blobs(doc: dict[str, Any], blobs: Callable[[str], bytes | None]) -> dict[str, Any]:
-    """The request with its blob references replaced by their values, or its rejection."""
+def _with_blobs(
+    doc: dict[str, Any], blobs: Callable[[str], bytes | None], sensor: Container[str], agent: str
+) -> dict[str, Any]:
+    """The request with its blob references replaced by their values, or its rejection. The
+    bytes of ``sensor`` attributes' values (sensor data) never come to the server: it keeps
+    their reference (a ``BlobRef``: their digest, type, shape, and ``agent``, who holds them)."""
+    writer = agent.rsplit("/", 1)[-1]
     try:
-        return resolve(doc, blobs)
+        return resolve(
+            doc, blobs, lazy=sensor, held_at=writer if NODE_NAME.fullmatch(writer) else None
+        )
     except MissingBlob as e:
         raise TransactionRejected(Violation("blob-missing", f"blob {e.digest}", str(e))) from None
     except ValueTypeError as e:
         raise TransactionRejected(Violation("malformed", "blob reference", str(e))) from None
+
+
+def _no_bytes(digest: str) -> None:
+    return None
 
 
 def _id_of(doc: Any) -> str:

@@ -22,12 +22,16 @@ DELTAS = "dsr/deltas"  # std_msgs/String, JSON accepted deltas, in seq order <- 
 # dsr_msgs/Blob: the bytes of large binary values the JSON references (protocol/blobs.py): from
 # the server beside its deltas; + /<node name>: from an agent beside its requests
 BLOBS = "dsr/blobs"
+# + /<node name>: dsr_msgs/Blob, the bytes of the sensor data (volatile values) an agent writes,
+# from the agent straight to the replicas that want them: the server never reads them
+SENSOR_BLOBS = "dsr/sensor_blobs"
 REJECTIONS = "dsr/rejections"  # std_msgs/String, JSON {id, agent, reason, error} <- server
 ALARMS = "dsr/alarms"  # std_msgs/String, JSON {kind, topic, intruders, message} <- server
 HEARTBEAT = "dsr/heartbeat"  # std_msgs/String, JSON {seq, stamp, boot, durable, ...} <- server
 DURABLE = "dsr/durable"  # std_msgs/String, JSON {boot, durable} after each group commit <- server
 GET_ATTRIBUTE = "dsr/get_attribute"  # dsr_msgs/srv/GetAttribute
-GET_BLOB = "dsr/get_blob"  # dsr_msgs/srv/GetBlob: a binary value's bytes
+GET_BLOB = "dsr/get_blob"  # dsr_msgs/srv/GetBlob: a binary value's bytes (+ /<node name>:
+# the sensor data that agent wrote, which only it holds)
 GET_NODE = "dsr/get_node"  # dsr_msgs/srv/GetNode
 GET_SNAPSHOT = "dsr/get_snapshot"  # dsr_msgs/srv/GetSnapshot
 GET_TRANSFORM = "dsr/get_transform"  # dsr_msgs/srv/GetTransform

@@ -11,11 +11,15 @@ with ``TimedOutError`` if the server does not answer. Callbacks run in the node'
 
 Subscriptions: dsr/deltas, dsr/rejections, dsr/heartbeat, dsr/durable (a verdict waits until its
 change is durable), and with ``blobs=True`` dsr/blobs and
-every agent's dsr/blobs/<node name> (found as they appear, every 0.2 s): the bytes of a value
-an agent sent come from the agent itself, the server's own (a snapshot's) on dsr/blobs.
+every agent's dsr/blobs/<node name> and dsr/sensor_blobs/<node name> (found as they appear,
+every 0.2 s): the bytes of a value an agent sent come from the agent itself, the server's own (a
+snapshot's) on dsr/blobs.
 Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/blobs/<node name> (the
-bytes of the large binary values its requests reference, protocol/blobs.py), dsr/alarms (a
-message the server did not sign, at most one per topic every 5 s).
+bytes of the large binary values its requests reference, protocol/blobs.py),
+dsr/sensor_blobs/<node name> (those of sensor data: straight to the replicas, never the
+server), dsr/alarms (a message the server did not sign, at most one per topic every 5 s).
+Services: dsr/get_blob/<node name> (a binary value's bytes from this replica: the sensor data
+this agent wrote, which only it holds).
 
 With DSR_KEYSTORE (protocol/security.py) the agent signs its requests with its node's key, and
 reads the deltas, rejections, heartbeats, durability notices and snapshots only when the server's
@@ -60,15 +64,17 @@ from dsr_graph.protocol.agent_core import (
     Listener,
     Verdict,
 )
+from dsr_graph.protocol.blobs import sensor_refs_in_text
 from dsr_graph.protocol.identity import agent_topic
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros import process_gc
+from dsr_graph.ros.blob_service import blob_answer
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.log_levels import log_at
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_requests, qos_stream
 from dsr_msgs.msg import Blob
-from dsr_msgs.srv import GetSnapshot
+from dsr_msgs.srv import GetBlob, GetSnapshot
 
 __all__ = ["SERVER_SILENCE", "DsrAgent"]
 
@@ -120,6 +126,12 @@ class DsrAgent:
         self._blob_pub = node.create_publisher(
             Blob, f"{topic_names.BLOBS}/{node.get_name()}", qos_blobs()
         )
+        # sensor data's bytes go one hop, to the replicas that want them, never the server; a
+        # reader that did not get them asks this agent, which alone holds them
+        self._sensor_blob_pub = node.create_publisher(
+            Blob, f"{topic_names.SENSOR_BLOBS}/{node.get_name()}", qos_blobs()
+        )
+        node.create_service(GetBlob, f"{topic_names.GET_BLOB}/{node.get_name()}", self._on_get_blob)
         if self.core.wants_blobs:  # subscribed before the deltas: a blob is taken before its delta
             # any node may publish on a dsr/blobs/<name>: bytes count only under their digest,
             # and no blob larger than all this replica keeps is taken
@@ -193,7 +205,9 @@ class DsrAgent:
             )
 
     def _listen_to_agents(self) -> None:
-        self._blob_inbox.listen_to_agents(self.node.get_topic_names_and_types())
+        self._blob_inbox.listen_to_agents(
+            self.node.get_topic_names_and_types(), (topic_names.BLOBS, topic_names.SENSOR_BLOBS)
+        )
 
     def add_listener(self, listener: Listener) -> None:
         self.core.add_listener(listener)
@@ -265,9 +279,16 @@ class DsrAgent:
 
     # ------------------------------------------------------------------ the core's link
     def publish(self, text: str, blobs: dict[str, bytes]) -> None:
+        sensor = sensor_refs_in_text(text) if blobs else set()
         for digest, data in blobs.items():  # the bytes first: the server holds for them
-            self._blob_pub.publish(blob_message(digest, data))
+            publisher = self._sensor_blob_pub if digest in sensor else self._blob_pub
+            publisher.publish(blob_message(digest, data))
         self._tx_pub.publish(String(data=text))
+
+    def _on_get_blob(self, request: GetBlob.Request, response: GetBlob.Response):
+        """The bytes of a binary value as this agent's replica holds it (the sensor data it
+        wrote: no one else holds them)."""
+        return blob_answer(self.core.graph, request, response, self.core.replica.seq)
 
     def matched(self) -> bool:
         return self._tx_pub.get_subscription_count() > 0  # one rcl query a send

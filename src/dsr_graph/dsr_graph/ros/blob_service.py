@@ -1,18 +1,33 @@
 """dsr/get_blob from a replica's side: the bytes of a binary value that the replica holds only
 by its digest (``BlobRef``: the bytes went by before it listened to their topic), asked of the
-server. The request is sent from any thread (rclpy's client is thread-safe); its answer comes on
-the thread that spins the node."""
+server, or for sensor data of the agent that wrote it (``dsr/get_blob/<node name>``: the server
+never holds them). The request is sent from any thread (rclpy's client is thread-safe); its
+answer comes on the thread that spins the node."""
 
 from __future__ import annotations
 
+import array
 import asyncio
 from collections import OrderedDict
 from typing import Any
 
 from dsr_graph.model.binary import BYTES
-from dsr_graph.protocol.blobs import binary_value, digest_of
+from dsr_graph.protocol.blobs import binary_value, digest_of, holder_of
+from dsr_graph.protocol.queries import read_binary
 from dsr_graph.protocol.topic_names import GET_BLOB
 from dsr_msgs.srv import GetBlob
+
+
+def blob_answer(graph, request: GetBlob.Request, response: GetBlob.Response, seq: int):
+    """dsr/get_blob's answer from ``graph`` (the server's, or the writer's replica for sensor
+    data): the bytes of the value, or why not, naming where sensor data's bytes are."""
+    answer = read_binary(graph, request.node, request.attribute)
+    response.found, response.error, response.seq = answer.found, answer.error, seq
+    if answer.found:
+        response.dtype = answer.dtype
+        response.shape = list(answer.shape)
+        response.data = array.array("B", answer.data)  # one copy, not element by element
+    return response
 
 
 def value_of(answer: GetBlob.Response) -> Any | None:
@@ -30,21 +45,29 @@ class AsyncBlobClient:
     KEPT = 4
 
     def __init__(self, node, timeout: float):
-        self.client = node.create_client(GetBlob, GET_BLOB)
+        self.node = node
+        self.clients = {GET_BLOB: node.create_client(GetBlob, GET_BLOB)}
         self.timeout = timeout
         self._kept: OrderedDict[str, bytes] = OrderedDict()  # digest -> bytes, newest last
 
-    async def fetch(self, node: str, attribute: str, digest: str) -> bytes | None:
-        """The bytes of ``node.attribute`` if the server holds the value of that ``digest`` still
-        (None: missing, or changed since); ``TimeoutError`` when it does not answer in time."""
+    async def fetch(
+        self, node: str, attribute: str, digest: str, at: str | None = None
+    ) -> bytes | None:
+        """The bytes of ``node.attribute`` if the server (for sensor data, the node ``at`` that
+        wrote it) holds the value of that ``digest`` still (None: missing, or changed since);
+        ``TimeoutError`` when it does not answer in time."""
         if digest in self._kept:
             return self._kept[digest]
+        service = holder_of(at)
+        if service not in self.clients:  # a writer of sensor data, first asked
+            self.clients[service] = self.node.create_client(GetBlob, service)
+        client = self.clients[service]
         loop = asyncio.get_running_loop()
         deadline = loop.time() + self.timeout
-        # a request sent before the server's service is matched is lost, never answered
-        while not self.client.service_is_ready():
+        # a request sent before the service is matched is lost, never answered
+        while not client.service_is_ready():
             if loop.time() >= deadline:
-                raise TimeoutError("dsr/get_blob is not offered (no DSR server)")
+                raise TimeoutError(f"{service} is not offered (no such node running)")
             await asyncio.sleep(0.02)
         answered: asyncio.Future = loop.create_future()
 
@@ -53,12 +76,12 @@ class AsyncBlobClient:
                 loop.call_soon_threadsafe(_settle, answered, future)
 
         request = GetBlob.Request(node=node, attribute=attribute)
-        sent = self.client.call_async(request)
+        sent = client.call_async(request)
         sent.add_done_callback(hand_over)
         try:
             answer = await asyncio.wait_for(answered, max(0.0, deadline - loop.time()))
         except TimeoutError:
-            self.client.remove_pending_request(sent)  # an answer that comes later is dropped
+            client.remove_pending_request(sent)  # an answer that comes later is dropped
             raise
         if not answer.found:
             return None

@@ -48,14 +48,18 @@ class BlobInbox:
                 Blob, topic, self._on_blob, qos_blobs()
             )
 
-    def listen_to_agents(self, topics: list[tuple[str, list[str]]]) -> None:
-        """Subscribe to every agent's ``dsr/blobs/<node name>`` among ``topics`` (the ROS graph's
-        names and types: the server looks once for these and its request topics)."""
-        prefix = self.node.resolve_topic_name(BLOBS) + "/"
-        for topic, types in topics:
-            owner = topic[len(prefix) :]
-            if topic.startswith(prefix) and "/" not in owner and types == [BLOB_TYPE]:
-                self.listen(topic)
+    def listen_to_agents(
+        self, topics: list[tuple[str, list[str]]], families: tuple[str, ...] = (BLOBS,)
+    ) -> None:
+        """Subscribe to every agent's ``<family>/<node name>`` among ``topics`` (the ROS graph's
+        names and types: the server looks once for these and its request topics), for each of
+        ``families``: ``dsr/blobs`` (the server), also ``dsr/sensor_blobs`` (a replica)."""
+        for family in families:
+            prefix = self.node.resolve_topic_name(family) + "/"
+            for topic, types in topics:
+                owner = topic[len(prefix) :]
+                if topic.startswith(prefix) and "/" not in owner and types == [BLOB_TYPE]:
+                    self.listen(topic)
 
     def _on_blob(self, msg: Blob) -> None:
         size = len(msg.data)

@@ -34,7 +34,8 @@ Subscriptions:
     dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
         while exactly one node publishes on it; otherwise each request gets a rejection.
     dsr/blobs/<node name> (dsr_msgs/Blob): the bytes of the binary values an agent's requests
-        reference (protocol/blobs.py).
+        reference (protocol/blobs.py), but sensor data's: those go one hop, from the agent's
+        dsr/sensor_blobs/<node name> to the replicas; the server keeps their reference.
 Publishers:
     dsr/blobs (dsr_msgs/Blob): bytes no agent sent, before the delta or snapshot that needs them
         (a snapshot's; the bytes of an agent's values went out on its dsr/blobs/<node name>).
@@ -60,12 +61,11 @@ Services:
     dsr/get_snapshot (dsr_msgs/GetSnapshot: the document, or column by column for a replica),
     dsr/get_transform (dsr_msgs/GetTransform: now, or
     at a past time from the RT history), dsr/get_blob (dsr_msgs/GetBlob: a binary value's
-    bytes, for a replica that holds only its digest).
+    bytes, for a replica that holds only its digest; for sensor data, where they are).
 """
 
 from __future__ import annotations
 
-import array
 import os
 import time
 import uuid
@@ -90,7 +90,7 @@ from dsr_graph.protocol import queries, topic_names
 from dsr_graph.protocol.absence import Absences
 from dsr_graph.protocol.acceptance import broadcast_then_commit, outgoing
 from dsr_graph.protocol.attribution import attribute
-from dsr_graph.protocol.blobs import BlobCache, refs_in_text
+from dsr_graph.protocol.blobs import BlobCache, held_refs_in_text
 from dsr_graph.protocol.graph_markers import drawing
 from dsr_graph.protocol.identity import Sender
 from dsr_graph.protocol.security import ENFORCE, OFF, Security
@@ -98,6 +98,7 @@ from dsr_graph.protocol.server_core import Rejection, ServerCore
 from dsr_graph.protocol.snapshot_text import LAYOUTS, snapshot_text
 from dsr_graph.protocol.state_boot import boot_state
 from dsr_graph.protocol.tf_frames import moved_nodes, transform_of
+from dsr_graph.ros.blob_service import blob_answer
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.dsr_node import DsrNode, main_for
 from dsr_graph.ros.log_levels import log_at
@@ -203,7 +204,8 @@ class DsrServer(DsrNode):
             # for: a participant found again after a cut may come back without its name)
             trust_graph=self.security.mode != ENFORCE,
             # a request is held (a few seconds at most) until the bytes it references came
-            ready=lambda text: all(d in self.blobs for d in refs_in_text(text)),
+            # (sensor data's never come: their writer sends them to the replicas, one hop)
+            ready=lambda text: all(d in self.blobs for d in held_refs_in_text(text)),
         )
         self.blob_inbox = BlobInbox(
             self,
@@ -503,13 +505,7 @@ class DsrServer(DsrNode):
         return response
 
     def on_get_blob(self, request: GetBlob.Request, response: GetBlob.Response):
-        answer = queries.read_binary(self.core.graph, request.node, request.attribute)
-        response.found, response.error, response.seq = answer.found, answer.error, self.core.seq
-        if answer.found:
-            response.dtype = answer.dtype
-            response.shape = list(answer.shape)
-            response.data = array.array("B", answer.data)  # one copy, not element by element
-        return response
+        return blob_answer(self.core.graph, request, response, self.core.seq)
 
     def on_get_transform(self, request: GetTransform.Request, response: GetTransform.Response):
         response.seq = self.core.seq

@@ -34,7 +34,7 @@ from dsr_graph.exceptions import LookupFailed, SeqUnavailable
 from dsr_graph.formats import dsr_json
 from dsr_graph.model import rigid
 from dsr_graph.model.binary import ELEMENT_OF, BlobRef
-from dsr_graph.protocol.blobs import binary_value
+from dsr_graph.protocol.blobs import binary_value, holder_of
 from dsr_graph.protocol.delta_text import delta_text
 from dsr_graph.protocol.history import History
 from dsr_graph.web.events import Broadcaster, dumps
@@ -71,24 +71,26 @@ def make_app(
     replay: str | None = None,
     token: str | None = None,
     hosts: frozenset[str] = LOOPBACK,
-    fetch_blob: Callable[[str, str, str], Awaitable[bytes | None]] | None = None,
+    fetch_blob: Callable[[str, str, str, str | None], Awaitable[bytes | None]] | None = None,
 ) -> web.Application:
     """The viewer over ``history``: live (fed as the DSR changes) or a ``replay`` (the name of
     the recording it was read from). ``token``: the access token every request needs (None:
     none, for tests of the API alone); ``hosts``: the Host names served; ``fetch_blob(node,
-    attribute, digest)``: the bytes of a value the history holds by digest only (None: gone)."""
+    attribute, digest, at)``: the bytes of a value the history holds by digest only, asked of the
+    server or, for sensor data, of its writer ``at`` (None: gone)."""
 
     async def fetched(node: str, attr: str, ref: BlobRef, seq: int):
         if fetch_blob is None:
             raise web.HTTPNotFound(text=f"{node}.{attr}: its bytes have not reached the viewer")
         try:
-            data = await fetch_blob(node, attr, ref.digest)
+            data = await fetch_blob(node, attr, ref.digest, ref.at)
         except TimeoutError:
             raise web.HTTPServiceUnavailable(
-                text=f"{node}.{attr}: the DSR server did not answer dsr/get_blob"
+                text=f"{node}.{attr}: {holder_of(ref.at)} did not answer"
             ) from None
         if data is None:
-            raise web.HTTPNotFound(text=f"{node}.{attr}: the server no longer holds seq {seq}'s")
+            holder = f"its writer, {ref.at}," if ref.at else "the server"
+            raise web.HTTPNotFound(text=f"{node}.{attr}: {holder} no longer holds seq {seq}'s")
         return binary_value(ref.dtype, ref.shape, data)
 
     async def index(request: web.Request) -> web.FileResponse:
