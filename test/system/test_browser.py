@@ -3,6 +3,7 @@ a camera image, a change shown (how soon, printed) and scrubbed back. The clinic
 test_browser_dashboard.py."""
 
 import json
+import threading
 import time
 from pathlib import Path
 
@@ -72,14 +73,17 @@ def viewer(ros):
     )
     url = f"http://127.0.0.1:{port}/"
 
-    def up():
-        try:
-            return http_json(url + "api/graph")["seq"] == 0
-        except OSError:
-            return False
-
-    wait_for(up, 20, "the viewer to serve the graph")
+    wait_for(lambda: serving(url, seq=0), 20, "the viewer to serve the graph")
     return url
+
+
+def serving(url, seq=None) -> bool:
+    """Whether the viewer at ``url`` serves the graph (at ``seq``, if given)."""
+    try:
+        current = http_json(url + "api/graph")["seq"]
+    except OSError:
+        return False
+    return seq is None or current == seq
 
 
 def test_the_viewer_needs_its_token_and_an_allowed_host_and_serves_only_its_files(ros, viewer):
@@ -152,16 +156,35 @@ def test_the_inspector_draws_a_camera_image_the_json_never_carries(ros, viewer):
 
     writer = ros.session.node.get_name()
     client = AsyncBlobClient(ros.session.node, timeout=10)
+    client.discover()  # (this thread spins the session)
     assert spun_while(ros, client.fetch("kinect", "cam_rgb", digest_of(rgb), writer)) == (
         rgb.tobytes()
     )
     assert spun_while(ros, client.fetch("kinect", "cam_rgb", "sha256:" + "0" * 64, writer)) is None
     missing = AsyncBlobClient(ros.session.node, timeout=10)  # its own, empty, cache
+    missing.discover()
     assert spun_while(ros, missing.fetch("kinect", "no_such", digest_of(rgb), writer)) is None
     assert spun_while(ros, missing.fetch("kinect", "cam_rgb", digest_of(rgb))) is None  # server
     # kept by digest: the same digest is the same bytes, asked once
     assert spun_while(ros, client.fetch("kinect", "no_such", digest_of(rgb))) == rgb.tobytes()
     assert http_get(viewer + "api/image?node=kinect&attr=color", VIEWER_TOKEN)[0] == 400
+    # a viewer started after the frame holds only its digest: it asks the writer, from its own
+    # ROS thread (its executor hangs a client made from the web's thread)
+    late = f"http://127.0.0.1:{(port := free_port())}/"
+    ros.procs.start(
+        "late_viewer",
+        ["dsr_viewer", "--ros-args", "-p", f"port:={port}", "-p", f"token:={VIEWER_TOKEN}"],
+    )
+    wait_for(lambda: serving(late), 20, "the late viewer", ros.session)
+    got = {}
+    asking = threading.Thread(
+        target=lambda: got.update(
+            image=http_get(late + "api/image?node=kinect&attr=cam_rgb", VIEWER_TOKEN)
+        )
+    )
+    asking.start()  # while this thread spins the writer, which answers
+    ros.session.spin_until(lambda: not asking.is_alive(), 30, "the late viewer's image")
+    assert got["image"][0] == 200 and got["image"][1] == rgb.tobytes()
     with chromium_page(csp=True) as page:
         page.goto(viewer + "?token=" + VIEWER_TOKEN)
         page.wait_for_selector("body[data-nodes='14']", timeout=15000)

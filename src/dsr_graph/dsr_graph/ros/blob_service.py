@@ -17,6 +17,8 @@ from dsr_graph.protocol.queries import read_binary
 from dsr_graph.protocol.topic_names import GET_BLOB
 from dsr_msgs.srv import GetBlob
 
+GET_BLOB_TYPE = "dsr_msgs/srv/GetBlob"
+
 
 def blob_answer(graph, request: GetBlob.Request, response: GetBlob.Response, seq: int):
     """dsr/get_blob's answer from ``graph`` (the server's, or the writer's replica for sensor
@@ -50,22 +52,32 @@ class AsyncBlobClient:
         self.timeout = timeout
         self._kept: OrderedDict[str, bytes] = OrderedDict()  # digest -> bytes, newest last
 
+    def discover(self) -> None:
+        """A client for every agent's dsr/get_blob/<node name> the ROS graph shows (sensor
+        data's bytes are with their writer). Call it on the thread that spins the node: made
+        from another thread while an events executor spins, a client hangs its maker (seen
+        here with rclpy's EventsExecutor; the SingleThreadedExecutor does not)."""
+        prefix = self.node.resolve_topic_name(GET_BLOB) + "/"
+        for name, types in self.node.get_service_names_and_types():
+            owner = name[len(prefix) :]
+            service = holder_of(owner)
+            if name.startswith(prefix) and "/" not in owner and service not in self.clients:
+                if types == [GET_BLOB_TYPE]:
+                    self.clients[service] = self.node.create_client(GetBlob, service)
+
     async def fetch(
         self, node: str, attribute: str, digest: str, at: str | None = None
     ) -> bytes | None:
         """The bytes of ``node.attribute`` if the server (for sensor data, the node ``at`` that
         wrote it) holds the value of that ``digest`` still (None: missing, or changed since);
-        ``TimeoutError`` when it does not answer in time."""
+        ``TimeoutError`` when it does not answer in time (or ``at`` is not found running)."""
         if digest in self._kept:
             return self._kept[digest]
         service = holder_of(at)
-        if service not in self.clients:  # a writer of sensor data, first asked
-            self.clients[service] = self.node.create_client(GetBlob, service)
-        client = self.clients[service]
         loop = asyncio.get_running_loop()
         deadline = loop.time() + self.timeout
         # a request sent before the service is matched is lost, never answered
-        while not client.service_is_ready():
+        while (client := self.clients.get(service)) is None or not client.service_is_ready():
             if loop.time() >= deadline:
                 raise TimeoutError(f"{service} is not offered (no such node running)")
             await asyncio.sleep(0.02)

@@ -6,8 +6,9 @@ any past seq, and an inspector (attributes, version, pose in any other node's fr
 ROS Parameters: host (127.0.0.1), port (8080), setup_timeout (20 s), token (the access token
 every request needs; empty: a new one at each start, printed in the address it logs),
 allowed_hosts (Host names served besides the loopback ones, comma-separated).
-Subscriptions and clients: those of DsrAgent, and dsr/get_blob (a camera image whose bytes went
-by before the viewer listened to their topic).
+Subscriptions and clients: those of DsrAgent, and dsr/get_blob and every agent's
+dsr/get_blob/<node name> (a camera image whose bytes went by before the viewer listened to their
+topic: sensor data's are with the agent that wrote it).
 """
 
 from __future__ import annotations
@@ -34,7 +35,8 @@ from dsr_graph.web.events import Broadcaster
 from dsr_graph.web.guard import new_token
 from dsr_graph.web.viewer_app import make_app
 
-BLOB_WAIT = 5.0  # seconds for the server's answer to dsr/get_blob
+BLOB_WAIT = 5.0  # seconds for the answer of dsr/get_blob (the server's or a writer's)
+BLOB_DISCOVERY = 1.0  # seconds between looks for agents' dsr/get_blob/<node name>
 
 
 class Viewer(DsrNode):
@@ -75,6 +77,8 @@ class Viewer(DsrNode):
         self.agent.setup(self, timeout_sec=float_param(self, "setup_timeout"))
         self.agent.add_listener(self._on_change)
         self.blobs = AsyncBlobClient(self, timeout=BLOB_WAIT)
+        # the writers of sensor data, whose bytes only they hold: looked for on the ROS thread
+        self.create_timer(BLOB_DISCOVERY, self.blobs.discover)
         self.bridge = Bridge(self)
 
     def _on_change(self, deltas: list[dict[str, Any]], resynced: bool) -> None:
