@@ -10,7 +10,8 @@ reaches it). pytest-xdist 3.8.0 then hangs the whole run until CI's limit, for t
 - the test the worker died in goes back too: it runs again and takes the replacement down.
 Here the test it died in is reported failed once (by xdist) and not run again, only the dead
 worker's unfinished tests go back on the queue, and a worker is never left holding one item
-with nothing more coming.
+with nothing more coming. Work sent to a worker already dead, before its death is told, waits
+for the news instead of ending the run with an internal error (a loaded run saw it).
 
 Checked by test/system/test_crash_safe_scheduling.py, which runs a suite with a dying test.
 """
@@ -52,10 +53,16 @@ class CrashSafeLoadFileScheduling(LoadFileScheduling):
     def _reschedule(self, node) -> None:
         if node.shutting_down:
             return
-        if self.workqueue and self._pending_of(self.assigned_work[node]) <= 2:
-            self._assign_work_unit(node)
-        # a worker starts an item only when it holds the next one or knows there is none
-        while self.workqueue and self._pending_of(self.assigned_work[node]) < 2:
-            self._assign_work_unit(node)
-        if not self.workqueue:
-            node.shutdown()
+        try:
+            if self.workqueue and self._pending_of(self.assigned_work[node]) <= 2:
+                self._assign_work_unit(node)
+            # a worker starts an item only when it holds the next one or knows there is none
+            while self.workqueue and self._pending_of(self.assigned_work[node]) < 2:
+                self._assign_work_unit(node)
+            if not self.workqueue:
+                node.shutdown()
+        except OSError:
+            # the worker died and its death is not told yet (its last test's report came
+            # first): what was just given to it is in its workload, which remove_node puts
+            # back on the queue when the death is told
+            return

@@ -64,7 +64,15 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
         )
     seen = reader.graph.node("kinect").attrs
     assert np.array_equal(seen["cam_rgb"][1:], RGB[1:]) and np.array_equal(seen["cam_depth"], DEPTH)
-    wait_for(lambda: "cam_rgb" in plain.graph.node("kinect").attrs, 10, "the plain replica")
+    mine = writer.graph.node("kinect").attrs["cam_rgb"]  # its own write, whole
+    assert isinstance(mine, np.ndarray) and mine[0, 0, 0] == 2
+    last = digest_of(mine.tobytes())
+
+    def held_last() -> bool:
+        held = plain.graph.node("kinect").attrs.get("cam_rgb")
+        return isinstance(held, BlobRef) and held.digest == last
+
+    wait_for(held_last, 10, "the last frame at the plain replica", ros.session)
     held = plain.graph.node("kinect").attrs["cam_rgb"]
     writer_name = ros.session.node.get_name()
     assert isinstance(held, BlobRef) and held.shape == (480, 640, 3) and held.at == writer_name
@@ -77,8 +85,6 @@ def test_a_camera_frame_crosses_as_bytes_beside_a_small_delta(ros):
         f"/{topic_names.SENSOR_BLOBS}/{writer_name}"
     )
     assert sorted(r.node_name for r in readers) == ["reader"]  # never the server
-    mine = writer.graph.node("kinect").attrs["cam_rgb"]  # its own write, whole
-    assert isinstance(mine, np.ndarray) and mine[0, 0, 0] == 2
     wait_for(lambda: sum("cam_rgb" in t for t in texts) == 3, 10, "3 deltas", ros.session)
     frames = [t for t in texts if "cam_rgb" in t]
     assert len(frames) == 3 and max(len(t) for t in frames) < 4000  # no base64 megabytes
