@@ -18,7 +18,7 @@ the writer, ``{"at": "<node name>", "$blob": ...}``, its bytes go on the writer'
 want them; the server sequences and signs the change by its digest and keeps a ``BlobRef``.
 
     doc, blobs = extract(request, sensor_at=lambda attr: name if attr in volatile else None)
-    sensor = sensor_refs(doc)                 # the digests that go on dsr/sensor_blobs/<name>
+    sensor_refs_in_text(dumps(doc))           # the digests that go on dsr/sensor_blobs/<name>
     resolve(request, cache.get, lazy=volatile)   # the server: a BlobRef for sensor data only
 """
 
@@ -106,19 +106,6 @@ def extract(
     return _rewrite(doc, referenced), blobs
 
 
-def sensor_refs(doc: dict[str, Any]) -> set[str]:
-    """The digests of the sensor blobs ``doc``'s references name (those with an ``at``)."""
-    found: set[str] = set()
-
-    def look(attrs: dict[str, Any]) -> None:
-        for value in attrs.values():
-            if type(value) is dict and REF in value and "at" in value:
-                found.add(value[REF])
-
-    _rewrite(doc, look)
-    return found
-
-
 def _rewrite(doc: dict[str, Any], change: Callable[[dict[str, Any]], dict[str, Any] | None]):
     """``doc`` with ``change`` applied to each element's ``attrs`` (None: left as it is), the
     lists and elements copied only where something changed."""
@@ -160,8 +147,6 @@ def sensor_refs_in_text(text: str) -> set[str]:
 def held_refs_in_text(text: str) -> set[str]:
     """The digests a request's JSON text references whose bytes come to the server: all but the
     sensor blobs' (each an "at" before its "$blob", as ``BlobRef.to_json`` writes it)."""
-    if REF not in text:
-        return set()
     return refs_in_text(text) - sensor_refs_in_text(text)
 
 
