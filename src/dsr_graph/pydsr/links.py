@@ -72,7 +72,10 @@ class RosLink:
         self.context = Context()
         rclpy.init(context=self.context)
         try:
-            self.node = rclpy.create_node(name, context=self.context)
+            from dsr_graph.ros import dds_teardown
+
+            with dds_teardown.new_event_threads() as self._event_threads:
+                self.node = rclpy.create_node(name, context=self.context)
             self.executor = SingleThreadedExecutor(context=self.context)
             self.executor.add_node(self.node)
             self.agent = DsrAgent()
@@ -191,6 +194,7 @@ class RosLink:
         if node is not None:
             from dsr_graph.ros import dds_teardown
 
-            dds_teardown.destroy_node(node)
+            if not dds_teardown.destroy_node(node, self._event_threads, (executor, self.context)):
+                return  # Fast DDS deadlocked its participant: left as it is (dds_teardown)
         if self.context.ok():
             self.context.try_shutdown()

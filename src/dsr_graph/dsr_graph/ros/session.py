@@ -4,6 +4,7 @@ bounded waits (never an unbounded spin)."""
 from __future__ import annotations
 
 import os
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -30,7 +31,8 @@ class RosSession:
         benchmark's agents take the DsrNode agents' EventsExecutor)."""
         self.context = Context()
         rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
-        self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
+        with dds_teardown.new_event_threads() as self._event_threads:  # the node's participant's
+            self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = executor(context=self.context)
         self.executor.add_node(self.node)
         # A one-shot tool whose work is done and told sets the code it exits with should its
@@ -50,13 +52,23 @@ class RosSession:
         # that name in the domain would be refused as a duplicate (identity.py)
         others = [n for n in self.executor.get_nodes() if n is not self.node]
         self.executor.shutdown(timeout_sec=1.0)
+        # a participant Fast DDS deadlocked (dds_teardown) is left as it is: destroying any of
+        # its nodes would wait for ever
+        jammed = dds_teardown.stuck(self._event_threads)
+        if jammed:
+            dds_teardown.abandon([*others, self.node, self.executor, self.context], jammed)
+            if self.stuck_exit is not None:  # a tool whose work is done and told ends here
+                for stream in (sys.stdout, sys.stderr):
+                    stream.flush()
+                os._exit(self.stuck_exit)
+            return
         for node in others:
             node.destroy_node()
         if self.stuck_exit is None:
-            dds_teardown.destroy_node(self.node)
+            dds_teardown.destroy_node(self.node, ())
         else:
             with exit_if_stuck(TEARDOWN_LIMIT, self.stuck_exit):
-                dds_teardown.destroy_node(self.node)
+                dds_teardown.destroy_node(self.node, ())
         rclpy.try_shutdown(context=self.context)
 
     def spin_for(self, seconds: float) -> None:

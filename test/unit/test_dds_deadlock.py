@@ -1,0 +1,92 @@
+"""dds_teardown.stuck and destroy_node: a participant whose event thread waits on a lock for good
+(Fast-DDS issue 6502) is abandoned, not destroyed (destroying it would wait for ever holding the
+GIL); an event thread at rest (a timed wait), running, or waiting on a lock that comes free is
+not taken as deadlocked."""
+
+import ctypes
+import threading
+import time
+
+import pytest
+
+from dsr_graph.ros import dds_teardown
+
+pytestmark = pytest.mark.skipif(
+    dds_teardown.FUTEX is None or not dds_teardown._threads(),
+    reason="no /proc task files or unknown futex call number on this machine",
+)
+
+
+class Thread:
+    """A thread named like Fast DDS's event thread that runs ``body`` once started."""
+
+    def __init__(self, body):
+        self.ready, self.tid = threading.Event(), 0
+
+        def run():
+            ctypes.CDLL(None).prctl(15, b"dds.ev.test")  # PR_SET_NAME
+            self.tid = threading.get_native_id()
+            self.ready.set()
+            body()
+
+        self.thread = threading.Thread(target=run, daemon=True)
+        self.thread.start()
+        assert self.ready.wait(10)
+        time.sleep(0.1)  # into its wait
+
+
+def test_a_thread_waiting_on_a_lock_that_never_comes_free_is_stuck():
+    lock = threading.Lock()
+    lock.acquire()
+    blocked = Thread(lock.acquire)
+    try:
+        assert blocked.tid in dds_teardown.event_threads()
+        assert dds_teardown.stuck([blocked.tid], stall=0.3) == [blocked.tid]
+    finally:
+        lock.release()
+        blocked.thread.join(10)
+
+
+def test_threads_at_rest_running_or_briefly_blocked_are_not_stuck():
+    stop = threading.Event()
+    lock = threading.Lock()
+    lock.acquire()
+    at_rest = Thread(lambda: stop.wait(30))  # a timed wait, as for the next timer
+
+    def spin():
+        while not stop.is_set():
+            pass
+
+    busy = Thread(spin)
+    briefly = Thread(lock.acquire)
+    threading.Timer(0.2, lock.release).start()
+    try:
+        started = time.monotonic()
+        assert dds_teardown.stuck([at_rest.tid, busy.tid, briefly.tid], stall=3.0) == []
+        assert time.monotonic() - started < 2.0  # decided as soon as the lock came free
+    finally:
+        stop.set()
+        for thread in (at_rest, busy, briefly):
+            thread.thread.join(10)
+
+
+def test_a_deadlocked_participant_s_node_is_abandoned_not_destroyed(recwarn):
+    class Node:
+        destroyed = False
+
+        def destroy_node(self):
+            self.destroyed = True
+
+    lock = threading.Lock()
+    lock.acquire()
+    blocked = Thread(lock.acquire)
+    jammed, healthy = Node(), Node()
+    try:
+        assert dds_teardown.destroy_node(jammed, [blocked.tid]) is False
+        assert dds_teardown.destroy_node(healthy, []) is True
+    finally:
+        lock.release()
+        blocked.thread.join(10)
+    assert not jammed.destroyed and healthy.destroyed
+    assert jammed in dds_teardown._abandoned
+    assert any("Fast-DDS issue 6502" in str(w.message) for w in recwarn)
