@@ -31,7 +31,8 @@ class RosSession:
         benchmark's agents take the DsrNode agents' EventsExecutor)."""
         self.context = Context()
         rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
-        with dds_teardown.new_event_threads() as self._event_threads:  # the node's participant's
+        # the event thread of the participant made with the node: close() checks it is not stuck
+        with dds_teardown.new_event_threads() as self._event_threads:
             self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = executor(context=self.context)
         self.executor.add_node(self.node)
