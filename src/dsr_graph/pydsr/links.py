@@ -72,9 +72,9 @@ class RosLink:
         self.context = Context()
         rclpy.init(context=self.context)
         try:
-            from dsr_graph.ros import dds_teardown
+            from dsr_graph.ros.dds_deadlock import new_event_threads
 
-            with dds_teardown.new_event_threads() as self._event_threads:
+            with new_event_threads() as self._event_threads:
                 self.node = rclpy.create_node(name, context=self.context)
             self.executor = SingleThreadedExecutor(context=self.context)
             self.executor.add_node(self.node)
@@ -195,6 +195,6 @@ class RosLink:
             from dsr_graph.ros import dds_teardown
 
             if not dds_teardown.destroy_node(node, self._event_threads, (executor, self.context)):
-                return  # Fast DDS deadlocked its participant: left as it is (dds_teardown)
+                return  # Fast DDS deadlocked its participant: left as it is (dds_deadlock)
         if self.context.ok():
             self.context.try_shutdown()

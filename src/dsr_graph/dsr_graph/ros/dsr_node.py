@@ -40,7 +40,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
-from dsr_graph.ros import dds_teardown, process_gc
+from dsr_graph.ros import dds_deadlock, dds_teardown, process_gc
 from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals, stopping_anyway
@@ -158,6 +158,30 @@ class DsrNode(Node):
         return super().create_service(srv_type, srv_name, guarded, **kwargs)
 
 
+DEADLOCKED = 4  # the exit code of a node whose DDS participant Fast DDS deadlocked
+# a running node is ended only after its event thread has waited on a lock this long without
+# running (a stop's teardown takes dds_deadlock.STALL: what it misjudges is only left undestroyed)
+WATCH_STALL = 5.0
+
+
+def _cut_off(node: DsrNode) -> Callable[[list[int]], None]:
+    """What a node does when Fast DDS deadlocks its participant (dds_deadlock.py): its peers
+    have dropped it and nothing brings it back, so it says why and ends at once, as if killed
+    (its launch restarts it; what it stored is as durable as after a kill)."""
+
+    def end(jammed: list[int]) -> None:
+        if node.stop_requested():
+            return  # a stop is under way: its teardown leaves the participant as it is
+        node.get_logger().fatal(
+            f"{dds_deadlock.describe(jammed, WATCH_STALL)}; exiting to be restarted"
+        )
+        for stream in (sys.stdout, sys.stderr):
+            stream.flush()
+        os._exit(DEADLOCKED)
+
+    return end
+
+
 def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) -> int:
     # a crash in C (rclpy, Fast DDS) writes the Python stacks to the node's log: seen once, a
     # panel's SIGSEGV at the end of a ros2 launch, with nothing to say where it was
@@ -172,6 +196,7 @@ def run_node(make_node: Callable[[], DsrNode], args: list[str] | None = None) ->
     DsrNode.stops = stops
     try:
         node = make_node()
+        dds_deadlock.watch(_cut_off(node), stall=WATCH_STALL)
         node.setup()
         return node.run() or 0
     except (KeyboardInterrupt, ExternalShutdownException):

@@ -14,7 +14,7 @@ from rclpy.context import Context
 from rclpy.executors import SingleThreadedExecutor
 
 from dsr_graph.exceptions import TimedOutError
-from dsr_graph.ros import dds_teardown
+from dsr_graph.ros import dds_deadlock, dds_teardown
 from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
 
 
@@ -32,7 +32,7 @@ class RosSession:
         self.context = Context()
         rclpy.init(args=["session", *(ros_args or [])], context=self.context, domain_id=domain_id)
         # the event thread of the participant made with the node: close() checks it is not stuck
-        with dds_teardown.new_event_threads() as self._event_threads:
+        with dds_deadlock.new_event_threads() as self._event_threads:
             self.node = rclpy.create_node(name or f"dsr_cli_{os.getpid()}", context=self.context)
         self.executor = executor(context=self.context)
         self.executor.add_node(self.node)
@@ -53,11 +53,11 @@ class RosSession:
         # that name in the domain would be refused as a duplicate (identity.py)
         others = [n for n in self.executor.get_nodes() if n is not self.node]
         self.executor.shutdown(timeout_sec=1.0)
-        # a participant Fast DDS deadlocked (dds_teardown) is left as it is: destroying any of
+        # a participant Fast DDS deadlocked (dds_deadlock) is left as it is: destroying any of
         # its nodes would wait for ever
-        jammed = dds_teardown.stuck(self._event_threads)
+        jammed = dds_deadlock.stuck(self._event_threads)
         if jammed:
-            dds_teardown.abandon([*others, self.node, self.executor, self.context], jammed)
+            dds_deadlock.abandon([*others, self.node, self.executor, self.context], jammed)
             if self.stuck_exit is not None:  # a tool whose work is done and told ends here
                 for stream in (sys.stdout, sys.stderr):
                     stream.flush()
