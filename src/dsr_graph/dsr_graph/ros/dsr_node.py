@@ -41,7 +41,7 @@ from rclpy.signals import SignalHandlerOptions
 from dsr_graph.exceptions import DsrError
 from dsr_graph.formats.private_files import set_private_umask
 from dsr_graph.ros import dds_deadlock, dds_teardown, process_gc
-from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
+from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck, exit_now
 from dsr_graph.ros.parameters import check_required, help_text
 from dsr_graph.ros.stop_signals import StopSignals, stopping_anyway
 
@@ -175,9 +175,7 @@ def _cut_off(node: DsrNode) -> Callable[[list[int]], None]:
         node.get_logger().fatal(
             f"{dds_deadlock.describe(jammed, WATCH_STALL)}; exiting to be restarted"
         )
-        for stream in (sys.stdout, sys.stderr):
-            stream.flush()
-        os._exit(DEADLOCKED)
+        exit_now(DEADLOCKED)
 
     return end
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import ctypes
 import faulthandler
+import os
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -96,15 +97,25 @@ def c_function(name: str) -> int:
     return ctypes.cast(getattr(ctypes.CDLL(None), name), ctypes.c_void_p).value
 
 
-@contextmanager
-def exit_if_stuck(seconds: float, code: int = 0) -> Iterator[None]:
-    """Run the block; if it is still running after ``seconds``, write the Python stacks to
-    stderr and end the process with exit code ``code`` (see the module's docstring)."""
+def _flush() -> None:
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()  # _exit flushes nothing
         except (OSError, ValueError):
             pass
+
+
+def exit_now(code: int) -> None:
+    """End the process at once with ``code``, what was printed flushed first (no teardown)."""
+    _flush()
+    os._exit(code)
+
+
+@contextmanager
+def exit_if_stuck(seconds: float, code: int = 0) -> Iterator[None]:
+    """Run the block; if it is still running after ``seconds``, write the Python stacks to
+    stderr and end the process with exit code ``code`` (see the module's docstring)."""
+    _flush()
     faulthandler.dump_traceback_later(max(0.0, seconds - STACKS_BEFORE), exit=False)
     timer = CTimer(c_function("_exit"), code or None)
     if not timer.start(seconds):

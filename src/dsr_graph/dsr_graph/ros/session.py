@@ -4,7 +4,6 @@ bounded waits (never an unbounded spin)."""
 from __future__ import annotations
 
 import os
-import sys
 import time
 from collections.abc import Callable
 from typing import Any
@@ -15,7 +14,7 @@ from rclpy.executors import SingleThreadedExecutor
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.ros import dds_deadlock, dds_teardown
-from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck
+from dsr_graph.ros.exit_timer import TEARDOWN_LIMIT, exit_if_stuck, exit_now
 
 
 class RosSession:
@@ -59,9 +58,7 @@ class RosSession:
         if jammed:
             dds_deadlock.abandon([*others, self.node, self.executor, self.context], jammed)
             if self.stuck_exit is not None:  # a tool whose work is done and told ends here
-                for stream in (sys.stdout, sys.stderr):
-                    stream.flush()
-                os._exit(self.stuck_exit)
+                exit_now(self.stuck_exit)
             return
         for node in others:
             node.destroy_node()
