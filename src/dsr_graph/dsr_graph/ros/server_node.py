@@ -51,9 +51,11 @@ Publishers:
         new at each start; unreachable: agents listed in the ROS graph whose request topic's DDS
         liveliness lapsed, protocol/presence.py; also sent at once when that list changes).
     /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
-        node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py).
+        node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py);
+        /tf is volatile, so nothing is sent on it while nobody subscribes.
     dsr/markers (visualization_msgs/MarkerArray, latched): the graph drawn for RViz and
-        Foxglove, in the RT root's frame, in metres (protocol/graph_markers.py).
+        Foxglove, in the RT root's frame, in metres (protocol/graph_markers.py); drawn only
+        while someone subscribes (a new subscriber may get the last drawing first).
     dsr/pose/<node> (geometry_msgs/PoseStamped, latched): each geometric node's pose in its
         RT parent's frame (header.frame_id = the parent's name), again on every change.
 Services:
@@ -386,11 +388,12 @@ class DsrServer(DsrNode):
         pub.publish(msg)
 
     def on_markers(self) -> None:
-        """The graph drawn again when it changed since the last drawing (throttled by the
-        timer: a burst of deltas costs one drawing)."""
+        """The graph drawn again when it changed since the last drawing and someone subscribes
+        (throttled by the timer: a burst of deltas costs one drawing; with nobody watching, a
+        streaming skeleton costs none)."""
         graph = self.core.graph
-        if self._version() == self._drawn:
-            return
+        if self._version() == self._drawn or not self._markers.get_subscription_count():
+            return  # unchanged, or nobody to draw for: drawn when one subscribes
         self._drawn = self._version()
         if len(graph) > MAX_DRAWN_NODES:
             self.get_logger().warning(

@@ -65,11 +65,13 @@ class TfPublisher:
         now, static_changed = self.book.update(graph, delta)
         if static_changed:
             self.send_static(graph)
-        if now:
+        if now and self._tf.get_subscription_count():  # volatile: nobody listens, nobody lacks it
             self._tf.publish(tf_message(now, self._now()))
 
     def refresh(self, graph: Graph) -> None:
         """The dynamic transforms again, newly stamped (the heartbeat calls it)."""
+        if not self._tf.get_subscription_count():
+            return
         dynamic = self.book.dynamic_transforms(graph)
         if dynamic:
             self._tf.publish(tf_message(dynamic, self._now()))
