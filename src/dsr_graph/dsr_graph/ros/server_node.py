@@ -134,7 +134,7 @@ class DsrServer(DsrNode):
         self.core: ServerCore | None = None
         self.store: StateStore | None = None
         self.journal: GroupCommit | None = None
-        self._pose_pubs: dict[str, Any] = {}
+        self._pose_pubs: dict[str, tuple[Any, PoseStamped]] = {}  # name -> publisher, message
         # layout -> (version, seq, signed text, blobs)
         self._snapshot_cache: dict[str, tuple[Any, int, str, dict]] = {}
         self._absences = Absences()
@@ -230,9 +230,8 @@ class DsrServer(DsrNode):
         self.create_service(GetBlob, topic_names.GET_BLOB, self.on_get_blob)
         self.create_timer(float_param(self, "heartbeat_period"), self.on_heartbeat)
         if param(self, "publish_poses"):
-            for edge in list(self.core.graph.edges()):
-                if edge.type == RT:
-                    self._publish_pose(self.core.graph.node(edge.dst).name)
+            graph = self.core.graph
+            self._publish_poses_of([graph.node(e.dst).name for e in graph.edges_of_type(RT)])
         self.on_heartbeat()
 
     def _security(self) -> Security:
@@ -361,8 +360,7 @@ class DsrServer(DsrNode):
         self._publish(self._deltas, topic_names.DELTAS, doc)
         self._tf.on_delta(self.core.graph, delta)
         if self._publish_poses:
-            for name in moved_nodes(delta):
-                self._publish_pose(name)
+            self._publish_poses_of(moved_nodes(delta))
 
     def on_discover(self) -> None:
         """Agents that appeared: their request and blob topics, from one look at the ROS graph."""
@@ -371,21 +369,28 @@ class DsrServer(DsrNode):
         self.blob_inbox.listen_to_agents(topics)
 
     # ------------------------------------------------------------------ poses
-    def _publish_pose(self, name: str) -> None:
-        pose = transform_of(self.core.graph, name)
-        if pose is None:
-            return  # deleted, or not geometric any more: its last pose stays latched
-        pub = self._pose_pubs.get(name)
-        if pub is None:
-            pub = self.create_publisher(PoseStamped, topic_names.pose_topic(name), qos_latched())
-            self._pose_pubs[name] = pub
-        msg = PoseStamped()
-        msg.header.stamp = self.get_clock().now().to_msg()
-        msg.header.frame_id = pose.parent
-        position, orientation = msg.pose.position, msg.pose.orientation
-        position.x, position.y, position.z = pose.translation
-        orientation.x, orientation.y, orientation.z, orientation.w = pose.rotation
-        pub.publish(msg)
+    def _publish_poses_of(self, names: list[str]) -> None:
+        """Each node's pose on its dsr/pose/<node>, stamped alike. A streaming skeleton moves
+        17 nodes 30 times a second: each topic's message is kept and refilled (a new message
+        and clock reading per pose cost twice as much CPU)."""
+        if not names:
+            return
+        stamp = self.get_clock().now().to_msg()
+        for name in names:
+            pose = transform_of(self.core.graph, name)
+            if pose is None:
+                continue  # deleted, or not geometric any more: its last pose stays latched
+            pub, msg = self._pose_pubs.get(name) or (None, PoseStamped())
+            if pub is None:
+                topic = topic_names.pose_topic(name)
+                pub = self.create_publisher(PoseStamped, topic, qos_latched())
+                self._pose_pubs[name] = (pub, msg)
+            msg.header.stamp = stamp
+            msg.header.frame_id = pose.parent
+            position, orientation = msg.pose.position, msg.pose.orientation
+            position.x, position.y, position.z = pose.translation
+            orientation.x, orientation.y, orientation.z, orientation.w = pose.rotation
+            pub.publish(msg)
 
     def on_markers(self) -> None:
         """The graph drawn again when it changed since the last drawing and someone subscribes
