@@ -9,25 +9,17 @@ import time
 from pathlib import Path
 from typing import Any
 
-from harness import (
-    HERE,
-    ROOT,
-    Procs,
-    _wait_ready,
-    agent_session,
-    extra_agent,
-    server_cpu,
-    timed_reader,
-)
-from streams import CameraStream, SkeletonStream, hop_costs, quiet_and_streaming
+from harness import HERE, ROOT, Procs, _wait_ready, agent_session, server_cpu, timed_reader
+from streams import Streamer, hop_costs, quiet_and_streaming, streaming
 
 
 def bench_camera(
     work: Path, domain: int, seconds: float, rounds: int, per_round: int
 ) -> dict[str, Any]:
     """The camera (640x480 colour and depth, 30 Hz) and the skeleton (30 Hz) streaming into the
-    DSR together: the server's CPU, images offered, written and delivered whole to a replica that
-    asks for the bytes (another process), and a Speech-sized change's latency, each against the
+    DSR together, each from a process of its own as in the robot: the server's CPU, images
+    offered, written and delivered whole to a replica that asks for the bytes (another process),
+    and a Speech-sized change's latency (from Speech's node, read by another), each against the
     same without the streams (the latency in interleaved rounds); and what one hop costs a frame
     as base64 JSON or as blobs."""
     out: dict[str, Any] = {"hop": hop_costs()}
@@ -35,33 +27,25 @@ def bench_camera(
         server = procs.server(
             work / f"camera_state_{domain}", str(ROOT / "worlds" / "clarc_room.json")
         )
-        with agent_session(domain, "camera") as (ros, camera):
+        streams = [Streamer(procs, "camera"), Streamer(procs, "skeleton")]
+        with agent_session(domain, "speech") as (ros, speech):
             _, _, arrived = timed_reader(ros)
-            person, speech = (extra_agent(ros, name) for name in ("person", "speech"))
-            skeleton, images = SkeletonStream(person, ros), CameraStream(camera)
             out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
             counter = procs.start(
                 "image_counter", [sys.executable, str(HERE / "image_counter.py"), str(seconds)]
             )
             _wait_ready(counter)
-
-            def streaming() -> None:
-                images.step()
-                skeleton.step()
-
-            skeleton.restart()
-            images.restart()
             t0 = time.perf_counter()
-            out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
-            elapsed = time.perf_counter() - t0
+            with streaming(streams) as counts:
+                out["server_cpu_streaming"] = server_cpu(server, ros, seconds, lambda: None)
+                elapsed = time.perf_counter() - t0
+            images, skeleton = counts
             counted = json.loads(counter.stdout.readline() or counter.communicate(timeout=30)[0])
-            out["frames_offered_per_s"] = images.offered / elapsed
-            out["frames_written_per_s"] = images.written / elapsed
+            out["frames_offered_per_s"] = images["offered"] / elapsed
+            out["frames_written_per_s"] = images["written"] / elapsed
             out["frames_delivered_per_s"] = counted["whole"] / counted["seconds"]
             out["frames_unfetched"] = counted["unfetched"]
             out["reader_resyncs"] = counted["resyncs"]
-            out["skeleton_frames_written_per_s"] = skeleton.written / elapsed
-            # Speech's change from Speech's own node, as in a launch (from the camera's it
-            # queued behind the images on the camera's request topic)
-            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, streaming)
+            out["skeleton_frames_written_per_s"] = skeleton["written"] / elapsed
+            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, streams)
     return out

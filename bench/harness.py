@@ -35,11 +35,13 @@ class Procs:
             PYTHONUNBUFFERED="1",
         )
 
-    def start(self, name: str, argv: list[str]) -> subprocess.Popen:
+    def start(
+        self, name: str, argv: list[str], stdin: Any = subprocess.DEVNULL
+    ) -> subprocess.Popen:
         exe = shutil.which(argv[0]) or argv[0]
         p = subprocess.Popen(
             [exe, *argv[1:]],
-            stdin=subprocess.DEVNULL,
+            stdin=stdin,
             stdout=subprocess.PIPE,
             stderr=open(self.workdir / f"{name}.log", "w"),
             env=self.env,

@@ -3,18 +3,22 @@ camera's colour and depth images at 30 Hz, and what one hop costs a frame."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import random
+import sys
 import time
 from pathlib import Path
+from subprocess import PIPE
 from typing import Any
 
 import numpy as np
 from harness import (
+    HERE,
     ROOT,
     Procs,
+    _wait_ready,
     agent_session,
-    extra_agent,
     latency_samples,
     server_cpu,
     speech_change,
@@ -97,19 +101,58 @@ class SkeletonStream:
         return len(json.dumps(self.frames_tx(self.person.graph, [(self.frame(0.0), time.time())])))
 
 
+class Streamer:
+    """A sensor stream (``camera`` or ``skeleton``) in a process of its own (streamer.py), as the
+    robot's camera and Person are, switched on and off; ``off()`` gives its counts."""
+
+    def __init__(self, procs: Procs, kind: str):
+        script = str(HERE / "streamer.py")
+        self.process = procs.start(f"streamer_{kind}", [sys.executable, script, kind], PIPE)
+        _wait_ready(self.process)
+
+    def _say(self, line: str) -> None:
+        self.process.stdin.write(line + "\n")
+        self.process.stdin.flush()
+
+    def on(self) -> None:
+        self._say("on")
+
+    def off(self) -> dict[str, Any]:
+        self._say("off")
+        line = self.process.stdout.readline()  # the process's own waits are bounded
+        if not line:
+            raise RuntimeError(f"a stream process ended (exit {self.process.poll()})")
+        return json.loads(line)
+
+
+@contextlib.contextmanager
+def streaming(streamers: list[Streamer]):
+    """The streams on for the block; their counts, once it ends, in the list it gives."""
+    for s in streamers:
+        s.on()
+    counts: list[dict[str, Any]] = []
+    try:
+        yield counts
+    finally:
+        counts += [s.off() for s in streamers]
+
+
 def quiet_and_streaming(
-    ros, speech, arrived, rounds: int, per_round: int, streaming
+    ros, speech, arrived, rounds: int, per_round: int, streamers: list[Streamer], step=None
 ) -> dict[str, Any]:
-    """A Speech-sized change's latency without and with a stream (``streaming()`` steps it), in
-    interleaved rounds (rounds.py): the pooled percentiles of each side, and the per-round
-    ratios of streaming over quiet."""
+    """A Speech-sized change's latency without and with the streams, in interleaved rounds
+    (rounds.py): the pooled percentiles of each side, and the per-round ratios of streaming
+    over quiet. ``step`` runs while waiting in both (a reading of the benchmark's own)."""
+    step = step or (lambda: None)
 
     def quiet(r: int) -> list[float]:
         ros.spin_for(0.3)  # what the stream left on its way goes first
-        return latency_samples(ros, speech, arrived, per_round, speech_change)
+        return latency_samples(ros, speech, arrived, per_round, speech_change, step)
 
     def streamed(r: int) -> list[float]:
-        return latency_samples(ros, speech, arrived, per_round, speech_change, streaming)
+        with streaming(streamers):
+            ros.spin_for(0.3)  # the streams under way
+            return latency_samples(ros, speech, arrived, per_round, speech_change, step)
 
     runs = interleave({"quiet": quiet, "streaming": streamed}, rounds)
     return {
@@ -125,25 +168,22 @@ def quiet_and_streaming(
 def gug_stream(
     work: Path, domain: int, seconds: float, rounds: int, per_round: int
 ) -> dict[str, Any]:
-    """A patient's skeleton at 30 Hz written as Person writes it: the server's CPU, frames
-    written of those offered, a Speech-sized change's latency (interleaved rounds) and the
-    journal's growth, each against the same without the stream."""
+    """A patient's skeleton at 30 Hz written as Person writes it (a process of its own): the
+    server's CPU, frames written of those offered, a Speech-sized change's latency (interleaved
+    rounds) and the journal's growth, each against the same without the stream."""
     state = work / f"gug_state_{domain}"
     out: dict[str, Any] = {}
     with Procs(work, domain) as procs:
         server = procs.server(state, str(ROOT / "worlds" / "clarc_room.json"))
-        with agent_session(domain, "person") as (ros, person):
+        skeleton = Streamer(procs, "skeleton")
+        with agent_session(domain, "speech") as (ros, speech):
             _, _, arrived = timed_reader(ros)
-            speech = extra_agent(ros, "speech")  # Speech's change from its own node, as in a launch
-            stream = SkeletonStream(person, ros)
             out["server_cpu_idle"] = server_cpu(server, ros, seconds, lambda: None)
-            stream.restart()
             journal = state / "journal.jsonl"
             size0, t0 = journal.stat().st_size if journal.exists() else 0, time.perf_counter()
             largest, sizes = [size0], {"last": size0, "grown": 0}
 
-            def streaming() -> None:
-                stream.step()
+            def journal_growth() -> None:
                 if journal.exists():
                     size = journal.stat().st_size
                     largest[0] = max(largest[0], size)
@@ -151,17 +191,19 @@ def gug_stream(
                     sizes["grown"] += size - sizes["last"] if size >= sizes["last"] else size
                     sizes["last"] = size
 
-            out["server_cpu_streaming"] = server_cpu(server, ros, seconds, streaming)
-            elapsed = time.perf_counter() - t0
-            out["frames_written_per_s"] = stream.written / elapsed
-            out["frames_offered_per_s"] = stream.frames / elapsed
-            out["frames_per_tx"] = stream.written / max(stream.txs, 1)
-            out["delta_bytes"] = stream.delta_bytes()
-            out["volatile_share"] = stream.volatile / max(stream.txs, 1)
+            with streaming([skeleton]) as counts:
+                out["server_cpu_streaming"] = server_cpu(server, ros, seconds, journal_growth)
+                elapsed = time.perf_counter() - t0
+            (stream,) = counts
+            out["frames_written_per_s"] = stream["written"] / elapsed
+            out["frames_offered_per_s"] = stream["offered"] / elapsed
+            out["frames_per_tx"] = stream["written"] / max(stream["txs"], 1)
+            out["delta_bytes"] = stream["delta_bytes"]
+            out["volatile_share"] = stream["volatile"] / max(stream["txs"], 1)
             out["journal_bytes_per_min"] = sizes["grown"] / elapsed * 60
             out["journal_largest_bytes"] = largest[0]
             out["compact_every"] = 1000
-            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, stream.step)
+            out |= quiet_and_streaming(ros, speech, arrived, rounds, per_round, [skeleton])
     return out
 
 
