@@ -101,6 +101,8 @@ class TestStatus:
     """What the dashboard shows of the test in progress, read from the DSR's test node (so it is
     right whenever the dashboard starts, and across a restart of PELEA)."""
 
+    __test__ = False  # a clinical test's status, not a pytest class (its tests import it)
+
     def __init__(self) -> None:
         self.shown: dict[str, Any] = {
             "running": False,
