@@ -6,7 +6,8 @@ that change's latency: a cost of the benchmark, not of the DSR.
 
 Usage: streamer.py camera|skeleton. Says "ready" once its replica is synced; then reads lines:
 "on" (the stream starts, counts from zero), "off" (it stops and prints its counts as JSON:
-offered, written, txs, volatile, delta_bytes, seconds); it ends at the end of its input."""
+offered, written and seconds; the skeleton's also txs, volatile and delta_bytes); it ends at the
+end of its input."""
 
 from __future__ import annotations
 

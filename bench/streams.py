@@ -1,5 +1,6 @@
 """The sensor streams the robot writes: a patient's skeleton at 30 Hz as Person writes it, the
-camera's colour and depth images at 30 Hz, and what one hop costs a frame."""
+camera's colour and depth images at 30 Hz (each run in a process of its own by streamer.py,
+switched on and off through ``Streamer``), and what one hop costs a frame."""
 
 from __future__ import annotations
 
@@ -138,21 +139,20 @@ def streaming(streamers: list[Streamer]):
 
 
 def quiet_and_streaming(
-    ros, speech, arrived, rounds: int, per_round: int, streamers: list[Streamer], step=None
+    ros, speech, arrived, rounds: int, per_round: int, streamers: list[Streamer]
 ) -> dict[str, Any]:
     """A Speech-sized change's latency without and with the streams, in interleaved rounds
     (rounds.py): the pooled percentiles of each side, and the per-round ratios of streaming
-    over quiet. ``step`` runs while waiting in both (a reading of the benchmark's own)."""
-    step = step or (lambda: None)
+    over quiet."""
 
     def quiet(r: int) -> list[float]:
         ros.spin_for(0.3)  # what the stream left on its way goes first
-        return latency_samples(ros, speech, arrived, per_round, speech_change, step)
+        return latency_samples(ros, speech, arrived, per_round, speech_change)
 
     def streamed(r: int) -> list[float]:
         with streaming(streamers):
             ros.spin_for(0.3)  # the streams under way
-            return latency_samples(ros, speech, arrived, per_round, speech_change, step)
+            return latency_samples(ros, speech, arrived, per_round, speech_change)
 
     runs = interleave({"quiet": quiet, "streaming": streamed}, rounds)
     return {
