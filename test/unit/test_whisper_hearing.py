@@ -39,10 +39,10 @@ def test_the_expected_answers_are_the_decoder_s_context_and_no_test_is_named():
     assert expected.meaning("the third one") == ("answer", 10)
     assert expected.meaning("I don't know") is None
     mmse = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
-    # the prompt is what the robot said: recall's never names the objects to recall
+    # the prompt is what the robot said, and for a words item the answer worth every point,
+    # which is also the rival a lower score must beat
     recall = expectation_for(mmse.item("recall"))
-    assert recall.kind == "words" and "apple" not in recall.prompt.lower()
-    # ... the answer worth every point is only a rival a lower score must beat, never a prompt
+    assert recall.kind == "words" and recall.prompt.endswith("objects? Apple, table, penny.")
     assert recall.full_marks == ("apple", "table", "penny")
     assert recall.meaning(", ".join(recall.full_marks)) == ("answer", 3)
     assert expected.full_marks == ()  # a choose item's options are its candidates already
