@@ -44,6 +44,11 @@ def test_the_expected_answers_are_the_decoder_s_context_and_no_test_is_named():
     recall = expectation_for(mmse.item("recall"))
     assert recall.kind == "words" and recall.prompt.endswith("objects? Apple, table, penny.")
     assert recall.full_marks == ("apple", "table", "penny")
+    # names keep their capitals (lower case ones split Whisper's hypotheses: "december")
+    place = expectation_for(mmse.item("orientation_place")).prompt
+    assert place.endswith(
+        " Spain, Andalusia, Seville, Hospital Universitario Virgen del Rocio, first floor."
+    )
     assert recall.meaning(", ".join(recall.full_marks)) == ("answer", 3)
     assert expected.full_marks == ()  # a choose item's options are its candidates already
     assert expectation_for(mmse.item("attention")).meaning("93, 86, 79") == ("answer", 3)

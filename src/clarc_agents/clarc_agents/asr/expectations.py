@@ -103,7 +103,7 @@ def expectation_for(item: Item | None) -> Expectation | None:
         full = ()
     prompt = f"{item.question} {item.ask}"
     if item.kind == "words" and full:
-        said = ", ".join(full)
+        said = ", ".join(part.spelt or part.keywords[0] for part in item.parts)
         prompt = f"{prompt} {said[0].upper()}{said[1:]}."
     expected = Expectation(item.kind, prompt, (), meaning, full)
     if item.kind == "serial":

@@ -88,6 +88,9 @@ class Option:
 class Part:
     name: str
     keywords: tuple[str, ...]  # what recognises it (lower case); a touch target: the first
+    # the first of them as written, a name with its capitals ("Seville", "Tuesday"): a
+    # recogniser's context is spelt as the recogniser writes it ("" when not known)
+    spelt: str = ""
 
 
 @dataclass(frozen=True)
@@ -157,7 +160,11 @@ class Definition:
         items = []
         for item in self.items:
             parts = tuple(
-                Part(p.name, tuple(w for k in p.keywords for w in _fill(k, values)))
+                Part(
+                    p.name,
+                    tuple(w for k in p.keywords for w in _fill(k, values)),
+                    _fill(p.spelt, values, lower=False)[0] if p.spelt else "",
+                )
                 for p in item.parts
             )
             items.append(replace(item, parts=parts))
@@ -176,14 +183,16 @@ class Definition:
 _PLACEHOLDER = re.compile(r"\{(\w+)\}")
 
 
-def _fill(phrase: str, values: dict[str, tuple[str, ...]]) -> tuple[str, ...]:
+def _fill(phrase: str, values: dict[str, tuple[str, ...]], lower: bool = True) -> tuple[str, ...]:
     found = _PLACEHOLDER.search(phrase)
     if found is None:
         return (phrase,)
     return tuple(
         filled
         for value in values[found.group(1)]
-        for filled in _fill(phrase.replace(found.group(0), value.lower(), 1), values)
+        for filled in _fill(
+            phrase.replace(found.group(0), value.lower() if lower else value, 1), values, lower
+        )
     )
 
 
@@ -368,7 +377,7 @@ def _parts(source: str, item: str, node: Any) -> tuple[Part, ...]:
                         f"{item}: {name}: unknown placeholder {{{placeholder}}}; "
                         f"the placeholders are {', '.join(PLACEHOLDERS)}",
                     )
-        parts.append(Part(name, tuple(w.lower() for w in words)))
+        parts.append(Part(name, tuple(w.lower() for w in words), words[0].strip()))
     return tuple(parts)
 
 

@@ -3,7 +3,8 @@
 of any test's table. ``answer_kind`` is the item's kind (choose, words, touches, drawing, eyes);
 ``question`` and ``ask`` what the robot asks (a recogniser's context);
 a ``choose`` item has ``options``, ``option_points`` and ``option_words``; a ``words`` or
-``touches`` item ``parts`` (the words that recognise each part); the points it is worth are
+``touches`` item ``parts`` (the words that recognise each part) and ``parts_spelt`` (each part's
+first word as written, a name with its capitals); the points it is worth are
 ``max_points``; ``language`` what it is asked and answered in (an item without it: English).
 Several phrases of one option or part are joined by "|"."""
 
@@ -24,8 +25,7 @@ def answer_attrs(item: Item) -> dict[str, Any]:
     """What the item's node carries for the agents that take its answers."""
     attrs: dict[str, Any] = {"answer_kind": item.kind, "max_points": item.max}
     attrs["language"] = item.language
-    # what the robot asks, for a recogniser's context (asr/expectations.py): the words of the
-    # exchange, never the answers
+    # what the robot asks, for a recogniser's context (asr/expectations.py)
     attrs["question"] = item.question
     if item.ask:
         attrs["ask"] = item.ask
@@ -37,6 +37,7 @@ def answer_attrs(item: Item) -> dict[str, Any]:
         )
     if item.parts:
         attrs["parts"] = ["|".join(p.keywords) for p in item.parts]
+        attrs["parts_spelt"] = [p.spelt or p.keywords[0] for p in item.parts]
     return attrs
 
 
@@ -72,13 +73,19 @@ def item_in(graph: Graph, key: str) -> Item | None:
         numbers = [str(p).split("|")[0].lstrip("-") for p in parts]
         if kind == "serial" and not (len(parts) >= 2 and all(n.isdigit() for n in numbers)):
             return None  # not a serial subtraction's numbers: nothing to score against
+        spelt = node.attrs.get("parts_spelt", [])
+        if not (isinstance(spelt, list) and len(spelt) == len(parts)):
+            spelt = [""] * len(parts)  # written before parts were spelt: the keywords'
         return Item(
             key,
             title,
             question,
             kind=kind,
             ask=ask,
-            parts=tuple(Part(str(i), _phrases(ws)) for i, ws in enumerate(parts)),
+            parts=tuple(
+                Part(str(i), _phrases(ws), str(s))
+                for i, (ws, s) in enumerate(zip(parts, spelt, strict=True))
+            ),
             most=int(node.attrs.get("max_points", 0)),
             language=language,
         )
