@@ -23,10 +23,17 @@ added for answers that were otherwise scored wrong on the speech benchmark's aud
 Choose answers are left to Whisper's own rescoring and the read-back (Speech's ``unsure``
 outcome): on the same audio, pocketsphinx's grammar agreed with none of the choose answers
 Whisper doubted (they mean no option, or Whisper's beams split between options).
+
+pocketsphinx's dictionary also says what is no English word: a words answer in which Whisper
+wrote one that the item never says either ("Appiancil." for "a pencil", sure at 0.75 and scored
+0, BENCHMARKS.md section 9c) is sounds Whisper spelt, not what the patient said, so it is never
+sure (``NOT_A_WORD``). In the section's 410 words answers no right one had such a word; seven
+others had, each already unsure ("A mistwatch and a pencil.", "A car, a nog and a table.").
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 
 from clarc_agents.asr.recogniser import Heard
@@ -44,6 +51,9 @@ FUNCTION_WORDS = frozenset(
     " by about as or and but if so no not yes then there here what which who well oh um uh".split()
 )
 MEANINGFUL = frozenset({"and", "or", "no"})  # a hedge, a list, a denial: never soaked up
+# the most a words answer with a word no dictionary has is worth: under Speech's 0.5 and under
+# the repair's FLOOR, so that two such hearings are not taken as one answer either
+NOT_A_WORD = 0.3
 IGNORED = (frozenset(ABSORBERS) | frozenset(MUMBLING) | frozenset(SERIAL_SOAKING)) - MEANINGFUL
 
 
@@ -55,6 +65,14 @@ def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
     if too_noisy(item.kind, heard.snr_db):  # two recognisers hearing noise prove nothing
         return False
     return heard.confidence < min_confidence and understand(item, heard.text).kind == "answer"
+
+
+def strange_words(item: Item, text: str, known: Callable[[str], bool]) -> list[str]:
+    """The words of ``text`` that are no word ``known`` has (numbers are), nor one the item
+    says (its question, its request, its parts' phrases: "Universitario", "Rocio")."""
+    said_by_item = " ".join([item.question, item.ask, *(k for p in item.parts for k in p.keywords)])
+    own = frozenset(words(said_by_item, item.language))
+    return [w for w in words(text, item.language) if not _in_vocabulary(w, own) and not known(w)]
 
 
 def _in_vocabulary(word: str, vocabulary: frozenset[str]) -> bool:
@@ -97,6 +115,9 @@ class SecondOpinion:
 
     def hear_item(self, samples, item: Item | None) -> tuple[Heard, str]:
         heard, how = self.first.hear_item(samples, item)
+        if item is not None and item.kind == "words" and heard.confidence > NOT_A_WORD:
+            if strange_words(item, heard.text, self.second.known):
+                heard = replace(heard, confidence=NOT_A_WORD)
         if not wanted(item, heard, self.min_confidence):
             return heard, how
         other, _ = self.second.hear_item(samples, item)
