@@ -121,9 +121,9 @@ ENGLISH = frozenset({"a", "pen", "pencil", "and", "the", "watch", "mist", "car",
 
 
 def test_a_word_no_dictionary_has_is_sounds_whisper_spelt_not_an_answer():
-    """ "Appiancil." for "a pencil" was scored 0, sure at 0.75 (BENCHMARKS.md section 9c): a words
-    answer with a word neither the dictionary nor the item has is never sure, not even over two
-    windows (the repair takes two hearings from 0.45 each)."""
+    """A words answer with a word neither the dictionary nor the item has is never sure, not
+    even over two windows (the repair takes two hearings from 0.45 each): "Appiancil." for "a
+    pencil" was scored 0, sure at 0.75 (BENCHMARKS.md section 9c)."""
     assert strange_words(NAMING, "Appiancil.", ENGLISH.__contains__) == ["appiancil"]
     assert strange_words(NAMING, "A mistwatch and a pencil.", ENGLISH.__contains__) == ["mistwatch"]
     assert strange_words(NAMING, "A pencil and a watch.", ENGLISH.__contains__) == []

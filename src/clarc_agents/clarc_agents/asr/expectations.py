@@ -6,7 +6,7 @@
   for a words item the answer worth every point after it ("Spain, Andalusia, Seville, ...";
   "Apple, table, penny."): the words the DSR expects, spelt as the rules read them. On the
   speech benchmark's words answers (BENCHMARKS.md section 9c) that took the share heard right
-  from 33% to 53% clean and from 35% to 46% at 20 dB, and the wrong ones from 2 to 0 and 2 to
+  from 33% to 54% clean and from 35% to 52% at 20 dB, and the wrong ones from 2 to 0 and 2 to
   1 of 205: Whisper still writes what was said when it is another answer ("Apple, orange.",
   "France, Paris.", "A pen and a clock."), and the rivals below still check a lower score.
 - ``candidates`` (choose items): what chooses each option (its number, "option N", its text),
@@ -103,7 +103,7 @@ def expectation_for(item: Item | None) -> Expectation | None:
         full = ()
     prompt = f"{item.question} {item.ask}"
     if item.kind == "words" and full:
-        said = ", ".join(part.spelt or part.keywords[0] for part in item.parts)
+        said = ", ".join(part.spelt or part.keywords[0] for part in item.parts if part.keywords)
         prompt = f"{prompt} {said[0].upper()}{said[1:]}."
     expected = Expectation(item.kind, prompt, (), meaning, full)
     if item.kind == "serial":

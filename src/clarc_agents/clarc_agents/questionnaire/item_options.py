@@ -4,7 +4,7 @@ of any test's table. ``answer_kind`` is the item's kind (choose, words, touches,
 ``question`` and ``ask`` what the robot asks (a recogniser's context);
 a ``choose`` item has ``options``, ``option_points`` and ``option_words``; a ``words`` or
 ``touches`` item ``parts`` (the words that recognise each part) and ``parts_spelt`` (each part's
-first word as written, a name with its capitals); the points it is worth are
+first phrase as written, a name with its capitals); the points it is worth are
 ``max_points``; ``language`` what it is asked and answered in (an item without it: English).
 Several phrases of one option or part are joined by "|"."""
 
