@@ -94,3 +94,18 @@ def test_an_agent_whose_request_publisher_is_alive_is_not_gone_whatever_the_ros_
             set(), {"/panel", "/speech"}, presence.alive, now, grace=5, info_grace=2, warm=True
         )
     assert info == ["/speech"] and claims == []
+
+
+def test_a_killed_process_dropped_without_lapsing_is_told_replaced_too():
+    """DDS may unmatch a killed process's publisher at once, never counting it not alive (a
+    loaded whole-suite run: Panel killed and respawned, its end never told, the test waited for
+    "gone" 30 s): one alive fewer while another is alive is the same end."""
+    presence = Presence()
+    topic = "/dsr/transactions/panel"
+    presence.observe(topic, "/panel", alive=1, not_alive=0)
+    presence.observe(topic, "/panel", alive=2, not_alive=0)  # the successor, up at once
+    presence.observe(topic, "/panel", alive=1, not_alive=0)  # the old one unmatched
+    assert presence.update(1.0) == ([], []) and presence.away == []
+    assert presence.take_replaced() == ["/panel"]
+    presence.observe(topic, "/panel", alive=0, not_alive=0)  # the last one gone: the graph's
+    assert presence.take_replaced() == []

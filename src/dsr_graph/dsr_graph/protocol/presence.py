@@ -32,10 +32,11 @@ class Presence:
     def observe(self, topic: str, agent: str, alive: int, not_alive: int) -> None:
         """DDS reported the counts of ``topic``'s publishers (``agent``: its owner's name)."""
         before = self._counts.get(topic)
-        if before is not None and not_alive > before[2] and alive:
-            # one of its publishers lapsed while another is alive: a process killed and
-            # respawned at once (its successor up before its 1 s lease ran out) is never
-            # "away"; its end is told all the same
+        if before is not None and alive and (not_alive > before[2] or alive < before[1]):
+            # one of its publishers lapsed, or went unmatched without lapsing first (DDS on
+            # one host may drop a killed process's writer at once: a loaded whole-suite run
+            # never told Panel's end), while another is alive: a process killed and respawned
+            # at once is never "away"; its end is told all the same
             self._replaced.append(agent)
         self._counts[topic] = (agent, alive, not_alive)
 
