@@ -166,13 +166,51 @@ def test_a_number_whisper_could_write_two_ways_is_not_doubted_for_it(whisper, mo
     decoded_on[ninety] = "Ninety-four, eighty-six."  # another number: no longer the same
     doubt = whisper._doubt(None, [], ids, probs, expected, "93, 86.")
     assert doubt == pytest.approx(TOKEN_DOUBT["serial"] * 0.5)
-    # a words answer's least sure word is its own bound (words gained nothing at equal safety)
+
+
+def test_a_words_answer_is_not_doubted_for_its_articles_but_for_its_hedges(whisper, monkeypatch):
+    """A words answer's least sure token is often an article ("A" of "A wristwatch and a
+    pencil." at 0.10 to 0.19) or a spelling: the other tokens there that lead to the same words
+    but articles count with it; one that adds or drops an "or" does not; and none when the
+    answer has a word the DSR does not expect."""
+    from clarc_agents.asr.whisper import TOKEN_DOUBT
+
     naming = expectation_for(definitions.load("mmse").item("naming"))
-    ids = encode(" A pen for a pencil.")
-    probs = [0.9] * len(ids)
-    probs[3] = 0.3
-    doubt = whisper._doubt(None, [], ids, probs, naming, "A pen for a pencil.")
-    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.3)
+    assert naming.reading("A wristwatch and a pencil.") == naming.reading(
+        "Wristwatch and the pencil"
+    )
+    assert naming.reading("A pen or a pencil.") != naming.reading("A pen, a pencil.")
+    encode = whisper.tokenizer.encode
+    ids = encode(" A wristwatch and a pencil.")
+    spread = [np.full(whisper.tokenizer.eot + 1, 1e-9) for _ in ids]
+    for k, token in enumerate(ids):
+        spread[k][token] = 0.95
+    wrist = encode(" Wrist")[0]
+    spread[0][ids[0]], spread[0][wrist] = 0.15, 0.6
+    probs = [float(spread[k][t]) for k, t in enumerate(ids)]
+    decoded_on = {wrist: "Wristwatch and a pencil."}
+    monkeypatch.setattr(whisper, "_spread", lambda encoded, prompt, ids: spread)
+    monkeypatch.setattr(
+        whisper, "_decoded_on", lambda encoded, starts: [decoded_on[s[-1]] for s in starts]
+    )
+    said = "A wristwatch and a pencil."
+    doubt = whisper._doubt(None, [], ids, probs, naming, said)
+    assert doubt == pytest.approx(min(1.0, TOKEN_DOUBT["words"] * 0.75))
+    decoded_on[wrist] = "Wristwatch or a pencil."  # a hedge: another answer
+    doubt = whisper._doubt(None, [], ids, probs, naming, said)
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.15)
+    # a word the DSR does not expect: the decoder's, not a spelling to believe
+    decoded_on[wrist] = "Wristwatch and a pencil."
+    assert naming.unexpected("A wristwatch hold up a pencil.") == ["hold", "up"]
+    said = "A wristwatch hold up a pencil."
+    ids = encode(" " + said)
+    spread = [np.full(whisper.tokenizer.eot + 1, 1e-9) for _ in ids]
+    for k, token in enumerate(ids):
+        spread[k][token] = 0.95
+    spread[0][ids[0]], spread[0][wrist] = 0.15, 0.6
+    probs = [float(spread[k][t]) for k, t in enumerate(ids)]
+    doubt = whisper._doubt(None, [], ids, probs, naming, said)
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.15)
 
 
 def _in_white_noise(text: str, snr_db: float, seed: int) -> np.ndarray:

@@ -18,9 +18,13 @@
   points), so that a recogniser can tell how sure it is: hypotheses that mean the same answer
   add up, hypotheses that mean another one compete.
 - ``reading(text)``: what two transcripts must share to be heard the same, however written:
-  a serial answer's numbers ("93" and "ninety-three"; by default, the words). Another token
-  the decoder saw that leads to the same reading is no doubt of the one heard (serial
-  answers: asr/whisper.py).
+  a serial answer's numbers ("93" and "ninety-three"), a words answer's words but its articles
+  ("A wristwatch" and "Wristwatch"; "or", "and", "no" count). Another token the decoder saw
+  that leads to the same reading is no doubt of the one heard (asr/whisper.py), but for a
+  words answer only if every word of it is one the DSR expects (``unexpected``: the item's
+  sentences and parts, the language's word lists, numbers): "Pen, hold up pencil." for "a pen
+  or a pencil" is the decoder's "hold up" in place of a hedge, and its other spellings of
+  "pencil" are no reason to believe it.
 - ``full_marks`` (words and serial items): what is worth every point (each part's first
   word): the rivals a heard answer worth less must beat clearly
   (all of it, or one missing part in place of a word heard), or the robot is not sure of it
@@ -52,6 +56,15 @@ class Expectation:
     )
     # whether a text is only sounds of hesitation (a mumble: never rescored into an option)
     mumbled: Callable[[str], bool] = field(default=lambda text: False, compare=False)
+    # a words item's: the words the DSR expects in its answer (the item's sentences and parts,
+    # the language's word lists; numbers always): the others a text has (``unexpected``)
+    expected_words: frozenset[str] = frozenset()
+
+    def unexpected(self, text: str) -> list[str]:
+        """The words of ``text`` that the DSR does not expect (none when it expects any)."""
+        if not self.expected_words:
+            return []
+        return [w for w in self.reading(text) if w not in self.expected_words and not _numeric(w)]
 
 
 # no item: hypotheses that are the same words agree
@@ -108,7 +121,29 @@ def expectation_for(item: Item | None) -> Expectation | None:
     expected = Expectation(item.kind, prompt, (), meaning, full)
     if item.kind == "serial":
         return replace(expected, reading=_numbers_said(item.language))
-    return expected
+    return replace(expected, reading=_words_said(item.language), expected_words=_expected(item))
+
+
+def _expected(item: Item) -> frozenset[str]:
+    """The words the DSR expects in ``item``'s answer: its question, its request and its
+    parts, and the words the understanding rules read in its language (seasons, weekdays,
+    hedges, "I don't know"...)."""
+    said_in = languages.get(item.language)
+    lists = [w for name in languages.WORD_LISTS for w in getattr(said_in, name)]
+    seasons = [w for ways in said_in.seasons for w in ways]
+    parts = [k for part in item.parts for k in part.keywords]
+    text = " ".join([item.question, item.ask, *parts, *lists, *seasons])
+    return frozenset(words(text, item.language))
+
+
+def _numeric(word: str) -> bool:
+    """A number ("26", "2nd"): said with the words of any language, never unexpected."""
+    return word[:1].isdigit()
+
+
+def _words_said(language: str) -> Callable[[str], tuple[str, ...]]:
+    articles = frozenset(languages.get(language).articles)
+    return lambda text: tuple(w for w in words(text, language) if w not in articles)
 
 
 def _numbers_said(language: str) -> Callable[[str], tuple[str, ...]]:

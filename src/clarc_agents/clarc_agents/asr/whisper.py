@@ -6,10 +6,11 @@ How sure: beam search keeps its ``HYPOTHESES`` best transcripts with their log-p
 each is understood as the item's answer would be (``Expectation.meaning``), and the confidence
 is the probability mass of the hypotheses that mean what the best one means. "Two." and "Two"
 agree; "Two." against "Three." is a coin toss and says so. For words and serial answers, the
-least sure token of the best transcript bounds it too (``TOKEN_DOUBT``); for a serial answer,
-counting with it the other tokens the decoder saw there that lead to the same reading
-(``Expectation.reading``: the same numbers): "93" and "ninety-three" are one reading, so a
-number Whisper could write two ways is not doubted for it, while "87" against "80" still is.
+least sure token of the best transcript bounds it too (``TOKEN_DOUBT``), counting with it the
+other tokens the decoder saw there that lead to the same reading (``Expectation.reading``: the
+same numbers, the same words but articles): "93" and "ninety-three" are one reading, so a
+number Whisper could write two ways is not doubted for it, while "87" against "80" still is;
+"A wristwatch" and "Wristwatch" are one, "pen or pencil" and "pen, pencil" are not.
 The ``DOUBT_PLACES`` least sure tokens are looked into when they alone would leave the answer
 unsure: the decoder's ``ALTERNATIVES`` likeliest other tokens there, each decoded on to the end
 of the answer. And a words or serial answer heard worth less than every point must beat the
@@ -73,10 +74,10 @@ DOUBT_PLACES = 3
 ALTERNATIVES = 5
 MIN_ALTERNATIVE = 0.01
 LOOKED_INTO_BELOW = 0.5  # a token bound under Speech's min_confidence: worth looking into
-# serial answers only: for words it gained nothing at equal safety (a calibration run, 164
-# answers clean and at 20 dB: each word at 0.55 with it, 46 right and 1 wrong; at 0.4 without,
-# 47 and 1; at 0.4 or 0.5 with it, "A pen for the pencil." for "a pen or a pencil" was sure)
-LOOKED_INTO = ("serial",)
+# a words answer only when the DSR expects every word of it (expectations.py's ``unexpected``):
+# looked into otherwise, "Pen, hold up pencil." for "a pen or a pencil" was sure (0.76), its
+# "pencil" written two ways (BENCHMARKS.md section 9c)
+LOOKED_INTO = ("serial", "words")
 # a words or serial answer heard worth less than every point: its confidence is at most this
 # over the odds of the likeliest reading worth more (at Speech's 0.5: such a reading may be at
 # most a fifth as likely as what was heard); checked only for answers sure enough otherwise
@@ -223,13 +224,14 @@ class WhisperRecogniser:
 
     def _doubt(self, encoded, prompt, ids, probs, expectation: Expectation, best: str) -> float:
         """The bound the least sure token of ``best`` puts on the confidence: its probability
-        (``probs``, forced), for a serial answer with those of the other tokens there that lead
-        to the same reading, times the kind's ``TOKEN_DOUBT``."""
+        (``probs``, forced), with those of the other tokens there that lead to the same reading
+        (a words answer's only if the DSR expects each of its words), times the kind's
+        ``TOKEN_DOUBT``."""
         scale = TOKEN_DOUBT[expectation.kind]
         sure = [float(p) for p in probs]
         places = [k for k, t in enumerate(ids) if any(c.isalnum() for c in self._text([t]))]
         doubted = []
-        if expectation.kind in LOOKED_INTO:
+        if expectation.kind in LOOKED_INTO and not expectation.unexpected(best):
             unsure = [k for k in places if scale * sure[k] < LOOKED_INTO_BELOW]
             doubted = sorted(unsure, key=sure.__getitem__)[:DOUBT_PLACES]
         if doubted:
