@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import json
 import random
+import select
 import sys
 import time
 from pathlib import Path
@@ -102,6 +103,9 @@ class SkeletonStream:
         return len(json.dumps(self.frames_tx(self.person.graph, [(self.frame(0.0), time.time())])))
 
 
+OFF_WITHIN = 30.0  # seconds a stream process may take to stop and give its counts
+
+
 class Streamer:
     """A sensor stream (``camera`` or ``skeleton``) in a process of its own (streamer.py), as the
     robot's camera and Person are, switched on and off; ``off()`` gives its counts."""
@@ -120,7 +124,11 @@ class Streamer:
 
     def off(self) -> dict[str, Any]:
         self._say("off")
-        line = self.process.stdout.readline()  # the process's own waits are bounded
+        # the process's own waits are bounded; this one too, should it hang all the same
+        answered, _, _ = select.select([self.process.stdout], [], [], OFF_WITHIN)
+        if not answered:
+            raise RuntimeError(f"a stream process did not answer 'off' within {OFF_WITHIN:g} s")
+        line = self.process.stdout.readline()
         if not line:
             raise RuntimeError(f"a stream process ended (exit {self.process.poll()})")
         return json.loads(line)
