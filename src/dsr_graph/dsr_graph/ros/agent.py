@@ -105,6 +105,7 @@ class DsrAgent:
         self._described = 0.0  # the last look at its info node, time.monotonic()
         self._describing = False  # an info write is on its way
         self._tick_timer = None  # the transport's timer, set up with the node (``_pace``)
+        self._ticking_every = TICK
         self.node = None
         self.name = ""
         self._snapshot_future = None
@@ -161,7 +162,6 @@ class DsrAgent:
         # the replica is most of this process after each snapshot (ros/process_gc.py)
         self.core.add_listener(lambda deltas, resynced: resynced and process_gc.settle())
         self._tick_timer = node.create_timer(TICK, self._tick)
-        self._ticking_every = TICK
         self.core.ask_snapshot(time.monotonic())
 
     def describe(self, can_do: list[str] = (), listens_to: list[str] = ()) -> None:
