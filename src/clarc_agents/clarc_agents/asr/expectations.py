@@ -64,7 +64,7 @@ class Expectation:
         """The words of ``text`` that the DSR does not expect (none when it expects any)."""
         if not self.expected_words:
             return []
-        return [w for w in self.reading(text) if w not in self.expected_words and not _numeric(w)]
+        return [w for w in self.reading(text) if w not in self.expected_words and not numeric(w)]
 
 
 # no item: hypotheses that are the same words agree
@@ -124,21 +124,27 @@ def expectation_for(item: Item | None) -> Expectation | None:
     return replace(expected, reading=_words_said(item.language), expected_words=_expected(item))
 
 
+def said_by(item: Item) -> frozenset[str]:
+    """The words ``item`` itself says: its question, its request and its parts' phrases
+    ("Universitario", "Rocio")."""
+    parts = [k for part in item.parts for k in part.keywords]
+    return frozenset(words(" ".join([item.question, item.ask, *parts]), item.language))
+
+
 def _expected(item: Item) -> frozenset[str]:
-    """The words the DSR expects in ``item``'s answer: its question, its request and its
-    parts, and the words the understanding rules read in its language (seasons, weekdays,
-    hedges, "I don't know"...)."""
+    """The words the DSR expects in ``item``'s answer: those it says itself (``said_by``) and
+    the words the understanding rules read in its language (seasons, weekdays, hedges, "I
+    don't know"...)."""
     said_in = languages.get(item.language)
     lists = [w for name in languages.WORD_LISTS for w in getattr(said_in, name)]
     seasons = [w for ways in said_in.seasons for w in ways]
-    parts = [k for part in item.parts for k in part.keywords]
-    text = " ".join([item.question, item.ask, *parts, *lists, *seasons])
-    return frozenset(words(text, item.language))
+    return said_by(item) | frozenset(words(" ".join([*lists, *seasons]), item.language))
 
 
-def _numeric(word: str) -> bool:
-    """A number ("26", "2nd"): said with the words of any language, never unexpected."""
-    return word[:1].isdigit()
+def numeric(word: str) -> bool:
+    """A number ("26", "2nd"): said with the number words of any language, never a word a
+    vocabulary lacks."""
+    return any(c.isdigit() for c in word)
 
 
 def _words_said(language: str) -> Callable[[str], tuple[str, ...]]:

@@ -36,6 +36,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 
+from clarc_agents.asr.expectations import numeric, said_by
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.searches import ABSORBERS, MUMBLING, SERIAL_SOAKING
 from clarc_agents.asr.span import too_noisy
@@ -70,15 +71,14 @@ def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
 def strange_words(item: Item, text: str, known: Callable[[str], bool]) -> list[str]:
     """The words of ``text`` that are no word ``known`` has (numbers are), nor one the item
     says (its question, its request, its parts' phrases: "Universitario", "Rocio")."""
-    said_by_item = " ".join([item.question, item.ask, *(k for p in item.parts for k in p.keywords)])
-    own = frozenset(words(said_by_item, item.language))
+    own = said_by(item)
     return [w for w in words(text, item.language) if not _in_vocabulary(w, own) and not known(w)]
 
 
 def _in_vocabulary(word: str, vocabulary: frozenset[str]) -> bool:
-    """Whether the vocabulary has ``word``; a number (digits) always: it is said with the
-    vocabulary's number words."""
-    return word in vocabulary or any(c.isdigit() for c in word)
+    """Whether the vocabulary has ``word``; a number always: it is said with the vocabulary's
+    number words."""
+    return word in vocabulary or numeric(word)
 
 
 def agree(item: Item, first: str, second: str, vocabulary: frozenset[str]) -> bool:
