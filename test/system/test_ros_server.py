@@ -242,6 +242,9 @@ def test_kill9_between_broadcast_and_commit_loses_nothing_acknowledged(ros):
     after = snapshot_via(ros.session, timeout=20)
     names = sorted(n["name"] for n in after["nodes"])
     assert names.count("kept") == 1 and names.count("lost") == 1
+    # it held a change the new server never had: a snapshot, not the stale replica, must be
+    # what reaches the server's seq (the stale one is already at it: its "lost" came first)
+    wait_for(lambda: observer.resyncs > resyncs, 15, "the observer to resync", ros.session)
     wait_for(
         lambda: observer.replica.seq == after["seq"] == writer.replica.seq,
         15,
@@ -250,7 +253,7 @@ def test_kill9_between_broadcast_and_commit_loses_nothing_acknowledged(ros):
     )
     for replica in (observer, writer):
         assert sorted(n.name for n in replica.graph.nodes()) == names
-    assert observer.resyncs > resyncs  # it held a change the new server never had
+    assert observer.resyncs > resyncs
     assert '"lost"' in (state / "journal.jsonl").read_text()
 
 
