@@ -27,24 +27,29 @@ class Presence:
     # topic -> (its agent, publishers alive, publishers matched but not alive)
     _counts: dict[str, tuple[str, int, int]] = field(default_factory=dict)
     _away_since: dict[str, float] = field(default_factory=dict)  # agent -> when first seen away
-    _replaced: list[str] = field(default_factory=list)  # agents whose predecessor lapsed
+    _ended: list[str] = field(default_factory=list)  # agents one of whose processes ended
 
     def observe(self, topic: str, agent: str, alive: int, not_alive: int) -> None:
         """DDS reported the counts of ``topic``'s publishers (``agent``: its owner's name)."""
         before = self._counts.get(topic)
-        if before is not None and alive and (not_alive > before[2] or alive < before[1]):
-            # one of its publishers lapsed, or went unmatched without lapsing first (DDS on
-            # one host may drop a killed process's writer at once: a loaded whole-suite run
-            # never told Panel's end), while another is alive: a process killed and respawned
-            # at once is never "away"; its end is told all the same
-            self._replaced.append(agent)
+        if before is not None:
+            lapsed = not_alive > before[2]
+            if (lapsed and alive) or (alive < before[1] and not lapsed):
+                # One of its publishers lapsed while another is alive (a process killed and
+                # respawned at once is never "away"), or one went unmatched without a lapse
+                # counted: its process ended. A loaded server reads its liveliness events
+                # late and DDS reports the counts as they are then: the lapse and the drop of
+                # a killed process's participant came as one (1 alive -> 0, none lapsed), and
+                # a successor up within the ROS graph's grace was the agent all along.
+                self._ended.append(agent)
         self._counts[topic] = (agent, alive, not_alive)
 
-    def take_replaced(self) -> list[str]:
-        """Agents one of whose processes lapsed while another of that name is alive, since the
-        last call (their info nodes say gone; the one alive writes its state again)."""
-        replaced, self._replaced = sorted(set(self._replaced)), []
-        return replaced
+    def take_ended(self) -> list[str]:
+        """Agents one of whose processes ended (or lapsed while another of that name is
+        alive), since the last call: their info nodes say gone; one alive writes its state
+        again (ros/agent.py describes itself until the graph shows it as it is)."""
+        ended, self._ended = sorted(set(self._ended)), []
+        return ended
 
     def liveliness(self, topic: str) -> tuple[int, int] | None:
         """(alive, matched but not alive) publishers of ``topic`` as DDS last counted them."""

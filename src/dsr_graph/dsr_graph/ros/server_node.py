@@ -449,11 +449,11 @@ class DsrServer(DsrNode):
         lease, also when its successor, respawned at once, is up already). An agent back in
         reach writes its state again. The deltas (None: nothing to end)."""
         lost, back = self.requests.presence.update(time.monotonic())
-        replaced = self.requests.presence.take_replaced()
-        for agent in replaced:
+        ended = self.requests.presence.take_ended()
+        for agent in ended:
             self.get_logger().info(
-                f"a process of {agent} went out of reach while another of that name is there "
-                "(killed and respawned at once): its info node says gone until the one alive "
+                f"a process of {agent} ended (its request publisher dropped, or lapsed while "
+                "another of that name is alive): its info node says gone until one alive "
                 "writes its state"
             )
         for agent in lost:
@@ -466,7 +466,7 @@ class DsrServer(DsrNode):
         away = self.requests.presence.away
         return [
             self.core.end_claims_of(away, "unreachable", now),
-            self.core.mark_gone([*lost, *replaced], now),
+            self.core.mark_gone([*lost, *ended], now),
         ]
 
     def _gone_agents(self, now: float) -> tuple[list[str], list[str]]:
