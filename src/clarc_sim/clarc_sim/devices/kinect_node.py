@@ -67,7 +67,7 @@ class KinectStandIn(DsrNode):
 
     @classmethod
     def declare_node_parameters(cls, node) -> None:
-        declare(node, "rate_hz", 50.0, "frames per second", read_only=True, minimum=0.1)
+        declare(node, "rate_hz", 30.0, "frames per second", read_only=True, minimum=0.1)
         declare(
             node,
             "skeleton_hz",

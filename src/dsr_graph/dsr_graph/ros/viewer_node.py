@@ -98,7 +98,9 @@ class Viewer(DsrNode):
                 self.history.add(delta)
             except SeqUnavailable:
                 continue  # the replica will resync and send a snapshot
-            self.events.publish("delta", dict(delta, text=delta_text(delta)))
+            if self.events.listening:  # its text is for the pages open now (the timeline's
+                # past deltas are texted when a page asks for them)
+                self.events.publish("delta", dict(delta, text=delta_text(delta)))
 
     def run(self) -> int:
         token = param(self, "token") or new_token()

@@ -24,7 +24,14 @@ class Broadcaster:
     def __init__(self) -> None:
         self._queues: set[asyncio.Queue] = set()
 
+    @property
+    def listening(self) -> bool:
+        """A page is connected: an event's data is worth making (the viewer's text of a delta)."""
+        return bool(self._queues)
+
     def publish(self, kind: str, data: Any) -> None:
+        if not self._queues:  # no page open: nothing is encoded for no one
+            return
         text = f"event: {kind}\ndata: {dumps(data, separators=(',', ':'))}\n\n"
         for queue in list(self._queues):
             if queue.qsize() > 1000:  # a page that stopped reading: drop it, it reconnects
