@@ -19,10 +19,10 @@ With ``camera_hz`` above 0 its cameras run too (``camera_images.CameraModel``): 
 depth image of ``camera_size`` every 1/camera_hz s of wall time (a camera's own rate, whatever
 the session's pace), the patient drawn where their face is.
 
-ROS Parameters: rate_hz (50), skeleton_hz (30, of the patient's time), time_scale (1.0),
-trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's: the floor under the
-front of the Get Up & Go chair, facing the walk; default [4500, 0, -1200, pi], the CLARC room's
-gug_chair), camera_hz (0: no images), camera_size ([640, 480]). Subscriptions:
+ROS Parameters: rate_hz (30, as a Kinect), skeleton_hz (30, of the patient's time),
+time_scale (1.0), trial_place ([x, y, z] mm and yaw rad of the trial's frame in the Kinect's:
+the floor under the front of the Get Up & Go chair, facing the walk; default [4500, 0, -1200,
+pi], the CLARC room's gug_chair), camera_hz (0: no images), camera_size ([640, 480]). Subscriptions:
 clarc/sim/patient/presence, clarc/sim/patient/trial (latched). Publishers: clarc/kinect/person
 (reliable: a Get Up & Go needs every frame), clarc/kinect/rgb and clarc/kinect/depth
 (sensor_msgs/Image, best effort).
