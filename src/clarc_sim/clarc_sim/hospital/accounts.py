@@ -13,6 +13,7 @@ logins are throttled per user name and per client address (``LoginThrottle``).
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -35,9 +36,14 @@ MIN_PASSWORD = 10  # characters
 MAX_PASSWORD = 1024  # characters: Argon2 would hash more, but no one types it
 
 _hasher = PasswordHasher()
-# verified against when a name has no account, so that a wrong name takes as long as a wrong
-# password (the time does not tell which names exist)
-_DUMMY = _hasher.hash("not a password of anyone's")
+
+
+@functools.cache
+def _dummy() -> str:
+    """Verified against when a name has no account, so that a wrong name takes as long as a
+    wrong password (the time does not tell which names exist). Made at the first login, whatever
+    name it gives, not at import: every CGAmed start paid an Argon2 hash (0.15 CPU s)."""
+    return _hasher.hash("not a password of anyone's")
 
 
 def may(role: str, action: str) -> bool:
@@ -66,7 +72,8 @@ def verify_login(account: dict[str, Any] | None, password: str) -> LoginOutcome:
     """The account's name and role if ``password`` is its password and it is not disabled."""
     if not isinstance(password, str) or len(password) > MAX_PASSWORD:
         return LoginOutcome(None)
-    encoded = account["password_hash"] if account is not None else _DUMMY
+    dummy = _dummy()  # before the name is looked at: the first login costs alike either way
+    encoded = account["password_hash"] if account is not None else dummy
     try:
         _hasher.verify(encoded, password)
     except (VerifyMismatchError, VerificationError, InvalidHashError):
