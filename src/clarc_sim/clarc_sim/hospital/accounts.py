@@ -42,7 +42,7 @@ _hasher = PasswordHasher()
 def _dummy() -> str:
     """Verified against when a name has no account, so that a wrong name takes as long as a
     wrong password (the time does not tell which names exist). Made at the first login, whatever
-    name it gives, not at import: every CGAmed start paid an Argon2 hash (0.15 CPU s)."""
+    name it gives, not at import: every CGAmed start paid an Argon2 hash (0.16 s)."""
     return _hasher.hash("not a password of anyone's")
 
 

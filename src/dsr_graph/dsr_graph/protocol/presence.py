@@ -6,7 +6,9 @@ by the middleware itself, not by the agent's Python), and the server watches eac
 publisher is matched but no longer alive is *out of reach*: a network cut, or a frozen process.
 That is told within the lease, long before DDS drops the participant (its own lease: 2 s on one
 machine, 10 s across hosts in scripts/two_hosts.sh), and it ends as soon as the link is back.
-A node whose participant is dropped altogether is *gone* (the server's agent_grace handles it).
+A publisher dropped without a lapse counted first (a clean stop, or a killed process whose
+lapse and drop the server read as one change) has *ended*: its info node says gone at once; its
+claims wait for the server's agent_grace, as those of a node that left the ROS graph do.
 
 The server ends the claims of an agent out of reach (reason ``unreachable``; the agent takes
 them again when it hears of it) and lists such agents in its heartbeat, so agents on the other

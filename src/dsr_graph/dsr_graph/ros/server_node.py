@@ -446,8 +446,9 @@ class DsrServer(DsrNode):
     def _check_presence(self, now: float) -> list[dict[str, Any] | None]:
         """The claims of agents out of reach end (protocol/presence.py), and their info nodes
         say gone: no one here can reach them (a killed process is told so within its 1 s
-        lease, also when its successor, respawned at once, is up already). An agent back in
-        reach writes its state again. The deltas (None: nothing to end)."""
+        lease, or as soon as DDS drops its publisher, also when its successor, respawned at
+        once, is up already). An agent back in reach writes its state again. The deltas (None:
+        nothing to end)."""
         lost, back = self.requests.presence.update(time.monotonic())
         ended = self.requests.presence.take_ended()
         for agent in ended:
