@@ -4,7 +4,7 @@ from a recording does not list what every agent may do anyway."""
 
 import json
 
-from dsr_graph.model.agent_info import GONE, READY, STARTING, info_ops, listing, states
+from dsr_graph.model.agent_info import GONE, READY, STARTING, info_ops, listing, run_of, states
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import Policy, observe_writes
 from dsr_graph.model.transaction import apply_ops
@@ -56,6 +56,46 @@ def test_the_server_marks_an_ended_agent_gone_once_and_the_agent_can_come_back()
     back = info_ops(core.graph, "/speech", {**INFO, "state": READY})
     assert not isinstance(send(core, "/speech", back), Rejection)
     assert listing(core.graph)[0] == {"name": "/speech", **{**INFO, "state": READY}}
+
+
+def test_a_new_run_of_an_agent_reads_its_predecessor_gone_before_its_first_change():
+    """The liveliness news of a killed agent, read late by a loaded server, may show no change
+    at all (its lapse, its drop and its successor's match as one): the successor's first
+    request, naming a run the info node does not show, tells the end all the same."""
+    core = ServerCore(Graph(), policy=POLICY)
+
+    def request(ident, ops):
+        return core.submit(json.dumps({"id": ident, "ops": ops}), now=1.0, sender="/speech")
+
+    first = {**INFO, "state": READY, "agent_run": "a1b2c3"}
+    request("/speech:a1b2c3:1", info_ops(core.graph, "/speech", first))
+    request("/speech:a1b2c3:2", info_ops(core.graph, "/speech", {**first, "pid": 42}))
+    assert core.take_server_deltas() == []  # the same run: nothing ended
+    successor = {**INFO, "state": STARTING, "pid": 43, "agent_run": "d4e5f6"}
+    delta = request("/speech:d4e5f6:1", info_ops(core.graph, "/speech", successor))
+    (gone,) = core.take_server_deltas()
+    assert gone["seq"] == delta["seq"] - 1 and gone["agent"] == "dsr_server"
+    assert gone["ops"] == [{"op": "set_node_attrs", "node": "/speech", "attrs": {"state": GONE}}]
+    assert states(core.graph) == {"/speech": STARTING}
+    request("/speech:d4e5f6:2", [])  # the info node shows its run now: told once
+    assert core.take_server_deltas() == []
+    # ids that are not the runtime's (a tool's, another agent's) tell nothing
+    core.submit(json.dumps({"id": "x", "ops": []}), now=1.0, sender="/speech")
+    core.submit(json.dumps({"id": "/other:zz:1", "ops": []}), now=1.0, sender="/speech")
+    assert core.take_server_deltas() == []
+
+
+def test_a_request_id_names_its_run_only_in_the_runtimes_form():
+    assert run_of("/speech:a1b2c3:7", "/speech") == "a1b2c3"
+    assert run_of("/ns/speech:a1b2c3:7", "/ns/speech") == "a1b2c3"
+    for ident, agent in (
+        ("/speech:a1b2c3:7", "/panel"),
+        ("/speech::7", "/speech"),
+        ("/speech:a1b2c3:x", "/speech"),
+        ("free-form", "/speech"),
+        (None, "/s"),
+    ):
+        assert run_of(ident, agent) is None
 
 
 def test_a_drafted_policy_leaves_out_what_every_agent_may_write():

@@ -59,6 +59,25 @@ def is_own_info(graph, agent: str, op: dict[str, Any]) -> bool:
     return False
 
 
+def run_of(request_id: str, agent: str) -> str | None:
+    """The run a request id names, when it is one of the agent runtime's
+    (``<agent>:<run>:<count>``, protocol/agent_core.py) sent by ``agent``; else None."""
+    parts = request_id.rsplit(":", 2) if isinstance(request_id, str) else []
+    if len(parts) != 3 or parts[0] != agent or not parts[1] or not parts[2].isdigit():
+        return None
+    return parts[1]
+
+
+def ended_run(graph, agent: str, request_id: str) -> bool:
+    """``agent``'s info node shows a run other than the one ``request_id`` names, and not gone:
+    the process that wrote it has ended (the server lets no live twin of a name write)."""
+    run = run_of(request_id, agent)
+    node = graph.find(agent) if run is not None else None
+    if node is None or node.type != AGENT_TYPE or node.attrs.get("state") == GONE:
+        return False
+    return node.attrs.get("agent_run") not in (None, run)
+
+
 def gone_ops(graph, agents) -> list[dict[str, Any]]:
     """The ops marking these agents' info nodes gone (those not already so)."""
     ops = []

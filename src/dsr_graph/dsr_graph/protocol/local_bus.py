@@ -72,6 +72,8 @@ class LocalBus:
     def submit(self, sender: LocalAgent, text: str, blobs: dict[str, bytes]) -> None:
         """A request's text (and the bytes of the binary values it references), as sent."""
         result = self.core.submit(text, now=self.now, sender=sender.name, blobs=blobs.get)
+        for delta in self.core.take_server_deltas():  # committed before the request's
+            self.broadcast(delta)
         if isinstance(result, Rejection):  # to the sender only: the others ignore it
             wire = dumps(result.to_json())
             self.soon(lambda: sender.rejected(wire))

@@ -20,7 +20,7 @@ from typing import Any
 from dsr_graph.exceptions import MissingBlob, TransactionRejected, ValueTypeError, Violation
 from dsr_graph.formats import dsr_json, safe_json, units
 from dsr_graph.model import provenance
-from dsr_graph.model.agent_info import gone_ops
+from dsr_graph.model.agent_info import ended_run, gone_ops
 from dsr_graph.model.binary import declared_size
 from dsr_graph.model.claims import Claim, ClaimTable, released, target_key, touched
 from dsr_graph.model.graph import Graph
@@ -104,6 +104,8 @@ class ServerCore:
         self.volatile_count = 0  # volatile deltas since this core started
         self.claims = claims if claims is not None else ClaimTable()
         self.max_request_bytes = max_request_bytes
+        # the server's own deltas committed while a request was taken (take_server_deltas)
+        self._server_deltas: list[dict[str, Any]] = []
         self.max_ops = max_ops
         self.max_nodes = max_nodes
         self.max_lease = max_lease
@@ -187,6 +189,14 @@ class ServerCore:
         tx.priority = self.policy.priority_of(tx.agent)
         if tx.id and tx.id in self.accepted_ids:
             raise Duplicate(tx.id, self.accepted_ids[tx.id])
+        if ended_run(self.graph, tx.agent, tx.id):
+            # A new run of the agent writes while its info node shows the one before: that
+            # process ended, whatever the server heard of it (its liveliness news, read late on
+            # a loaded machine, may show no change at all: a lapse, a drop and the successor's
+            # match read as one). Readers see the end before the new run's first change.
+            gone = self.mark_gone([tx.agent], now)
+            if gone is not None:
+                self._server_deltas.append(gone)
         self.policy.check(self.graph, tx.agent, tx.ops)
         self.policy.check_claims(self.graph, tx.agent, tx.claim)
         claim_keys = [target_key(t, f"claim {i}") for i, t in enumerate(tx.claim)]
@@ -216,6 +226,12 @@ class ServerCore:
         delta = self._commit(tx.agent, tx.id, canonical, changes, now, volatile)
         provenance.stamped(self.graph, canonical, delta["stamp"], delta["agent"])
         return delta
+
+    def take_server_deltas(self) -> list[dict[str, Any]]:
+        """The deltas the server committed of its own while taking requests since the last call
+        (an ended run's info node marked gone), in seq order: broadcast before the request's."""
+        deltas, self._server_deltas = self._server_deltas, []
+        return deltas
 
     def _check_limits(self, tx) -> None:
         """The server's limits, each refusal naming the limit (the graph is not touched)."""

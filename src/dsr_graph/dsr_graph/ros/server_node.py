@@ -285,6 +285,14 @@ class DsrServer(DsrNode):
                     result = self.core.submit(payload, sender=agent, blobs=self.blobs.get)
             except Exception as e:  # a bug must not take the server down with it
                 self.get_logger().error(f"internal error on a request (state unchanged): {e!r}")
+                result = None
+            for delta in self.core.take_server_deltas():  # committed before the request's
+                self.get_logger().info(
+                    f"a new run of {delta['ops'][0]['node']} writes: the one before ended, its "
+                    "info node says gone"
+                )
+                accepted.append(delta)
+            if result is None:
                 continue
             if isinstance(result, Rejection):
                 self._publish(self._rejections, topic_names.REJECTIONS, result.to_json())
