@@ -11,7 +11,8 @@ reaches it). pytest-xdist 3.8.0 then hangs the whole run until CI's limit, for t
 Here the test it died in is reported failed once (by xdist) and not run again, only the dead
 worker's unfinished tests go back on the queue, and a worker is never left holding one item
 with nothing more coming. Work sent to a worker already dead, before its death is told, waits
-for the news instead of ending the run with an internal error (a loaded run saw it).
+for the news instead of ending the run with an internal error (a loaded run saw it), and a
+replacement is given work only once its collection is in (a loaded CI run saw that one).
 
 Checked by test/system/test_crash_safe_scheduling.py, which runs a suite with a dying test.
 """
@@ -51,7 +52,11 @@ class CrashSafeLoadFileScheduling(LoadFileScheduling):
         return crashed
 
     def _reschedule(self, node) -> None:
-        if node.shutting_down:
+        # a replacement worker gets work once its collection is in: a unit popped for it before
+        # would fail on its missing collection, after it had left the queue (and xdist drops a
+        # KeyError from remove_node: the dead worker's crash went unreported, and the replacement
+        # ended holding a file it was never sent)
+        if node.shutting_down or node not in self.registered_collections:
             return
         try:
             if self.workqueue and self._pending_of(self.assigned_work[node]) <= 2:
