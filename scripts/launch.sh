@@ -103,9 +103,6 @@ if [ "$audio" = true ]; then
 fi
 # shellcheck disable=SC1091
 source "$root/scripts/env.sh"
-# Fast DDS's shared-memory files of processes killed outright (a robot that lost power): their
-# stale locks can hang a new node at start; those of living processes are kept.
-fastdds shm clean > /dev/null 2>&1 || true
 
 # A bad scenario is refused before anything starts, with the line that is wrong.
 patient=$(clarc scenario --patient "$scenario") || exit 2
@@ -126,6 +123,9 @@ mkdir -p "$run/log"
 # Our own ROS domain unless the caller chose one, so two runs on one machine do not meet.
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
+# Fast DDS's shared-memory files of processes killed outright (a robot that lost power): a stale
+# port can hang a new node at start. Those of living processes, and other domains' ports, stay.
+dsr shm-clean --domain "$ROS_DOMAIN_ID" 2> /dev/null || true
 
 case "$security" in enforce|permissive|off) ;;
   *) echo "launch.sh: --security is enforce, permissive or off, not $security" >&2; exit 2 ;;

@@ -21,9 +21,8 @@ echo "[test] ruff check . && ruff format --check ."
 ruff check .
 ruff format --check . > /dev/null || { ruff format --check . >&2; echo "[test] run: ruff format ." >&2; exit 1; }
 mkdir -p test-results
-# Fast DDS's shared-memory files of processes killed outright (an earlier run's crash tests):
-# their stale locks can hang a new participant at start; living processes' files are kept.
-fastdds shm clean > /dev/null 2>&1 || true
+# Fast DDS's shared-memory files of processes killed outright (an earlier run's crash tests) go
+# as each worker takes its block of ROS domains and after each module (test/conftest.py).
 # CI runs hypothesis derandomised so a run is reproducible; locally it explores new examples.
 # Two workers (pytest-xdist), each with its own block of ROS domains (test/ros_processes.py)
 # and temporary folders; a file's tests stay on one worker (they share its fixtures).
