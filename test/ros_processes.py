@@ -214,6 +214,14 @@ def send_and_wait(ros, agent, doc, timeout=20):
     return results[0]
 
 
+def _ends(text: str, head: int = 800, tail: int = 1500) -> str:
+    """A log's start and end: a node's first lines say how far it got, and a flood of one error
+    (Fast DDS's) must not hide them."""
+    if len(text) <= head + tail:
+        return text
+    return f"{text[:head]}\n[... {len(text) - head - tail} characters ...]\n{text[-tail:]}"
+
+
 def run_robot(script, *args, run_dir, timeout=240, env=None):
     """Run one of the README's scripts (launch.sh, two_hosts.sh) with ``--run-dir run_dir`` in a
     ROS domain of its own, bounded; asserts it exited 0, showing its output and the tail of every
@@ -238,7 +246,7 @@ def run_robot(script, *args, run_dir, timeout=240, env=None):
     done = subprocess.CompletedProcess(argv, proc.returncode, out, err)
     if done.returncode != 0:
         logs = "\n".join(
-            f"--- {p.name}\n{p.read_text(errors='replace')[-2000:]}"
+            f"--- {p.name}\n{_ends(p.read_text(errors='replace'))}"
             for p in sorted((Path(run_dir) / "log").glob("*.log"))
         )
         raise AssertionError(done.stdout[-4000:] + done.stderr[-2000:] + logs)

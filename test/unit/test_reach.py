@@ -1,7 +1,7 @@
 """The monitor's view of reach (clarc_sim/console/reach.py): nodes leaving and rejoining the ROS
 graph, and the DSR server's heartbeat going silent and coming back."""
 
-from clarc_sim.console.reach import HeartbeatSilence, Reach
+from clarc_sim.console.reach import HeartbeatSilence, Reach, where_agents_stand
 
 
 def test_a_node_seen_then_unlisted_is_out_of_reach_until_listed_again():
@@ -26,3 +26,17 @@ def test_the_heartbeat_going_silent_and_back_is_said_once_each():
     assert silence.update(10.0, 14.0) is None
     assert silence.update(16.0, 16.1) == "the DSR server is back in reach after 6.0 s"
     assert silence.update(16.5, 16.6) is None
+
+
+def test_a_test_that_did_not_finish_says_each_agents_state_and_the_nodes_that_never_joined():
+    agents = [
+        {"name": "/panel", "state": "starting", "pid": 41},
+        {"name": "/speech", "state": "ready", "pid": 42},
+        {"name": "/pelea", "state": ""},
+    ]
+    line = where_agents_stand(agents, ["/panel", "/speech", "/camera", "/dsr_server"])
+    assert line == (
+        "agents as the DSR shows them: /panel starting (pid 41), /speech ready (pid 42), "
+        "/pelea ?; ROS nodes with no agent info: /camera, /dsr_server"
+    )
+    assert where_agents_stand([], []).endswith("them: none; ROS nodes with no agent info: none")

@@ -5,7 +5,8 @@ PELEA, of the DSR server or of the monitor itself; PELEA's own stream adds only 
 clinician, the ROS graph which of the robot's nodes are in reach (a node that died, or a
 network cut between hosts). Exits 0 once a test started at or after ``since`` is finished in
 the DSR (PELEA writes that only after CGAmed stored its result), 1 on PELEA's error or after
-``timeout``.
+``timeout``, saying then where each agent stands (its state in the DSR, or a ROS node that never
+joined it).
 
 ROS Parameters: timeout (seconds, default 600), since (ISO 8601; default: when the monitor
 started), setup_timeout (seconds). Subscriptions: the DSR's topics (dsr/alarms too: each alarm
@@ -23,8 +24,9 @@ from std_msgs.msg import String
 
 from clarc_agents import topics
 from clarc_agents.course import Course, band_words, test_name
-from clarc_sim.console.reach import HeartbeatSilence, Reach
+from clarc_sim.console.reach import HeartbeatSilence, Reach, where_agents_stand
 from dsr_graph.formats.safe_json import loads_object
+from dsr_graph.model.agent_info import listing
 from dsr_graph.protocol import topic_names
 from dsr_graph.ros.agent import SERVER_SILENCE, DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -194,9 +196,12 @@ class Monitor(DsrNode):
         self.create_subscription(String, topic_names.ALARMS, self.on_alarm, qos_stream())
         self.create_timer(REACH_PERIOD, self.on_reach)
 
+    def _listed(self) -> list[str]:
+        """The ROS graph's nodes, fully qualified."""
+        return [f"{ns.rstrip('/')}/{name}" for name, ns in self.get_node_names_and_namespaces()]
+
     def on_reach(self) -> None:
-        listed = [f"{ns.rstrip('/')}/{name}" for name, ns in self.get_node_names_and_namespaces()]
-        for line in self.reach.update(listed):
+        for line in self.reach.update(self._listed()):
             self.say(line)
         # (scripts/two_hosts.sh runs the monitor on the other host than the server's)
         line = self.silence.update(self.dsr.heard, time.monotonic())
@@ -253,6 +258,7 @@ class Monitor(DsrNode):
             self.spin_once(0.1)
         if self.exit_code is None:
             self.say(f"the test did not finish within {param(self, 'timeout')} s")
+            self.say(where_agents_stand(listing(self.dsr.graph), self._listed()))
             return 1
         return self.exit_code
 

@@ -1,7 +1,8 @@
 """What the monitor can tell about reach, as it changes (pure): which of the robot's nodes the ROS
 graph lists (a node counts once it has been seen; it is out of reach when the graph stops listing
-it, as DDS drops a participant not heard for its lease, and back when listed again), and whether
-the DSR server's heartbeat has gone silent (it died, or the network to it is cut)."""
+it, as DDS drops a participant not heard for its lease, and back when listed again), whether
+the DSR server's heartbeat has gone silent (it died, or the network to it is cut), and where
+each agent stands when a test did not finish."""
 
 from __future__ import annotations
 
@@ -48,3 +49,18 @@ class HeartbeatSilence:
             gap, self.since = heard - self.since, None
             return f"the DSR server is back in reach after {gap:.1f} s"
         return None
+
+
+def where_agents_stand(agents: list[dict], listed: Iterable[str]) -> str:
+    """One line for a test that did not finish: each agent as its info node in the DSR says
+    (``agent_info.listing``: state and process), and the ROS nodes listed that have none (a
+    process up whose agent never joined the DSR)."""
+    described = [
+        f"{a['name']} {a.get('state') or '?'}" + (f" (pid {a['pid']})" if a.get("pid") else "")
+        for a in agents
+    ]
+    others = sorted(set(listed) - {a["name"] for a in agents})
+    return (
+        f"agents as the DSR shows them: {', '.join(described) or 'none'}; "
+        f"ROS nodes with no agent info: {', '.join(others) or 'none'}"
+    )
