@@ -6,13 +6,13 @@ lock file its owner holds while alive) and a port per locator (``fastrtps_port<N
 or ``_sl`` lock file its listeners hold, ``sem.fastrtps_port<N>_mutex``). A process killed
 outright leaves them, and a stale port can hang a later participant at start (Fast-DDS issues
 1144, 6117). ``fastdds shm clean`` tells a dead file by taking its lock and removes every file
-whose lock it could take: a participant creating or opening a port at that moment fails to lock
-it ("Failed init_port ... open_and_lock_file failed") and may lose the port under it. A CI run
-lost a robot's Panel so, beside another test's clean. Here a lock is read from /proc/locks,
-never taken; a segment (named by a random id, never reused) goes when no process holds its lock
-and it is older than a minute; a port only in the ROS domains the caller names, when no process
-listens on it and it is older than ten seconds (a process starting in that domain makes and
-locks its port's files in a moment)."""
+whose lock it could take: a participant locking a port at that moment fails ("Failed init_port
+... open_and_lock_file failed", what a CI run's Panel printed before it never joined the DSR,
+beside tests that ran the tool), and a port made but not yet locked is removed under its maker.
+Here a lock is read from /proc/locks, never taken; a segment (named by a random id, never
+reused) goes when no process holds its lock and it is older than a minute; a port only in the
+ROS domains the caller names, when no process listens on it and it is older than ten seconds
+(a process starting in that domain makes and locks its port's files in a moment)."""
 
 from __future__ import annotations
 
