@@ -248,8 +248,8 @@ def shared_memory_of_killed_processes(request):
     outright (kill -9 in the crash tests) left are removed: a stale port's lock can make a later
     participant of the same domain wait forever at start (Fast-DDS issues 1144, 6117). Only the
     ports of this worker's own domains, where nothing runs between its tests, and dead segments:
-    ``fastdds shm clean`` takes every lock to test it and broke a robot starting beside it
-    (dsr_graph/ros/shm_zombies.py)."""
+    ``fastdds shm clean`` takes every lock to test it, and a participant locking its port at that
+    moment fails to open it (dsr_graph/ros/shm_zombies.py)."""
     yield
     if "system" in Path(str(request.path)).parts:
         from dsr_graph.ros import shm_zombies

@@ -224,8 +224,8 @@ def _ends(text: str, head: int = 800, tail: int = 1500) -> str:
 
 def run_robot(script, *args, run_dir, timeout=240, env=None):
     """Run one of the README's scripts (launch.sh, two_hosts.sh) with ``--run-dir run_dir`` in a
-    ROS domain of its own, bounded; asserts it exited 0, showing its output and the tail of every
-    log of the run if not. Returns the finished process."""
+    ROS domain of its own, bounded; asserts it exited 0, showing its output and the start and end
+    of every log of the run if not. Returns the finished process."""
     repo = Path(__file__).resolve().parents[1]
     env = env or dict(os.environ, ROS_DOMAIN_ID=str(fresh_domain_id()))
     argv = [str(repo / "scripts" / script), *map(str, args), "--run-dir", str(run_dir)]
