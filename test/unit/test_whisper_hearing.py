@@ -286,6 +286,26 @@ def test_a_lower_score_must_beat_the_readings_worth_more():
     assert _better_readings([("Pencil,", 0.9), ("watch.", 0.9)], naming) == []
 
 
+def test_a_serial_answer_must_beat_its_numbers_put_right():
+    """A serial answer's rivals of its own length and form: one number replaced by what would
+    have scored after the one before it ("93, 87, 87, 73." heard by two recognisers for "...
+    eighty seven, eighty, seventy three"); a patient's slip scored right has none but the full
+    answer, since putting one number right there scores no more."""
+    from clarc_agents.asr.whisper import _better_readings
+
+    mmse = definitions.load("mmse").filled(values(date(2026, 12, 1), DEFAULT_PLACE))
+    attention = expectation_for(mmse.item("attention"))
+    heard = [(w, 0.5) for w in ("93,", "87,", "87,", "73.")]
+    rivals = _better_readings(heard, attention)
+    assert "93, 87, 80, 73." in rivals and "93, 86, 87, 73." in rivals
+    assert "93, 87, 87, 80." in rivals
+    slip = [(w, 0.5) for w in ("93,", "87,", "80,", "73.")]
+    assert _better_readings(slip, attention) == ["93, 86, 79, 72, 65"]
+    # the answer's own words kept: a narrated answer's rival is narrated
+    narrated = [(w, 0.5) for w in "100 minus seven is 93, minus seven is 96.".split()]
+    assert "100 minus seven is 93, minus seven is 86." in _better_readings(narrated, attention)
+
+
 def test_a_sentence_said_again_and_again_is_the_decoder_running_away():
     from clarc_agents.asr.whisper import _looping
 

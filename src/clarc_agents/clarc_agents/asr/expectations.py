@@ -30,7 +30,8 @@
   (all of it, or one missing part in place of a word heard), or the robot is not sure of it
   ("No ifs, and, or buts" heard for "ands", "Pencil under wash" for "watch": scored 0 and 1
   point, sure, in the benchmark). It only takes certainty away, never gives an answer points
-  it was not heard to be worth.
+  it was not heard to be worth. A serial answer's ``numbers`` give it rivals of its own
+  length too: one number heard put right (asr/whisper.py).
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field, replace
 
 from clarc_agents import languages
-from clarc_agents.definitions import Item
+from clarc_agents.definitions import Item, serial_numbers
 from clarc_agents.questionnaire.answers import only_hesitations, understand
 from clarc_agents.questionnaire.spoken import words
 
@@ -59,6 +60,8 @@ class Expectation:
     # a words item's: the words the DSR expects in its answer (the item's sentences and parts,
     # the language's word lists; numbers always): the others a text has (``unexpected``)
     expected_words: frozenset[str] = frozenset()
+    # a serial item's numbers, in order (93, 86, ...): what a number heard should have been
+    numbers: tuple[int, ...] = ()
 
     def unexpected(self, text: str) -> list[str]:
         """The words of ``text`` that the DSR does not expect (none when it expects any)."""
@@ -120,7 +123,8 @@ def expectation_for(item: Item | None) -> Expectation | None:
         prompt = f"{prompt} {said[0].upper()}{said[1:]}."
     expected = Expectation(item.kind, prompt, (), meaning, full)
     if item.kind == "serial":
-        return replace(expected, reading=_numbers_said(item.language))
+        numbers = tuple(serial_numbers(item))
+        return replace(expected, reading=_numbers_said(item.language), numbers=numbers)
     return replace(expected, reading=_words_said(item.language), expected_words=_expected(item))
 
 

@@ -328,7 +328,7 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
     """Readings of the words ``said`` worth more than they are: every part said (the full
     answer), and each missing part in place of one of the ``RIVAL_PLACES`` least sure words,
     alone or with the word before or after it ("Some will." for "Seville": a part heard as
-    two words)."""
+    two words); for a serial answer, each of its numbers put right (``_put_right``)."""
     full = expectation.full_marks
     text = " ".join(w for w, _ in said)
     heard = expectation.meaning(text)
@@ -347,12 +347,42 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
                 readings.append(
                     " ".join([*(w for w, _ in said[:start]), part, *(w for w, _ in said[end:])])
                 )
+    readings += _put_right(said, expectation)
     better = []
     for reading in dict.fromkeys(readings):
         meaning = expectation.meaning(reading)
         if meaning is not None and meaning[0] == "answer" and meaning[1] > worth:
             better.append(reading)
     return better
+
+
+def _put_right(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
+    """A serial answer's rivals of its own length and form: each number written in digits
+    replaced by one that would have scored after another (the item's first number, or one heard
+    plus the step). Both recognisers heard "93, 87, 87, 73." for "... eighty seven, eighty,
+    seventy three" (BENCHMARKS.md section 9e); its rival "93, 87, 80, 73." is what was said.
+    The full answer alone is no such rival: a patient's slip is far from it."""
+    numbers = expectation.numbers
+    if expectation.kind != "serial" or len(numbers) < 2:
+        return []
+    step = numbers[1] - numbers[0]
+    heard = [int(n) for n in expectation.reading(" ".join(w for w, _ in said))]
+    values = sorted({numbers[0], *(n + step for n in heard)})
+    rivals = []
+    for k, (word, _) in enumerate(said):
+        if _DIGITS_ALONE.fullmatch(word) is None:
+            continue
+        for value in values:
+            put = _DIGITS.sub(str(value), word, count=1)
+            if put != word:
+                rivals.append(
+                    " ".join([*(w for w, _ in said[:k]), put, *(w for w, _ in said[k + 1 :])])
+                )
+    return rivals
+
+
+_DIGITS = re.compile(r"\d+")
+_DIGITS_ALONE = re.compile(r"\d+[,.;:!?]*")
 
 
 def _looping(text: str) -> bool:
