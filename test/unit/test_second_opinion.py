@@ -10,10 +10,12 @@ from clarc_agents import definitions
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.searches import search_for
 from clarc_agents.asr.second_opinion import (
+    BOTH_AT_LEAST,
     NOT_A_WORD,
     SecondOpinion,
     agree,
     confirmed,
+    heard_alike,
     strange_words,
     wanted,
 )
@@ -115,6 +117,54 @@ def test_the_second_recogniser_hears_only_what_the_first_doubts():
     disagreeing = _Fixed(Heard("apple", 0.9, 0, 1), tuple(RECALL_WORDS))
     heard, how = SecondOpinion(unsure, disagreeing, 0.5).hear_item(None, RECALL)
     assert how == "vocabulary" and heard.confidence == 0.42 and not heard.confirmed_by
+
+
+def test_a_larger_model_agrees_only_on_the_same_answer_heard_alike():
+    # a serial answer: its numbers in order, however written (Whisper base: "7.93")
+    narrated = "100 minus seven in 93, minus seven in 86, minus seven in 79."
+    assert heard_alike(SERIAL, narrated, "100 minus 7.93 minus 7.86 minus 7.79")
+    assert heard_alike(SERIAL, "93, 86, 79.", "Ninety-three, eighty-six, seventy-nine.")
+    assert not heard_alike(SERIAL, "93, 86, 79.", "93, 86, 80.")
+    # a words answer: the same words but the articles, hedges included
+    assert heard_alike(NAMING, "A pencil and a watch.", "Pencil and watch.")
+    assert not heard_alike(NAMING, "A pen or a pencil.", "Pen, pencil.")
+    assert not heard_alike(NAMING, "Pencil, watch.", "Pencil and watch.")
+
+
+def test_a_larger_model_is_asked_only_when_its_agreement_could_count():
+    """Whisper base's opinion (made when first asked for) on what pocketsphinx did not make
+    sure: it counts only for the same answer heard alike, each hearing at least BOTH_AT_LEAST
+    sure, and it is not even made for a hearing under that."""
+    made = []
+
+    def larger(heard):
+        def make():
+            made.append(heard)
+            return _Fixed(heard)
+
+        return make
+
+    second = _Fixed(Heard("apple", 0.3, 0, 1), tuple(RECALL_WORDS))  # pocketsphinx disagrees
+    unsure = _Fixed(Heard("Apple table, penny.", 0.42, 0, 1))
+    alike = Heard("Apple, table, penny.", 0.45, 0, 1)
+    opinion = SecondOpinion(unsure, second, 0.5, larger(alike))
+    heard, how = opinion.hear_item(None, RECALL)
+    assert how == "confirmed" and heard.confidence == pytest.approx(1 - 0.58 * 0.55)
+    assert heard.text == "Apple table, penny." and heard.confirmed_by == alike.text
+    opinion.hear_item(None, RECALL)
+    assert len(made) == 1  # made once, kept
+    # under BOTH_AT_LEAST, either one: as it was
+    doubtful = Heard("Apple, table, penny.", BOTH_AT_LEAST - 0.01, 0, 1)
+    heard, how = SecondOpinion(unsure, second, 0.5, larger(doubtful)).hear_item(None, RECALL)
+    assert how == "vocabulary" and heard.confidence == 0.42
+    low = _Fixed(Heard("Apple table, penny.", BOTH_AT_LEAST - 0.01, 0, 1))
+    made.clear()
+    heard, _ = SecondOpinion(low, second, 0.5, larger(alike)).hear_item(None, RECALL)
+    assert heard.confidence == BOTH_AT_LEAST - 0.01 and made == []
+    # another answer, however sure
+    other = Heard("Apple, table, penny, candy.", 0.9, 0, 1)
+    heard, _ = SecondOpinion(unsure, second, 0.5, larger(other)).hear_item(None, RECALL)
+    assert heard.confidence == 0.42 and not heard.confirmed_by
 
 
 ENGLISH = frozenset({"a", "pen", "pencil", "and", "the", "watch", "mist", "car", "dog", "table"})

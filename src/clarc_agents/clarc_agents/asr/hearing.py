@@ -1,9 +1,9 @@
 """Which recogniser hears the patient (``asr`` node's ``recogniser`` parameter, ``clarc hear
 --recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), with
-pocketsphinx's second opinion on the words and serial answers it is not sure of
-(``second_opinion.py``); or pocketsphinx alone, the one before it, kept to compare. Each
-loads its model when made (a second or two) and gives
-``hear_item(samples, item) -> (Heard, how)``."""
+pocketsphinx's second opinion on the words and serial answers it is not sure of, then Whisper
+base's on those still not sure (``second_opinion.py``: loaded the first time it is asked); or
+pocketsphinx alone, the one before it, kept to compare. Each loads its model when made (a
+second or two) and gives ``hear_item(samples, item) -> (Heard, how)``."""
 
 from __future__ import annotations
 
@@ -28,10 +28,14 @@ def open_recogniser(name: str = DEFAULT, language: str = "en"):
 
         if language != "en":
             return WhisperRecogniser(language)
+        from clarc_agents.asr.models import WHISPER_BASE
         from clarc_agents.asr.recogniser import Recogniser
         from clarc_agents.asr.second_opinion import SecondOpinion
 
-        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE)
+        def larger() -> WhisperRecogniser:
+            return WhisperRecogniser(language, model=WHISPER_BASE)
+
+        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE, larger)
     from clarc_agents.asr.recogniser import Recogniser
 
     return Recogniser()

@@ -46,7 +46,7 @@ import numpy as np
 
 from clarc_agents.asr.audio import RATE, dithered
 from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
-from clarc_agents.asr.models import WHISPER_BASE, WHISPER_TINY_EN, verified_folder
+from clarc_agents.asr.models import WHISPER_BASE, WHISPER_TINY_EN, ModelFiles, verified_folder
 from clarc_agents.asr.recogniser import Heard
 from clarc_agents.asr.span import MIN_SPEECH, Span, speech_span, too_noisy
 from clarc_agents.definitions import Item
@@ -104,11 +104,11 @@ def _said(text: str) -> str:
 class WhisperRecogniser:
     name = "whisper"
 
-    def __init__(self, language: str = "en", threads: int = 2):
+    def __init__(self, language: str = "en", threads: int = 2, model: ModelFiles | None = None):
         from faster_whisper import WhisperModel
         from faster_whisper.tokenizer import Tokenizer
 
-        folder = verified_folder(MODEL_FOR.get(language, WHISPER_BASE))
+        folder = verified_folder(model or MODEL_FOR.get(language, WHISPER_BASE))
         self.language = language
         self.model = WhisperModel(
             str(folder), device="cpu", compute_type="int8", cpu_threads=threads
