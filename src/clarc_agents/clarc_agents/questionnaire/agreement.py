@@ -10,8 +10,9 @@ heard each time, with how sure, is kept on the item's node in the DSR (PELEA's
 ``hearings`` and ``hearing_confidences``), where Speech reads it back at the next answer.
 
 "The same answer" (``same_answer``): understood as the same points for the same parts (a
-serial answer's numbers in order, a words answer's credited words), something credited (two
-hearings agreeing that nothing was right agree on nothing).
+serial answer's numbers in order, with or without the start said before them; a words answer's
+credited words), something credited (two hearings agreeing that nothing was right agree on
+nothing).
 
 One voice is misheard the same way twice far more often than independence says: on the speech
 benchmark a synthesised voice said again (10% slower, other noise) was heard "Apple, banana,
@@ -29,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from clarc_agents.definitions import Item
+from clarc_agents.definitions import Item, serial_numbers
 from clarc_agents.questionnaire.answers import understand
 
 KINDS = ("words", "serial")  # the kinds with no read-back: asked again instead
@@ -37,11 +38,26 @@ FLOOR = 0.45
 
 
 def same_answer(item: Item, first: str, second: str) -> bool:
-    """Whether two transcripts give the same answer to ``item``, something credited."""
+    """Whether two transcripts give the same answer to ``item``, something credited (a serial
+    answer's numbers in order, the start said before them or not: "100 minus 7 is 93, minus 7
+    is 86" and "93, 86" are one answer, as the instrument scores them)."""
     a, b = understand(item, first), understand(item, second)
     if a.kind != "answer" or not a.matched:
         return False
-    return (a.kind, a.points, a.matched) == (b.kind, b.points, b.matched)
+    return (a.kind, a.points, _given(item, a.matched)) == (
+        b.kind,
+        b.points,
+        _given(item, b.matched),
+    )
+
+
+def _given(item: Item, matched: tuple[str, ...]) -> tuple[str, ...]:
+    """A serial answer's numbers without the start said before them (answers.serial_points)."""
+    if item.kind != "serial":
+        return matched
+    numbers = serial_numbers(item)
+    start = str(2 * numbers[0] - numbers[1])  # the first number less the step
+    return matched[1:] if matched[:1] == (start,) else matched
 
 
 def independent(*confidences: float) -> float:
