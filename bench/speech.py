@@ -256,8 +256,9 @@ def bench_speech(quick: bool) -> dict[str, Any]:
         cpu = audio_s = wall = 0.0
         answered = 0
         by_condition: dict[str, Any] = {}
-        # Whisper's answers without pocketsphinx's second opinion: those it confirmed were not
-        # sure before it (second_opinion.py), so the same run tells both
+        # Whisper tiny.en's answers without the other opinions (pocketsphinx's, Whisper base's):
+        # those another confirmed were not sure before it (second_opinion.py), so the same run
+        # tells both
         alone: dict[str, Any] = {}
         # over the dialogue: what the repair adds (the read-back of a choose answer not sure;
         # a words or serial answer asked again, said again in a second rendition: the voice
@@ -338,7 +339,7 @@ def table(speech: dict[str, Any]) -> list[str]:
             f"{report['wall_s_per_answer']:.2f} s of wall time an answer"
         )
     if "whisper_alone" in speech:
-        lines.append("  whisper without pocketsphinx's second opinion (the same run):")
+        lines.append("  whisper tiny.en alone, without the other opinions (the same run):")
         for condition, counts in speech["whisper_alone"].items():
             cells = "".join(
                 f"{counts[k]['right']:>9.0%} {counts[k]['wrong']:>5.1%} "
