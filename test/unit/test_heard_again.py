@@ -32,6 +32,7 @@ def test_the_same_answer_is_the_same_points_for_the_same_parts_something_credite
     # the start said before the numbers, or not: scored alike, one answer
     assert same_answer(attention, "100 minus seven is 93, minus seven is 86", "93, 86.")
     assert not same_answer(attention, "100, 93, 86", "93, 86, 79")
+    assert not same_answer(attention, "100.", "One hundred.")  # the start alone: no answer
 
 
 def test_two_agreeing_hearings_combine_and_each_must_reach_the_floor():

@@ -359,9 +359,10 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
 def _put_right(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
     """A serial answer's rivals of its own length and form: each number written in digits
     replaced by one that would have scored after another (the item's first number, or one heard
-    plus the step). Both recognisers heard "93, 87, 87, 73." for "... eighty seven, eighty,
-    seventy three" (BENCHMARKS.md section 9e); its rival "93, 87, 80, 73." is what was said.
-    The full answer alone is no such rival: a patient's slip is far from it."""
+    plus the step): "93, 87, 80, 73." for "93, 87, 87, 73.", which both Whisper models heard for
+    "... eighty seven, eighty, seventy three" (there tiny.en found the rival over ten times less
+    likely, so it did not move that answer: BENCHMARKS.md section 9e). The full answer alone is
+    no rival for a patient's slip: it is far from what was said."""
     numbers = expectation.numbers
     if expectation.kind != "serial" or len(numbers) < 2:
         return []

@@ -42,13 +42,10 @@ def same_answer(item: Item, first: str, second: str) -> bool:
     answer's numbers in order, the start said before them or not: "100 minus 7 is 93, minus 7
     is 86" and "93, 86" are one answer, as the instrument scores them)."""
     a, b = understand(item, first), understand(item, second)
-    if a.kind != "answer" or not a.matched:
+    given = _given(item, a.matched)
+    if a.kind != "answer" or not given:
         return False
-    return (a.kind, a.points, _given(item, a.matched)) == (
-        b.kind,
-        b.points,
-        _given(item, b.matched),
-    )
+    return b.kind == "answer" and (a.points, given) == (b.points, _given(item, b.matched))
 
 
 def _given(item: Item, matched: tuple[str, ...]) -> tuple[str, ...]:
