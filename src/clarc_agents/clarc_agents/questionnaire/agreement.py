@@ -30,8 +30,8 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from clarc_agents.definitions import Item, serial_numbers
-from clarc_agents.questionnaire.answers import understand
+from clarc_agents.definitions import Item
+from clarc_agents.questionnaire.answers import serial_start, understand
 
 KINDS = ("words", "serial")  # the kinds with no read-back: asked again instead
 FLOOR = 0.45
@@ -52,9 +52,7 @@ def _given(item: Item, matched: tuple[str, ...]) -> tuple[str, ...]:
     """A serial answer's numbers without the start said before them (answers.serial_points)."""
     if item.kind != "serial":
         return matched
-    numbers = serial_numbers(item)
-    start = str(2 * numbers[0] - numbers[1])  # the first number less the step
-    return matched[1:] if matched[:1] == (start,) else matched
+    return matched[1:] if matched[:1] == (str(serial_start(item)),) else matched
 
 
 def independent(*confidences: float) -> float:

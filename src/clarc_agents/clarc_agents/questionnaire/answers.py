@@ -373,12 +373,19 @@ def touched_in_order(item: Item, targets: list[str]) -> int:
     return best[-1][-1]
 
 
+def serial_start(item: Item) -> int:
+    """The number a ``serial`` item counts from (100 for 93, 86, ...): its first number less
+    the step."""
+    expected = serial_numbers(item)
+    return 2 * expected[0] - expected[1]
+
+
 def serial_points(item: Item, said: list[int]) -> int:
     """A point per number that is the previous one said (the start for the first) plus the
     step, counting at most as many as the item's parts."""
     expected = serial_numbers(item)
     step = expected[1] - expected[0]
-    previous, points = expected[0] - step, 0
+    previous, points = serial_start(item), 0
     if said[:1] == [previous]:  # the start said again ("a hundred, ninety-three, ...")
         said = said[1:]
     for number in said[: len(expected)]:
