@@ -6,6 +6,7 @@ heartbeat, a request, a result), and then every node is still alive (never resta
 DSR's graph and the results store are as they were. On the same running suite: every topic and
 service a node uses is in its documentation (its reference page)."""
 
+import copy
 import importlib
 import json
 import math
@@ -178,6 +179,26 @@ def suite_endpoints(node):
     return topics, services
 
 
+def offering_readers_lease(node, topic, qos):
+    """``qos``, offering the shortest DDS liveliness lease ``topic``'s readers request (the
+    server's watch on dsr/presence/<node name> requests one: a publisher offering none does
+    not match it)."""
+    from rclpy.duration import Infinite
+    from rclpy.qos import LivelinessPolicy
+
+    leases = [
+        info.qos_profile.liveliness_lease_duration
+        for info in node.get_subscriptions_info_by_topic(topic)
+        if info.qos_profile.liveliness_lease_duration != Infinite
+    ]
+    if not leases:
+        return qos
+    offered = copy.copy(qos)
+    offered.liveliness = LivelinessPolicy.AUTOMATIC
+    offered.liveliness_lease_duration = min(leases, key=lambda d: d.nanoseconds)
+    return offered
+
+
 def stable_graph(session, seconds=2.0, timeout=60):
     """The DSR's snapshot once no delta came for ``seconds`` (the suite is idle)."""
     deadline = time.monotonic() + timeout
@@ -275,7 +296,7 @@ def test_no_input_on_any_topic_or_service_kills_a_node_or_changes_the_graph(suit
         if topic.startswith("/parameter_events") or topic == "/rosout":
             continue
         msg_type = interface(type_name)
-        pub = node.create_publisher(msg_type, topic, qos)
+        pub = node.create_publisher(msg_type, topic, offering_readers_lease(node, topic, qos))
         wait_for(lambda p=pub: p.get_subscription_count() > 0, 10, f"{topic}'s readers", session)
         for msg in hostile_messages(msg_type):
             pub.publish(msg)

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from dsr_graph.protocol.topic_names import TRANSACTIONS
+from dsr_graph.protocol.topic_names import PRESENCE, TRANSACTIONS
 
 
 @dataclass(frozen=True)
@@ -54,6 +54,11 @@ LEASE_WAIT = 3.0
 def agent_topic(node_name: str) -> str:
     """The request topic of the node called ``node_name`` (relative, like the others)."""
     return f"{TRANSACTIONS}/{node_name}"
+
+
+def presence_topic(node_name: str) -> str:
+    """The topic whose liveliness tells that the node called ``node_name`` is in reach."""
+    return f"{PRESENCE}/{node_name}"
 
 
 def sender_on(
@@ -109,7 +114,7 @@ def sender_on(
             intruders,
         )
     # Two participants under the owner's name: a node killed outright stays listed until its
-    # DDS lease runs out, next to its restarted self. Its request publisher's liveliness lapses
+    # DDS lease runs out, next to its restarted self. Its presence publisher's liveliness lapses
     # sooner (PRESENCE_LEASE): when every one of them is counted and only one is alive, that one
     # is the successor, and the only one that can be sending (a frozen twin that wakes is alive
     # again, and the verdict is asked again).

@@ -1,8 +1,9 @@
 """Which agents the server can hear right now (pure; the server feeds it DDS liveliness).
 
-An agent's request publisher offers a short DDS liveliness lease (``PRESENCE_LEASE``, asserted
-by the middleware itself, not by the agent's Python), and the server watches each
-``dsr/transactions/<node name>`` with that lease. A node still listed in the ROS graph whose
+An agent's presence publisher, on ``dsr/presence/<node name>``, offers a short DDS liveliness
+lease (``PRESENCE_LEASE``, asserted by the middleware itself, not by the agent's Python) and
+never publishes; the server watches each with that lease, and counts it as the agent's request
+topic's. A node still listed in the ROS graph whose
 publisher is matched but no longer alive is *out of reach*: a network cut, or a frozen process.
 That is told within the lease, long before DDS drops the participant (its own lease: 2 s on one
 machine, 10 s across hosts in scripts/two_hosts.sh), and it ends as soon as the link is back.
@@ -19,7 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-PRESENCE_LEASE = 1.0  # seconds: offered by agents' request publishers, requested by the server
+PRESENCE_LEASE = 1.0  # seconds: offered by agents' presence publishers, requested by the server
 
 
 @dataclass
@@ -76,7 +77,7 @@ class Presence:
 
     @property
     def alive(self) -> set[str]:
-        """Agents with a request publisher alive now: their processes run, whatever the ROS
+        """Agents with a presence publisher alive now: their processes run, whatever the ROS
         graph lists (under heavy load it left live nodes out for minutes, and the server marked
         their info nodes gone every few seconds: protocol/absence.py)."""
         return {agent for agent, alive, _ in self._counts.values() if alive}

@@ -14,8 +14,10 @@ change is durable), and with ``blobs=True`` dsr/blobs and
 every agent's dsr/blobs/<node name> and dsr/sensor_blobs/<node name> (found as they appear,
 every 0.2 s): the bytes of a value an agent sent come from the agent itself, the server's own (a
 snapshot's) on dsr/blobs.
-Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/blobs/<node name> (the
-bytes of the large binary values its requests reference, protocol/blobs.py),
+Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/presence/<node name>
+(never published on: its DDS liveliness tells the server this agent is in reach),
+dsr/blobs/<node name> (the bytes of the large binary values its requests reference,
+protocol/blobs.py),
 dsr/sensor_blobs/<node name> (those of sensor data: straight to the replicas, never the
 server), dsr/alarms (a message the server did not sign, at most one per topic every 5 s).
 Services: dsr/get_blob/<node name> (a binary value's bytes from this replica: the sensor data
@@ -49,7 +51,7 @@ import time
 import uuid
 from typing import Any
 
-from std_msgs.msg import String
+from std_msgs.msg import Empty, String
 
 from dsr_graph.exceptions import TimedOutError
 from dsr_graph.formats.dsr_json import COLUMNS
@@ -66,14 +68,14 @@ from dsr_graph.protocol.agent_core import (
     Verdict,
 )
 from dsr_graph.protocol.blobs import sensor_refs_in_text
-from dsr_graph.protocol.identity import agent_topic
+from dsr_graph.protocol.identity import agent_topic, presence_topic
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros import process_gc
 from dsr_graph.ros.blob_service import blob_answer
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
 from dsr_graph.ros.log_levels import log_at
-from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_requests, qos_stream
+from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_presence, qos_stream
 from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetBlob, GetSnapshot
 
@@ -125,7 +127,11 @@ class DsrAgent:
             )
         self._alarm_pub = node.create_publisher(String, topic_names.ALARMS, qos_stream())
         # a request topic of our own: the server knows who we are from the ROS graph
-        self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_requests())
+        self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_stream())
+        # never published on: its liveliness tells the server this agent is in reach
+        self._presence_pub = node.create_publisher(
+            Empty, presence_topic(node.get_name()), qos_presence()
+        )
         self._blob_pub = node.create_publisher(
             Blob, f"{topic_names.BLOBS}/{node.get_name()}", qos_blobs()
         )

@@ -26,20 +26,11 @@ def qos_stream() -> QoSProfile:
     )
 
 
-def qos_requests() -> QoSProfile:
-    """An agent's request topic: a stream whose publisher also offers a short liveliness lease,
-    so the server can tell when it is out of reach (protocol/presence.py). Any subscriber with
-    the default (infinite) lease still matches it."""
-    qos = qos_stream()
-    qos.liveliness = LivelinessPolicy.AUTOMATIC
-    qos.liveliness_lease_duration = Duration(seconds=PRESENCE_LEASE)
-    return qos
-
-
 def qos_presence() -> QoSProfile:
-    """The server's watch on an agent's request topic: only its liveliness matters (the requests
-    come through the stream subscription), so best effort and depth 1. A publisher offering no
-    lease (a foreign node's default QoS) does not match it and is never counted out of reach."""
+    """An agent's presence topic, both ends: a short liveliness lease that the middleware asserts
+    (AUTOMATIC), so the server can tell when the agent is out of reach (protocol/presence.py);
+    nothing is ever published on it, so best effort and depth 1. A topic of its own: a second
+    reader on the request topic cost every request a second delivery (issue 35)."""
     return QoSProfile(
         history=HistoryPolicy.KEEP_LAST,
         depth=1,

@@ -2,8 +2,9 @@
 ``dsr/transactions`` and one ``dsr/transactions/<node name>`` per agent, found as agents appear.
 Each batch of requests taken from a topic comes with the verdict on who sent it, from the ROS
 graph's list of that topic's publishers (asked again whenever their number changes, and at
-least every ``RECHECK`` seconds). Each agent topic is also watched for its publisher's DDS
-liveliness (``protocol/presence.py``): ``on_presence`` is called when it changes."""
+least every ``RECHECK`` seconds). Each agent's presence topic, ``dsr/presence/<node name>``, is
+watched for its publisher's DDS liveliness (``protocol/presence.py``), counted as its request
+topic's: ``on_presence`` is called when it changes."""
 
 from __future__ import annotations
 
@@ -11,11 +12,11 @@ import time
 from collections.abc import Callable
 
 from rclpy.event_handler import SubscriptionEventCallbacks
-from std_msgs.msg import String
+from std_msgs.msg import Empty, String
 
 from dsr_graph.protocol.identity import Publisher, Sender, sender_on
 from dsr_graph.protocol.presence import Presence
-from dsr_graph.protocol.topic_names import TRANSACTIONS
+from dsr_graph.protocol.topic_names import PRESENCE, TRANSACTIONS
 from dsr_graph.ros.qos import qos_presence, qos_stream
 from dsr_graph.ros.string_wire import cdr_utf8
 
@@ -48,6 +49,7 @@ class RequestTopics:
         self.on_presence = on_presence
         self.shared = node.resolve_topic_name(TRANSACTIONS)
         self.prefix = self.shared + "/"
+        self.presence_prefix = node.resolve_topic_name(PRESENCE) + "/"
         self._subs: dict[str, tuple[object, str | None]] = {}  # topic -> (subscription, owner)
         self._verdicts: dict[str, tuple[int, float, Sender]] = {}
         self._ignored: set[str] = set()
@@ -85,14 +87,14 @@ class RequestTopics:
         self._subs[topic] = (sub, owner)
         if owner is not None:
             self.node.create_subscription(
-                String,
-                topic,
-                lambda msg: None,  # the requests come through the stream subscription
+                Empty,
+                self.presence_prefix + owner,
+                lambda msg: None,  # nothing is published there
                 qos_presence(),
-                # Its liveliness only: a foreign publisher offering no lease does not match the
-                # watch, and needs not (its requests come through the stream), so no warning of
-                # an incompatible QoS; and rclpy's default handlers would be two more entities
-                # in every wait of the executor, per agent (DsrNode.create_publisher).
+                # Its liveliness only: a publisher offering no lease does not match the watch,
+                # and needs not, so no warning of an incompatible QoS; and rclpy's default
+                # handlers would be two more entities in every wait of the executor, per agent
+                # (DsrNode.create_publisher).
                 event_callbacks=SubscriptionEventCallbacks(
                     liveliness=lambda info, t=topic: self._on_liveliness(t, info),
                     use_default_callbacks=False,

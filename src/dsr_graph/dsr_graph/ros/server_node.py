@@ -33,6 +33,8 @@ Subscriptions:
         (protocol/identity.py); the delta's "agent" is that node's fully qualified name.
     dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
         while exactly one node publishes on it; otherwise each request gets a rejection.
+    dsr/presence/<node name> (std_msgs/Empty): never published on; its publisher's DDS
+        liveliness (1 s lease) tells whether that agent is in reach (protocol/presence.py).
     dsr/blobs/<node name> (dsr_msgs/Blob): the bytes of the binary values an agent's requests
         reference (protocol/blobs.py), but sensor data's: those go one hop, from the agent's
         dsr/sensor_blobs/<node name> to the replicas; the server keeps their reference.
@@ -48,7 +50,7 @@ Publishers:
     dsr/alarms (std_msgs/String): {kind, topic, intruders, message} when a request topic has a
         publisher that is not its owner (at most one per topic and intruders every 5 s).
     dsr/heartbeat (std_msgs/String, latched): {seq, stamp, boot, durable, unreachable} (boot:
-        new at each start; unreachable: agents listed in the ROS graph whose request topic's DDS
+        new at each start; unreachable: agents listed in the ROS graph whose presence topic's DDS
         liveliness lapsed, protocol/presence.py; also sent at once when that list changes).
     /tf, /tf_static (tf2_msgs/TFMessage): the RT tree for tf2 listeners, in metres, frame ids =
         node names; edges unchanged since the start on /tf_static (protocol/tf_frames.py);
@@ -461,13 +463,13 @@ class DsrServer(DsrNode):
         ended = self.requests.presence.take_ended()
         for agent in ended:
             self.get_logger().info(
-                f"a process of {agent} ended (its request publisher dropped, or lapsed while "
+                f"a process of {agent} ended (its presence publisher dropped, or lapsed while "
                 "another of that name is alive): its info node says gone until one alive "
                 "writes its state"
             )
         for agent in lost:
             self.get_logger().warning(
-                f"{agent} is out of reach (its request topic's DDS liveliness lapsed: a network "
+                f"{agent} is out of reach (its presence topic's DDS liveliness lapsed: a network "
                 "cut or a frozen process); its claims end until it is back"
             )
         for agent, seconds in back:
@@ -486,7 +488,7 @@ class DsrServer(DsrNode):
         if holders or described:  # one query of the ROS graph per heartbeat, when it matters
             graph = self.get_node_names_and_namespaces()
             live = {(ns.rstrip("/") + "/" + name) for name, ns in graph} | {n for n, _ in graph}
-        live |= self.requests.presence.alive  # its request publisher alive: its process runs
+        live |= self.requests.presence.alive  # its presence publisher alive: its process runs
         claims_gone, info_gone = self._absences.update(
             holders,
             described,
