@@ -53,6 +53,9 @@ from signed import bench_signed
 from tables import table
 from throughput import bench_throughput
 
+from dsr_graph.ros import dds_deadlock
+from dsr_graph.ros.exit_timer import exit_now
+
 
 def lazy(module: str, name: str):
     """A section's function imported when it runs (speech loads the recognisers)."""
@@ -255,4 +258,7 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    code = main()
+    if dds_deadlock.any_abandoned():  # the interpreter's exit would wait on it for ever
+        exit_now(code)
+    sys.exit(code)

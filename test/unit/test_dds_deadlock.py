@@ -88,7 +88,7 @@ def test_a_deadlocked_participant_s_node_is_abandoned_not_destroyed(recwarn):
         lock.release()
         blocked.thread.join(10)
     assert not jammed.destroyed and healthy.destroyed
-    assert jammed in dds_deadlock._abandoned
+    assert jammed in dds_deadlock._abandoned and dds_deadlock.any_abandoned()
     assert any("Fast-DDS issue 6502" in str(w.message) for w in recwarn)
 
 

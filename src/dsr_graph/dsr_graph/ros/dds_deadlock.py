@@ -9,8 +9,10 @@ that participant then waits for the event thread for ever, holding the GIL. An e
 at rest waits for its next timer (a futex wait with a timeout); one that has waited on a lock
 (a futex wait with none) without running for ``STALL`` seconds is deadlocked. Its node is not
 destroyed (dds_teardown) but abandoned: kept referenced for the life of the process, so that
-neither the caller nor the interpreter's exit waits on it. Its peers drop it when its lease
-ends (it no longer announces itself), and its resources go with the process.
+the caller does not wait on it. The interpreter's exit still would (Fast DDS's own teardown
+destroys every participant): a program that abandoned one should end with
+``exit_timer.exit_now`` (``any_abandoned``; the benchmark does). Its peers drop it when its
+lease ends (it no longer announces itself), and its resources go with the process.
 
 A node process does not wait for its stop to find it: ``watch`` looks every second, and the node
 exits (run_node) to be restarted by its launch, as a deadlocked participant no longer announces
@@ -93,6 +95,13 @@ def describe(jammed: list[int], stall: float = STALL) -> str:
 
 
 _abandoned: list[object] = []
+
+
+def any_abandoned() -> bool:
+    """Whether this process abandoned a participant: it must end with ``exit_timer.exit_now``,
+    since the interpreter's exit runs Fast DDS's own teardown, which waits on it for ever (a
+    benchmark run that had printed its report hung so)."""
+    return bool(_abandoned)
 
 
 def abandon(objects: Iterable[object], jammed: list[int]) -> None:
