@@ -42,6 +42,7 @@ class Sender:
 
 
 UNKNOWN = "_NODE_NAME_UNKNOWN_"  # rmw's name for a participant whose node info has not arrived
+NODE_NOT_KNOWN = "has a publisher whose node is not known yet"  # the refusal's words for it
 # Node names come on rmw's ros_discovery_info, a reliable transient-local topic apart from DDS's
 # own endpoint discovery: a first sample lost is sent again at its writer's next heartbeat, every
 # 3 s by Fast DDS's default. Seen in CI after a server's restart: more than 3 s. Three heartbeats.
@@ -76,9 +77,7 @@ def sender_on(
     if any(p.name == UNKNOWN for p in publishers):
         # DDS found the publisher before the ROS graph learnt its node (typically just after
         # a restart): not a verdict yet
-        return Sender(
-            None, f"{topic} has a publisher whose node is not known yet", pending=NODE_INFO_WAIT
-        )
+        return Sender(None, f"{topic} {NODE_NOT_KNOWN}", pending=NODE_INFO_WAIT)
     if matched is not None and matched > len(publishers):
         # DDS matched a publisher the ROS graph does not list yet (its discovery reaches the
         # graph after the match, seen on a loaded machine): it may be this request's sender, so

@@ -45,12 +45,14 @@ heartbeat is written. Tools that only read or send one request (the recorder, th
 from __future__ import annotations
 
 import json
+import math
 import os
 import socket
 import time
 import uuid
 from typing import Any
 
+import rclpy
 from std_msgs.msg import Empty, String
 
 from dsr_graph.exceptions import TimedOutError
@@ -68,14 +70,18 @@ from dsr_graph.protocol.agent_core import (
     Verdict,
 )
 from dsr_graph.protocol.blobs import sensor_refs_in_text
-from dsr_graph.protocol.identity import agent_topic, presence_topic
+from dsr_graph.protocol.cut_off import CUT_OFF_AFTER, CutOffWatch
+from dsr_graph.protocol.identity import NODE_NOT_KNOWN, agent_topic, presence_topic
 from dsr_graph.protocol.security import Security
 from dsr_graph.protocol.server_core import Result
 from dsr_graph.ros import process_gc
 from dsr_graph.ros.blob_service import blob_answer
 from dsr_graph.ros.blob_topics import BlobInbox, blob_message
+from dsr_graph.ros.dsr_node import CUT_OFF
+from dsr_graph.ros.exit_timer import exit_now
 from dsr_graph.ros.log_levels import log_at
 from dsr_graph.ros.qos import qos_blobs, qos_latched, qos_presence, qos_stream
+from dsr_graph.ros.server_probe import ServerProbe
 from dsr_msgs.msg import Blob
 from dsr_msgs.srv import GetBlob, GetSnapshot
 
@@ -86,6 +92,7 @@ DESCRIBE_PERIOD = 0.25  # seconds between looks at whether the agent info node i
 # after a refusal (a program with no key of its own under an enforcing server, a policy without
 # its info node): the next try, and its warning, this much later, not four times a second
 DESCRIBE_REFUSED = 10.0
+ANNOUNCE_EVERY = 5.0  # seconds between two sends of rmw's node list (_announce_node)
 
 
 class DsrAgent:
@@ -113,6 +120,9 @@ class DsrAgent:
         self._snapshot_future = None
         self.security = Security()
         self.forged = 0  # messages dropped because the server did not sign them
+        self._cut_off = CutOffWatch()  # the middleware's link to the server (protocol/cut_off.py)
+        self._probe: ServerProbe | None = None
+        self._announced = -math.inf  # when the node list was last sent again (_announce_node)
 
     # ------------------------------------------------------------------ set-up
     def setup(self, node, timeout_sec: float = 10.0) -> None:
@@ -345,6 +355,10 @@ class DsrAgent:
 
     def _on_rejection(self, msg: String) -> None:
         text = self._from_server(topic_names.REJECTIONS, msg.data)
+        if text is not None and NODE_NOT_KNOWN in text and self._tx_pub.topic_name in text:
+            self._announce_node(
+                time.monotonic(), "the server refused a request: it did not know this node's name"
+            )
         if text is not None:
             self.core.on_rejection(text, time.monotonic())
             self._pace()
@@ -353,7 +367,13 @@ class DsrAgent:
         # a forged heartbeat must not make a dead server look alive
         text = self._from_server(topic_names.HEARTBEAT, msg.data)
         if text is not None:
-            self.core.on_heartbeat(text, time.monotonic())
+            now, before = time.monotonic(), self.core.heard
+            self.core.on_heartbeat(text, now)
+            if before is not None and now - before > SERVER_SILENCE:
+                # the server is back from a silence: if it stalled beyond the DDS lease, its ROS
+                # graph may have lost our node's name (_announce_node), and it would hold our
+                # requests for NODE_INFO_WAIT before refusing them
+                self._announce_node(now, f"the server is heard again after {now - before:.1f} s")
             self._pace()
 
     def _on_durable(self, msg: String) -> None:
@@ -384,7 +404,63 @@ class DsrAgent:
         self.core.tick(now)
         if self.describes:
             self._describe_self(now)
+        self._watch_link(now)
         self._pace()
+
+    # ------------------------------------------------------------------ the middleware's link
+    def _watch_link(self, now: float) -> None:
+        """An agent its own participant cut off from the server ends, to be restarted
+        (protocol/cut_off.py); the probe runs in a process of its own, asked each tick."""
+        if self._probe is not None:
+            seen = self._probe.answer()
+            if seen is not None:
+                self._probe = None
+                if self._cut_off.probed(seen, self._link_matched()):
+                    self._cut_off_found()
+            return
+        if self._cut_off.due_look(now) and self._cut_off.look(self._link_matched(), now):
+            self._probe = ServerProbe(
+                self.node.context.get_domain_id(),
+                self._delta_sub.topic_name,
+                self._tx_pub.topic_name,
+            )
+
+    def _announce_node(self, now: float, why: str) -> None:
+        """Make sure the server's ROS graph names our node: called when it refused a request of
+        ours because it does not, and when it is heard again after a silence. Seen after a
+        server stalled beyond the DDS lease (SIGSTOP for 4 s, 3 runs in 4): its participant
+        found ours again but never got rmw's node names of it (ros_discovery_info), and refused
+        our requests for as long as it was watched (40 s). rmw sends that list again when a
+        node of the context comes or goes: a node made and destroyed at once (no rosout, no
+        parameter services) makes it."""
+        if now - self._announced < ANNOUNCE_EVERY:
+            return
+        self._announced = now
+        herald = rclpy.create_node(
+            f"{self.node.get_name()}_announce",
+            namespace=self.node.get_namespace(),
+            context=self.node.context,
+            enable_rosout=False,
+            start_parameter_services=False,
+        )
+        herald.destroy_node()
+        self.node.get_logger().info(f"sent rmw's node list again ({why})")
+
+    def _link_matched(self) -> bool:
+        return (
+            self._delta_sub.get_publisher_count() > 0 and self._tx_pub.get_subscription_count() > 0
+        )
+
+    def _cut_off_found(self) -> None:
+        message = (
+            "cut off from the DSR server by the middleware: a participant made afresh sees the "
+            f"server, this node's has not matched it for {CUT_OFF_AFTER:g} s or more (Fast DDS "
+            "did not find it again after a stall)"
+        )
+        if getattr(self.node, "stops", None) is not None:  # run_node's: its launch restarts it
+            self.node.get_logger().fatal(f"{message}; exiting to be restarted")
+            exit_now(CUT_OFF)
+        self.node.get_logger().error(message)
 
     def _pace(self) -> None:
         """Tick every ``TICK`` while the core waits on something (a verdict, a delta, a

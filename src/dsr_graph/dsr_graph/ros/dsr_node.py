@@ -159,6 +159,7 @@ class DsrNode(Node):
 
 
 DEADLOCKED = 4  # the exit code of a node whose DDS participant Fast DDS deadlocked
+CUT_OFF = 5  # ... of an agent its participant cut off from the DSR server (protocol/cut_off.py)
 # a running node is ended only after its event thread has waited on a lock this long without
 # running (a stop's teardown takes dds_deadlock.STALL: what it misjudges is only left undestroyed)
 WATCH_STALL = 5.0

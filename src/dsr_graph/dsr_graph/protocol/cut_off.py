@@ -1,0 +1,64 @@
+"""Telling an agent that its own middleware has cut it off from the DSR server (pure; the ROS
+link asks the middleware and runs the probe).
+
+Seen here (Fast DDS 2.14, shared memory, the suite's 2 s participant lease): a server stalled
+for longer than the lease (SIGSTOP for 4 s, then SIGCONT) is dropped by its agents'
+participants and, once it runs again, some of them never match it again: the agent's request
+publisher stays without the server's reader (its requests reach no one) or its delta
+subscription without the server's writer, for as long as it was watched (40 s; 2 runs in 3),
+while a participant made afresh sees both at once. Nothing in the agent can rebuild its
+participant, so a node that finds itself so ends, to be restarted by its launch, as one whose
+participant Fast DDS deadlocked does (ros/dds_deadlock.py).
+
+An agent whose request or delta topic has been unmatched for ``CUT_OFF_AFTER`` seconds asks a
+fresh participant (the probe, at most every ``PROBE_EVERY`` seconds). If the probe sees the
+server's end of both while the agent's own ends are still unmatched, the agent is cut off. A
+server that is simply down (killed, restarting) is seen by no probe: nothing happens.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+CUT_OFF_AFTER = 5.0  # seconds unmatched before a probe (a server's restart takes 1 to 3 s)
+PROBE_EVERY = 10.0  # seconds between two probes while unmatched (each costs a process start)
+LOOK_EVERY = 1.0  # seconds between two looks at the agent's own matches (two rcl queries)
+
+
+@dataclass
+class CutOffWatch:
+    unmatched_since: float | None = None
+    probing: bool = False
+    last_probe: float = -math.inf
+    last_look: float = -math.inf
+
+    def due_look(self, now: float) -> bool:
+        """Whether the agent's matches are to be looked at now."""
+        if now - self.last_look < LOOK_EVERY:
+            return False
+        self.last_look = now
+        return True
+
+    def look(self, matched: bool, now: float) -> bool:
+        """Take what the agent's own endpoints show (``matched``: both its request and its
+        delta topic have the server's end); True: start a probe now."""
+        if matched:
+            self.unmatched_since = None
+            return False
+        if self.unmatched_since is None:
+            self.unmatched_since = now
+        if self.probing or now - self.unmatched_since < CUT_OFF_AFTER:
+            return False
+        if now - self.last_probe < PROBE_EVERY:
+            return False
+        self.probing, self.last_probe = True, now
+        return True
+
+    def probed(self, server_seen: bool, matched_now: bool) -> bool:
+        """The probe's answer (``server_seen``: a fresh participant sees the server's end of
+        both topics); True: the agent is cut off."""
+        self.probing = False
+        if matched_now:
+            self.unmatched_since = None
+        return server_seen and not matched_now
