@@ -11,6 +11,7 @@ import time
 import pytest
 
 from dsr_graph.protocol.cut_off import CUT_OFF_AFTER, PROBE_EVERY
+from dsr_graph.protocol.identity import NODE_INFO_WAIT
 
 from ros_processes import agent_in_session, new_session, send_and_wait, start_synced, wait_for
 
@@ -85,7 +86,9 @@ def test_an_agent_works_with_a_server_that_stalled_beyond_the_lease(ros):
         after.setup(client.node, timeout_sec=30)
         wait_for(lambda: after.ready, 30, "an agent made after the stall", client)
         restarts, sid = 0, 1
-        deadline = time.monotonic() + CUT_OFF_AFTER + PROBE_EVERY + 30
+        # unmatched: found within CUT_OFF_AFTER and a probe; its name lost: refused twice, each
+        # after the server's NODE_INFO_WAIT
+        deadline = time.monotonic() + max(CUT_OFF_AFTER + PROBE_EVERY, 2 * NODE_INFO_WAIT) + 30
         while True:
             assert time.monotonic() < deadline, ros.procs.tails()
             code = echo.poll()

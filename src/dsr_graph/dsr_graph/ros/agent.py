@@ -93,6 +93,8 @@ DESCRIBE_PERIOD = 0.25  # seconds between looks at whether the agent info node i
 # its info node): the next try, and its warning, this much later, not four times a second
 DESCRIBE_REFUSED = 10.0
 ANNOUNCE_EVERY = 5.0  # seconds between two sends of rmw's node list (_announce_node)
+# seconds after such a send within which a refusal for an unknown node may still have crossed it
+ANNOUNCE_GRACE = 3.0
 
 
 class DsrAgent:
@@ -356,9 +358,7 @@ class DsrAgent:
     def _on_rejection(self, msg: String) -> None:
         text = self._from_server(topic_names.REJECTIONS, msg.data)
         if text is not None and NODE_NOT_KNOWN in text and self._tx_pub.topic_name in text:
-            self._announce_node(
-                time.monotonic(), "the server refused a request: it did not know this node's name"
-            )
+            self._not_known(time.monotonic())
         if text is not None:
             self.core.on_rejection(text, time.monotonic())
             self._pace()
@@ -367,13 +367,7 @@ class DsrAgent:
         # a forged heartbeat must not make a dead server look alive
         text = self._from_server(topic_names.HEARTBEAT, msg.data)
         if text is not None:
-            now, before = time.monotonic(), self.core.heard
-            self.core.on_heartbeat(text, now)
-            if before is not None and now - before > SERVER_SILENCE:
-                # the server is back from a silence: if it stalled beyond the DDS lease, its ROS
-                # graph may have lost our node's name (_announce_node), and it would hold our
-                # requests for NODE_INFO_WAIT before refusing them
-                self._announce_node(now, f"the server is heard again after {now - before:.1f} s")
+            self.core.on_heartbeat(text, time.monotonic())
             self._pace()
 
     def _on_durable(self, msg: String) -> None:
@@ -426,13 +420,11 @@ class DsrAgent:
             )
 
     def _announce_node(self, now: float, why: str) -> None:
-        """Make sure the server's ROS graph names our node: called when it refused a request of
-        ours because it does not, and when it is heard again after a silence. Seen after a
-        server stalled beyond the DDS lease (SIGSTOP for 4 s, 3 runs in 4): its participant
-        found ours again but never got rmw's node names of it (ros_discovery_info), and refused
-        our requests for as long as it was watched (40 s). rmw sends that list again when a
-        node of the context comes or goes: a node made and destroyed at once (no rosout, no
-        parameter services) makes it."""
+        """Send rmw's node list again, for a server whose ROS graph does not name our node. Seen
+        after a server stalled beyond the DDS lease (SIGSTOP for 4 s): its participant found
+        ours again but not rmw's node names of it (ros_discovery_info), and refused our requests
+        for as long as it was watched (40 s). rmw sends that list when a node of the context
+        comes or goes: a node made and destroyed at once (no rosout, no parameter services)."""
         if now - self._announced < ANNOUNCE_EVERY:
             return
         self._announced = now
@@ -451,11 +443,29 @@ class DsrAgent:
             self._delta_sub.get_publisher_count() > 0 and self._tx_pub.get_subscription_count() > 0
         )
 
-    def _cut_off_found(self) -> None:
+    def _not_known(self, now: float) -> None:
+        """The server refused a request of ours: its ROS graph does not name our node. rmw's node
+        list is sent again; if it was sent long enough before this refusal and did not reach the
+        server either (seen after a stall, 2 runs in 6), the link is as broken as an unmatched
+        one."""
+        if now - self._announced < ANNOUNCE_GRACE or self._announced == -math.inf:
+            self._announce_node(
+                now, "the server refused a request: it did not know this node's name"
+            )
+            return
+        self._cut_off_found(
+            f"the server still does not know this node's name {now - self._announced:.0f} s "
+            "after rmw's node list was sent again"
+        )
+
+    def _cut_off_found(self, why: str = "") -> None:
+        why = why or (
+            f"a participant made afresh sees the server, this node's has not matched it for "
+            f"{CUT_OFF_AFTER:g} s or more"
+        )
         message = (
-            "cut off from the DSR server by the middleware: a participant made afresh sees the "
-            f"server, this node's has not matched it for {CUT_OFF_AFTER:g} s or more (Fast DDS "
-            "did not find it again after a stall)"
+            f"cut off from the DSR server by the middleware: {why} (Fast DDS did not find it "
+            "again after a stall, or found it only in part)"
         )
         if getattr(self.node, "stops", None) is not None:  # run_node's: its launch restarts it
             self.node.get_logger().fatal(f"{message}; exiting to be restarted")
