@@ -2,7 +2,13 @@
 than CUT_OFF_AFTER and no more often than PROBE_EVERY, and is cut off only when the probe sees
 the server while its own ends are still unmatched."""
 
-from dsr_graph.protocol.cut_off import CUT_OFF_AFTER, LOOK_EVERY, PROBE_EVERY, CutOffWatch
+from dsr_graph.protocol.cut_off import (
+    CUT_OFF_AFTER,
+    LOOK_EVERY,
+    PROBE_AT_MOST,
+    PROBE_EVERY,
+    CutOffWatch,
+)
 
 
 def test_a_matched_link_never_asks_a_probe():
@@ -26,6 +32,22 @@ def test_a_link_unmatched_long_enough_asks_one_probe_at_a_time():
     assert not watch.probed(server_seen=False, matched_now=False)  # the server is down
     assert not watch.look(False, CUT_OFF_AFTER + PROBE_EVERY - 0.1)
     assert watch.look(False, CUT_OFF_AFTER + PROBE_EVERY)
+
+
+def test_a_server_that_stays_down_is_probed_less_and_less_often():
+    watch, now, gaps = CutOffWatch(), 0.0, []
+    watch.look(False, now)
+    last = None
+    while now < 1000:
+        now += 0.5
+        if watch.look(False, now):
+            if last is not None:
+                gaps.append(now - last)
+            last = now
+            assert not watch.probed(server_seen=False, matched_now=False)
+    assert gaps[:5] == [PROBE_EVERY, 2 * PROBE_EVERY, 4 * PROBE_EVERY, PROBE_AT_MOST, PROBE_AT_MOST]
+    watch.look(True, now)  # the server is back: the next outage starts over
+    assert watch.every == PROBE_EVERY
 
 
 def test_cut_off_only_when_the_probe_sees_the_server_and_the_link_is_still_unmatched():
