@@ -1,16 +1,17 @@
 """Telling an agent that its own middleware has cut it off from the DSR server (pure; the ROS
 link asks the middleware and runs the probe).
 
-Seen here (Fast DDS 2.14, shared memory, the suite's 2 s participant lease): a server stalled
-for longer than the lease (SIGSTOP for 4 s, then SIGCONT) is dropped by its agents'
-participants and, once it runs again, some of them never match it again: the agent's request
-publisher stays without the server's reader (its requests reach no one) or its delta
-subscription without the server's writer, for as long as it was watched (40 s; 2 runs in 3 of
-a /tmp script with the agent in its own process, 1 in 10 of test/system/test_server_stall.py),
-while a participant made afresh sees both at once. Nothing in the agent can rebuild its
-participant, so a node that finds itself so ends, to be restarted by its launch, as one whose
-participant Fast DDS deadlocked does (ros/dds_deadlock.py). (The stall's other outcome, a server
-that no longer knows the agent's node name, is told by its refusals: ros/agent.py.)
+Seen here (Fast DDS 2.14 as the suite sets it up: shared memory and UDP, a 2 s participant
+lease): a server stalled for longer than the lease (SIGSTOP for 4 s, then SIGCONT) is dropped by
+its agents' participants and, once it runs again, some of them never match it again: the
+agent's request publisher stays without the server's reader (its requests reach no one) or its
+delta subscription without the server's writer, for as long as it was watched (40 s; 2 runs in
+3 of a /tmp script whose agent lived in the script's process, 1 in 10 of
+test/system/test_server_stall.py), while a participant made afresh sees both at once. Nothing in
+the agent can rebuild its participant, so a node that finds itself so ends, to be restarted by
+its launch, as one whose participant Fast DDS deadlocked does (ros/dds_deadlock.py). (The
+stall's other outcome, a server that no longer knows the agent's node name, is told by its
+refusals: ros/agent.py.)
 
 An agent whose request or delta topic has been unmatched for ``CUT_OFF_AFTER`` seconds asks a
 fresh participant (the probe). If the probe sees the server's end of both while the agent's own
