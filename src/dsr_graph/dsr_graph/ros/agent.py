@@ -357,7 +357,8 @@ class DsrAgent:
 
     def _on_rejection(self, msg: String) -> None:
         text = self._from_server(topic_names.REJECTIONS, msg.data)
-        if text is not None and NODE_NOT_KNOWN in text and self._tx_pub.topic_name in text:
+        # every agent hears every refusal: ours names our topic, and /speech's not /speech2's
+        if text is not None and f"{self._tx_pub.topic_name} {NODE_NOT_KNOWN}" in text:
             self._not_known(time.monotonic())
         if text is not None:
             self.core.on_rejection(text, time.monotonic())
