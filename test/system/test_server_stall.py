@@ -1,6 +1,7 @@
 """A DSR server stalled for longer than the DDS lease (SIGSTOP, then SIGCONT): every agent works
-with it again. Fast DDS drops the frozen server's participant and some agents' participants
-never match it again (protocol/cut_off.py); such an agent finds it out by a probe and ends with
+with it again. Fast DDS drops the frozen server's participant; some agents' participants never
+match it again, or the server never learns their node names again. Such an agent finds it out (a
+probe, protocol/cut_off.py; a second refusal for an unknown node, ros/agent.py) and ends with
 exit code 5 (dsr_node.CUT_OFF), and its launch restarts it, as the test does here."""
 
 import json
