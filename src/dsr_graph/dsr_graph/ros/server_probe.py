@@ -15,14 +15,14 @@ import subprocess
 import sys
 import time
 
+import rclpy
+
+from dsr_graph.ros.exit_timer import exit_now
+
 WAIT = 3.0  # seconds the probe's participant takes to discover the domain, at most
 
 
 def main(argv: list[str]) -> int:
-    import rclpy  # here: the agent that starts a probe does not pay for it twice
-
-    from dsr_graph.ros.exit_timer import exit_now
-
     domain, deltas, requests = int(argv[0]), argv[1], argv[2]
     rclpy.init(domain_id=domain)
     # nothing of its own in the graph but its name: no rosout, no parameter services
@@ -58,11 +58,6 @@ class ServerProbe:
         out = self.process.stdout.read() if self.process.stdout else ""
         self.process.stdout.close()
         return out.strip() == "seen"
-
-    def stop(self) -> None:
-        if self.process.poll() is None:
-            self.process.kill()
-            self.process.wait()
 
 
 if __name__ == "__main__":
