@@ -2,9 +2,10 @@
 
 An agent's presence publisher, on ``dsr/presence/<node name>``, offers a short DDS liveliness
 lease (``PRESENCE_LEASE``, asserted by the middleware itself, not by the agent's Python) and
-never publishes; the server watches each with that lease, and counts it as the agent's request
-topic's. A node still listed in the ROS graph whose
-publisher is matched but no longer alive is *out of reach*: a network cut, or a frozen process.
+publishes only one empty message each time a server's watch matches it (counted alive at once,
+not at the middleware's first assertion); the server watches each with that lease, and counts
+it as the agent's request topic's. A node still listed in the ROS graph whose publisher is
+matched but no longer alive is *out of reach*: a network cut, or a frozen process.
 That is told within the lease, long before DDS drops the participant (its own lease: 2 s on one
 machine, 10 s across hosts in scripts/two_hosts.sh), and it ends as soon as the link is back.
 A publisher dropped without a lapse counted first (a clean stop, or a killed process whose

@@ -18,9 +18,9 @@ _UNSAFE_RUN = re.compile(r"[^A-Za-z0-9]+")
 
 # Relative names (they resolve in the node's namespace and can be remapped).
 TRANSACTIONS = "dsr/transactions"  # + /<node name>: std_msgs/String, JSON requests -> server
-# + /<node name>: std_msgs/Empty, never published: its publisher's DDS liveliness tells the server
-# the agent is in reach (protocol/presence.py), kept off the request topic, whose every message a
-# second reader would cost (issue 35)
+# + /<node name>: std_msgs/Empty, one message per server matched: its DDS liveliness tells the
+# server the agent is in reach (protocol/presence.py), kept off the request topic, whose every
+# message a second reader would cost (issue 35)
 PRESENCE = "dsr/presence"
 DELTAS = "dsr/deltas"  # std_msgs/String, JSON accepted deltas, in seq order <- server
 # dsr_msgs/Blob: the bytes of large binary values the JSON references (protocol/blobs.py): from

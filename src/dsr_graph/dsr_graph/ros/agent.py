@@ -15,7 +15,8 @@ every agent's dsr/blobs/<node name> and dsr/sensor_blobs/<node name> (found as t
 every 0.2 s): the bytes of a value an agent sent come from the agent itself, the server's own (a
 snapshot's) on dsr/blobs.
 Publishers: dsr/transactions/<node name> (protocol/identity.py), dsr/presence/<node name>
-(never published on: its DDS liveliness tells the server this agent is in reach),
+(its DDS liveliness tells the server this agent is in reach; one empty message each time a
+server's watch matches it, so that the server counts it alive at once),
 dsr/blobs/<node name> (the bytes of the large binary values its requests reference,
 protocol/blobs.py),
 dsr/sensor_blobs/<node name> (those of sensor data: straight to the replicas, never the
@@ -33,13 +34,13 @@ The protocol itself (the replica, resends, duplicates, deltas held for their byt
 ``protocol/agent_core.py``, the same the in-process LocalAgent runs; this module is its ROS link,
 the signatures and the agent info node.
 
-Every agent describes itself in the graph (model/agent_info.py): its agent info node, named
-after its node, says who it is and its state, ``starting`` until its replica is in sync, both
-directions are matched and every topic it ``listens_to`` has a publisher, then ``ready``. It is
-written again whenever the graph says otherwise (a server restarted from an older state, a gone
-mark while the agent lives). Whether it is alive the server knows (presence, the ROS graph): no
-heartbeat is written. Tools that only read or send one request (the recorder, the monitor,
-``dsr apply``, ``clarc start``) pass ``describe=False``.
+Every agent describes itself in the graph (model/agent_info.py): its agent info node, named after
+its node, says who it is and its state, ``starting`` until its replica is in sync, both directions
+and its presence topic are matched and every topic it ``listens_to`` has a publisher, then
+``ready``. It is written again whenever the graph says otherwise (a server restarted from an older
+state, a gone mark while the agent lives). Whether it is alive the server knows (presence, the ROS
+graph): no heartbeat is written. Tools that only read or send one request (the recorder, the
+monitor, ``dsr apply``, ``clarc start``) pass ``describe=False``.
 """
 
 from __future__ import annotations
@@ -125,6 +126,7 @@ class DsrAgent:
         self._cut_off = CutOffWatch()  # the middleware's link to the server (protocol/cut_off.py)
         self._probe: ServerProbe | None = None
         self._announced = -math.inf  # when the node list was last sent again (_announce_node)
+        self._presence_readers = 0  # the servers' presence watches it has said it is alive to
 
     # ------------------------------------------------------------------ set-up
     def setup(self, node, timeout_sec: float = 10.0) -> None:
@@ -140,7 +142,7 @@ class DsrAgent:
         self._alarm_pub = node.create_publisher(String, topic_names.ALARMS, qos_stream())
         # a request topic of our own: the server knows who we are from the ROS graph
         self._tx_pub = node.create_publisher(String, agent_topic(node.get_name()), qos_stream())
-        # never published on: its liveliness tells the server this agent is in reach
+        # its liveliness tells the server this agent is in reach (_say_present)
         self._presence_pub = node.create_publisher(
             Empty, presence_topic(node.get_name()), qos_presence()
         )
@@ -280,11 +282,13 @@ class DsrAgent:
     @property
     def ready(self) -> bool:
         """Synced with the server, and both directions matched: requests reach the server and
-        its deltas reach us (before that, a delta would only be recovered by a resync)."""
+        its deltas reach us (before that, a delta would only be recovered by a resync); and the
+        server counts it alive (``_say_present``)."""
         return (
             self.synced
             and self._tx_pub.get_subscription_count() > 0
             and self._delta_sub.get_publisher_count() > 0
+            and self._presence_readers > 0
         )
 
     # ------------------------------------------------------------------ sending
@@ -396,6 +400,7 @@ class DsrAgent:
 
     def _tick(self) -> None:
         now = time.monotonic()
+        self._say_present()
         self.core.tick(now)
         if self.describes:
             self._describe_self(now)
@@ -403,6 +408,17 @@ class DsrAgent:
         self._pace()
 
     # ------------------------------------------------------------------ the middleware's link
+    def _say_present(self) -> None:
+        """One empty message on the presence topic each time a server's watch matches it: a
+        reader counts an AUTOMATIC writer alive only at its middleware's first assertion, 2/3 of
+        the lease after the match, and a sample asserts it at once. Until then the server could
+        not tell this agent's end by liveliness: killed within that time and respawned at once,
+        it read gone only when DDS dropped its participant (4.7 s on a loaded machine)."""
+        readers = self._presence_pub.get_subscription_count()
+        if readers > self._presence_readers:
+            self._presence_pub.publish(Empty())
+        self._presence_readers = readers
+
     def _watch_link(self, now: float) -> None:
         """An agent its own participant cut off from the server ends, to be restarted
         (protocol/cut_off.py); the probe runs in a process of its own, asked each tick."""

@@ -89,7 +89,7 @@ class RequestTopics:
             self.node.create_subscription(
                 Empty,
                 self.presence_prefix + owner,
-                lambda msg: None,  # nothing is published there
+                lambda msg: None,  # its one message only asserts liveliness
                 qos_presence(),
                 # Its liveliness only: a publisher offering no lease does not match the watch,
                 # and needs not, so no warning of an incompatible QoS; and rclpy's default

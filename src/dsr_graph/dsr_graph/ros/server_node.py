@@ -33,8 +33,9 @@ Subscriptions:
         (protocol/identity.py); the delta's "agent" is that node's fully qualified name.
     dsr/transactions (std_msgs/String): the shared topic of earlier versions, attributed only
         while exactly one node publishes on it; otherwise each request gets a rejection.
-    dsr/presence/<node name> (std_msgs/Empty): never published on; its publisher's DDS
-        liveliness (1 s lease) tells whether that agent is in reach (protocol/presence.py).
+    dsr/presence/<node name> (std_msgs/Empty): one message when the watch matches; its
+        publisher's DDS liveliness (1 s lease) tells whether that agent is in reach
+        (protocol/presence.py).
     dsr/blobs/<node name> (dsr_msgs/Blob): the bytes of the binary values an agent's requests
         reference (protocol/blobs.py), but sensor data's: those go one hop, from the agent's
         dsr/sensor_blobs/<node name> to the replicas; the server keeps their reference.
