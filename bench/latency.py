@@ -8,6 +8,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import select
 import sys
 import time
 from pathlib import Path
@@ -16,12 +17,11 @@ from typing import Any
 from harness import (
     HERE,
     Procs,
+    _wait_ready,
     environment,
-    latency_samples,
     median_ms,
     percentiles,
     session_with_agent,
-    timed_reader,
 )
 from rounds import interleave, pooled, ratio
 from std_msgs.msg import String
@@ -31,9 +31,12 @@ from dsr_graph.ros.qos import qos_stream
 
 # ---------------------------------------------------------------------------- 1. latency
 class LatencyRig:
-    """A DSR server and a raw rclpy relay side by side in one domain, a writer and a timed reader
-    in this process: each side of the latency ratios sampled on demand, so that rounds of them
-    can be interleaved (rounds.py)."""
+    """A DSR server and a raw rclpy relay side by side in one domain, a writer in this process
+    and the timed reader in a process of its own (remote_reader.py), as a reading agent is on
+    the robot: each side of the latency ratios sampled on demand, so that rounds of them can be
+    interleaved (rounds.py). Until 2026-12-07 the reader was a second node in this process: the
+    writer's replica and its durable notices then shared one executor with the reader's, and
+    the reader's callback waited its turn (0.25 ms of a change's 0.58, section 1's stages)."""
 
     def __init__(self, procs: Procs, work: Path, domain: int, tag: str = ""):
         """``tag``: what this rig's files and node names end with (two rigs in one process)."""
@@ -43,7 +46,19 @@ class LatencyRig:
             f"relay{tag}", [sys.executable, str(HERE / "relay.py"), "bench/in", "bench/out"]
         )
         self.ros, self.writer = session_with_agent(domain, f"bench_writer{tag}")
-        self.reader_node, self.reader, self.arrived = timed_reader(self.ros, f"bench_reader{tag}")
+        self.tag = tag
+        self.arrived: dict[str, float] = {}  # delta id -> when the reader's replica applied it
+        self.started: dict[str, float] = {}  # and when its callback took the delta
+        self.got: list[float] = []  # when the relayed messages reached the reader
+        reader = procs.start(
+            f"reader{tag}",
+            [sys.executable, str(HERE / "remote_reader.py"), str(domain), f"bench_reader{tag}"]
+            + ["bench/out"],
+        )
+        _wait_ready(reader)
+        self._from_reader = reader.stdout.fileno()
+        os.set_blocking(self._from_reader, False)
+        self._partial = b""
         done: list = []
         self.writer.send(
             {
@@ -58,25 +73,54 @@ class LatencyRig:
         self.ros.spin_until(lambda: done, 10, "set-up")
         self.payload = json.dumps(dict(change(0), id=self.writer.next_id(), agent=self.writer.name))
         self.pub = self.ros.node.create_publisher(String, "bench/in", qos_stream())
-        self.got: list[float] = []
-        self.reader_node.create_subscription(
-            String, "bench/out", lambda m: self.got.append(time.perf_counter()), qos_stream()
-        )
-        self.ros.spin_until(
-            lambda: (
-                self.pub.get_subscription_count() > 0
-                and self.reader_node.count_publishers("bench/out") > 0
-            ),
-            30,
-            "the relay",
-        )
+        self.ros.spin_until(lambda: self.pub.get_subscription_count() > 0, 30, "the relay")
         self.ros.spin_for(0.5)
         self.sent = 0  # every change sets a value not set before
         self.publish: list[float] = []  # the raw side's publish calls (seconds)
 
+    def _heard(self) -> bool:
+        """Take what the reader process wrote so far (never waits); whether it wrote anything."""
+        try:
+            data = os.read(self._from_reader, 65536)
+        except BlockingIOError:
+            return False
+        if not data:
+            raise RuntimeError(f"the reader process ended (its log: reader{self.tag}.log)")
+        *lines, self._partial = (self._partial + data).split(b"\n")
+        for line in lines:
+            kind, *fields = line.decode().split()
+            if kind == "d":
+                self.arrived[fields[0]] = float(fields[1])
+                self.started[fields[0]] = float(fields[2])
+            elif kind == "r":
+                self.got.append(float(fields[0]))
+        return True
+
     def _changes(self, make, n: int) -> list[float]:
         first, self.sent = self.sent, self.sent + n
-        return latency_samples(self.ros, self.writer, self.arrived, n, lambda i: make(first + i))
+        return [self.arrived[ident] - sent for ident, sent, _ in self._timed(make, first, n)]
+
+    def _timed(self, make, first: int, n: int) -> list[tuple[str, float, float]]:
+        """(id, when it was sent, when the writer's send returned) of n changes, the first
+        tenth left out (warming up). This process waits for the reader without spinning, as the
+        raw side does (a writer on the robot is not the reader's process); then, outside the
+        timing, it lets the writer take its own delta and its verdict before the next change."""
+        out = []
+        for i in range(first, first + n):
+            verdict: list = []
+            sent = time.perf_counter()
+            ident = self.writer.send(make(i), verdict.append)
+            published = time.perf_counter()
+            self._wait_reader(lambda ident=ident: ident in self.arrived, sent, "a change")
+            out.append((ident, sent, published))
+            self.ros.spin_until(lambda verdict=verdict: verdict, 10, "the writer's verdict")
+        return out[n // 10 :]
+
+    def _wait_reader(self, seen, since: float, what: str) -> None:
+        while not seen():
+            select.select([self._from_reader], [], [], 0.05)
+            if not self._heard() and time.perf_counter() - since > 10:
+                raise RuntimeError(f"{what} was not seen by the reader within 10 s")
 
     def symbolic(self, n: int) -> list[float]:
         """A symbolic change (journalled by a group commit after it is broadcast), n times."""
@@ -94,9 +138,7 @@ class LatencyRig:
             sent = time.perf_counter()
             self.pub.publish(String(data=self.payload))
             publish.append(time.perf_counter() - sent)
-            self.ros.spin_until(
-                lambda before=before: len(self.got) > before, 10, "the relayed message"
-            )
+            self._wait_reader(lambda before=before: len(self.got) > before, sent, "a message")
             samples.append(self.got[-1] - sent)
         self.publish += publish[n // 10 :]
         return samples[n // 10 :]
@@ -139,12 +181,8 @@ def bench_latency(work: Path, domain: int, rounds: int, per_round: int) -> dict[
         )
         # where the time goes: the same changes again, each step timed (a profile of one run)
         stages = {
-            "symbolic": latency_stages(
-                rig.ros, rig.writer, rig.reader, rig.arrived, per_round, change
-            ),
-            "volatile": latency_stages(
-                rig.ros, rig.writer, rig.reader, rig.arrived, per_round, reading
-            ),
+            "symbolic": latency_stages(rig, per_round, change),
+            "volatile": latency_stages(rig, per_round, reading),
         }
         stages["raw"] = {"publish_ms": median_ms(rig.publish)}
         payload = rig.payload
@@ -202,57 +240,20 @@ def fdatasync_samples(path: Path, payload: str, n: int, pause: float = 0.0) -> l
     return samples[n // 10 :]
 
 
-def latency_stages(ros, writer, reader, arrived, n: int, change) -> dict[str, float]:
-    """Medians (ms) of each step of a change, n changes: the writer's send (encode, publish);
-    from its end to the first delta callback in this process (both hops and the server); the
-    writer's replica's callback and the reader's (parse, apply, listeners); from the writer's
-    callback's end to the reader's start (the executor's turn: both replicas share this
-    process's executor, as the latency figures have them); send to the reader's replica."""
-    calls: dict[str, list[tuple[float, float]]] = {"writer": [], "reader": []}
-    plain = {"writer": writer._delta_sub.callback, "reader": reader._delta_sub.callback}
-
-    def timed(agent, who: str) -> None:
-        def callback(msg) -> None:
-            start = time.perf_counter()
-            plain[who](msg)
-            calls[who].append((start, time.perf_counter()))
-
-        agent._delta_sub.callback = callback
-
-    timed(writer, "writer")
-    timed(reader, "reader")
-    try:
-        rows = _stage_rows(ros, writer, arrived, n, change, calls)
-    finally:  # the agents' own callbacks back
-        writer._delta_sub.callback, reader._delta_sub.callback = plain["writer"], plain["reader"]
-    rows = rows[n // 10 :]
+def latency_stages(rig: LatencyRig, n: int, change) -> dict[str, float]:
+    """Medians (ms) of each step of a change, n changes: the writer's send (encode, sign,
+    publish); from its end to the start of the reader's delta callback (both hops, the server,
+    the reader's wake-up); the reader's callback (parse, apply, listeners); send to applied."""
+    rows = [
+        {
+            "send_ms": published - sent,
+            "server_and_wire_ms": rig.started[ident] - published,
+            "reader_replica_ms": rig.arrived[ident] - rig.started[ident],
+            "total_ms": rig.arrived[ident] - sent,
+        }
+        for ident, sent, published in rig._timed(change, 10**6, n)
+    ]
     return {key: median_ms([r[key] for r in rows]) for key in rows[0]}
-
-
-def _stage_rows(ros, writer, arrived, n: int, change, calls) -> list[dict[str, float]]:
-    rows = []
-    for i in range(n):
-        for kept in calls.values():
-            kept.clear()
-        sent = time.perf_counter()
-        ident = writer.send(change(10**6 + i))
-        published = time.perf_counter()
-        while ident not in arrived or not calls["writer"]:  # as latency_samples waits
-            ros.executor.spin_once(timeout_sec=0.0005)
-            if time.perf_counter() - sent > 10:
-                raise RuntimeError("a change was not seen within 10 s")
-        (w_start, w_end), (r_start, r_end) = calls["writer"][-1], calls["reader"][-1]
-        rows.append(
-            {
-                "send_ms": published - sent,
-                "server_and_wire_ms": min(w_start, r_start) - published,
-                "writer_replica_ms": w_end - w_start,
-                "between_ms": r_start - w_end,
-                "reader_replica_ms": r_end - r_start,
-                "total_ms": arrived[ident] - sent,
-            }
-        )
-    return rows
 
 
 def servers_from(tree: Path):
