@@ -26,7 +26,7 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.formats.state_store import StateStore
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import compact
 
 STOP_TIMEOUT = 10.0  # seconds close() waits for a commit in progress
 
@@ -72,7 +72,7 @@ class GroupCommit:
 
     def append(self, delta: dict[str, Any]) -> None:
         """A symbolic delta, accepted, in seq order: encoded now, durable at the next commit."""
-        line = dumps(delta, separators=(",", ":")) + "\n"
+        line = compact(delta) + "\n"
         with self._gathered:
             self._lines.append(line)
             self._last = delta["seq"]

@@ -32,7 +32,7 @@ from typing import Any
 from dsr_graph.exceptions import CorruptState, StateDirLocked
 from dsr_graph.formats.private_files import private_dir
 from dsr_graph.formats.world_files import write_json_atomically
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import compact
 
 log = logging.getLogger("dsr_graph.state_store")
 
@@ -157,7 +157,7 @@ class StateStore:
     # ------------------------------------------------------------------ writing
     def append(self, delta: dict[str, Any]) -> None:
         """Write a delta to the journal (durable after ``flush``)."""
-        self._open_journal().write(dumps(delta, separators=(",", ":")) + "\n")
+        self._open_journal().write(compact(delta) + "\n")
         self._since_compaction += 1
 
     def write_lines(self, lines: list[str]) -> None:

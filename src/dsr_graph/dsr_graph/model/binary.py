@@ -24,6 +24,7 @@ import math
 from typing import Any
 
 import numpy as np
+import orjson
 
 from dsr_graph.exceptions import ValueTypeError
 
@@ -269,3 +270,17 @@ def short_text(value: Any) -> str:
 def dumps(doc: Any, **kwargs: Any) -> str:
     """JSON text of a document that may hold binary values (``json.dumps`` otherwise)."""
     return json.dumps(doc, default=to_json_value, **kwargs)
+
+
+def compact(doc: Any) -> str:
+    """Compact JSON text of a document that may hold binary values, by orjson: what goes on the
+    DSR's hot path (each request, delta, journal line and notice), 0.8 us for a one-op delta
+    against json.dumps's 9 (issue 35). Its text differs from json.dumps's only in spelling
+    (no spaces, UTF-8 kept, floats as ``1e-5``); what the suite sends holds no NaN and no
+    integer beyond 64 bits (safe_json refuses both on the way in)."""
+    return orjson.dumps(doc, default=_compact_value).decode()
+
+
+def _compact_value(value: Any) -> Any:
+    # json.dumps writes a float's subclasses (numpy's float64) as floats; orjson asks for them
+    return float(value) if isinstance(value, float) else to_json_value(value)

@@ -42,7 +42,7 @@ from collections.abc import Callable
 from typing import Any, Protocol
 
 from dsr_graph.formats.safe_json import READING_ERRORS, loads_object
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import compact
 from dsr_graph.model.vocabulary import Vocabulary
 from dsr_graph.protocol.blobs import REF, BlobCache, attrs_resolver, extract, refs_in_text, resolve
 from dsr_graph.protocol.replica import Replica
@@ -192,7 +192,7 @@ class AgentCore:
         doc, blobs = extract(doc, sensor_at=lambda attribute: at if attribute in volatile else None)
         for digest, data in blobs.items():  # our own values come back whole to our replica
             self.blobs.put(digest, data, verified=True)
-        text = sign(dumps(doc))
+        text = sign(compact(doc))
         self._pending[doc["id"]] = on_done
         self._unanswered[doc["id"]] = (text, now, blobs)
         self._outbox.append((text, blobs))

@@ -27,7 +27,7 @@ from collections.abc import Callable
 from typing import Any
 
 from dsr_graph.exceptions import TimedOutError
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import compact, dumps
 from dsr_graph.model.graph import Graph
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.protocol.agent_core import TICK, AgentCore, Listener
@@ -81,7 +81,7 @@ class LocalBus:
         self.broadcast(result)
 
     def broadcast(self, delta: dict[str, Any]) -> None:
-        wire = dumps(delta)
+        wire = compact(delta)
         for agent in list(self.agents):
             self.soon(lambda agent=agent: agent.receive(wire))
 

@@ -88,7 +88,7 @@ from dsr_graph.formats.state_store import StateStore
 from dsr_graph.model import rigid
 from dsr_graph.model.agent_info import GONE
 from dsr_graph.model.agent_info import states as agent_states
-from dsr_graph.model.binary import dumps
+from dsr_graph.model.binary import compact, dumps
 from dsr_graph.model.policy import OPEN, Policy
 from dsr_graph.model.vocabulary import RT, Vocabulary
 from dsr_graph.protocol import queries, topic_names
@@ -263,7 +263,7 @@ class DsrServer(DsrNode):
         return security
 
     def _publish(self, publisher, channel: str, doc: dict[str, Any]) -> None:
-        text = dumps(doc, separators=(",", ":"))
+        text = compact(doc)
         publisher.publish(string_cdr(self.security.sign(channel, text)))  # encoded once
 
     def close(self) -> None:
