@@ -30,8 +30,8 @@ def qos_presence() -> QoSProfile:
     """An agent's presence topic, both ends: a short liveliness lease that the middleware asserts
     (AUTOMATIC), so the server can tell when the agent is out of reach (protocol/presence.py);
     only one empty message is published each time a server matches it (asserting liveliness at
-    once), so best effort and depth 1. A topic of its own: a second
-    reader on the request topic cost every request a second delivery (issue 35)."""
+    once), so best effort and depth 1. A topic of its own: a second reader on the request topic
+    cost every request a second delivery (issue 35)."""
     return QoSProfile(
         history=HistoryPolicy.KEEP_LAST,
         depth=1,
