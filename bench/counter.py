@@ -11,6 +11,7 @@ import time
 from std_msgs.msg import String
 
 from dsr_graph.ros.agent import DsrAgent
+from dsr_graph.ros.dsr_node import DsrNode
 from dsr_graph.ros.qos import qos_stream
 from dsr_graph.ros.session import RosSession
 
@@ -32,7 +33,8 @@ def main() -> int:
         seen["seq"] = agent.replica.seq
         count(len(deltas))
 
-    with RosSession() as ros:
+    # spun as the robot's agents are, on both sides (DsrNode.EXECUTOR: rclpy's EventsExecutor)
+    with RosSession(executor=DsrNode.EXECUTOR) as ros:
         if raw:
             ros.node.create_subscription(String, raw, lambda m: count(1), qos_stream())
         else:

@@ -1,5 +1,5 @@
 """The raw-rclpy baseline of the DSR server: republishes every String from one topic to another,
-with the same QoS, and nothing else. Usage: relay.py IN_TOPIC OUT_TOPIC"""
+with the same QoS and the server's executor, and nothing else. Usage: relay.py IN_TOPIC OUT_TOPIC"""
 
 import sys
 
@@ -7,6 +7,7 @@ import rclpy
 from rclpy.executors import ExternalShutdownException
 from std_msgs.msg import String
 
+from dsr_graph.ros.dsr_node import DsrNode
 from dsr_graph.ros.qos import qos_stream
 
 
@@ -16,7 +17,12 @@ def main() -> int:
     out = node.create_publisher(String, sys.argv[2], qos_stream())
     node.create_subscription(String, sys.argv[1], out.publish, qos_stream())
     try:
-        rclpy.spin(node)
+        # spun as the server is (DsrNode.spin_once: rclpy.spin with this executor kept a core
+        # busy and relayed nothing, in these wheels)
+        executor = DsrNode.EXECUTOR()
+        executor.add_node(node)
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=0.5)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
