@@ -105,6 +105,9 @@ class LatencyRig:
         tenth left out (warming up). This process waits for the reader without spinning, as the
         raw side does (a writer on the robot is not the reader's process); then, outside the
         timing, it lets the writer take its own delta and its verdict before the next change."""
+        # what came while this process waited (the other side's round, another rig's): a
+        # writer that heard no heartbeat for SERVER_SILENCE holds its requests until it does
+        self.ros.spin_for(0.1)
         out = []
         for i in range(first, first + n):
             verdict: list = []
