@@ -36,7 +36,7 @@ class LatencyRig:
     the robot: each side of the latency ratios sampled on demand, so that rounds of them can be
     interleaved (rounds.py). Until 2026-12-07 the reader was a second node in this process: the
     writer's replica and its durable notices then shared one executor with the reader's, and
-    the reader's callback waited its turn (0.25 ms of a change's 0.58, section 1's stages)."""
+    the reader's callback waited its turn (0.25 ms of a change's 0.64 in one run's stages)."""
 
     def __init__(self, procs: Procs, work: Path, domain: int, tag: str = ""):
         """``tag``: what this rig's files and node names end with (two rigs in one process)."""
