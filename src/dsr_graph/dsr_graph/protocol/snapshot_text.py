@@ -5,12 +5,9 @@ it uses: formats/dsr_json.to_columns). Pure."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
-
-import orjson
 
 from dsr_graph.formats import dsr_json
-from dsr_graph.model.binary import to_json_value
+from dsr_graph.model.binary import compact
 from dsr_graph.protocol.blobs import extract
 from dsr_graph.protocol.server_core import ServerCore
 
@@ -26,9 +23,5 @@ def snapshot_text(
         raise ValueError(f"unknown layout {layout!r} ('' or {dsr_json.COLUMNS!r})")
     snapshot, blobs = extract(core.snapshot(), known=known)
     if layout == dsr_json.COLUMNS:
-        snapshot = dsr_json.to_columns(snapshot, _element_text)
-    return orjson.dumps(snapshot, default=to_json_value).decode(), blobs
-
-
-def _element_text(item: dict[str, Any]) -> str:
-    return orjson.dumps(item, default=to_json_value).decode()
+        snapshot = dsr_json.to_columns(snapshot, compact)
+    return compact(snapshot), blobs

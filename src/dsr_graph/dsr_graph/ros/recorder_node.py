@@ -27,7 +27,6 @@ from pathlib import Path
 from typing import Any
 
 import mcap
-import orjson
 import yaml
 from ament_index_python.packages import PackageNotFoundError, get_package_share_directory
 from mcap.writer import Writer
@@ -45,7 +44,7 @@ from dsr_graph.formats.mcap_recording import (
     SCHEMA_ENCODING,
     message_definition,
 )
-from dsr_graph.model.binary import to_json_value
+from dsr_graph.model.binary import compact
 from dsr_graph.protocol import topic_names
 from dsr_graph.ros.agent import DsrAgent
 from dsr_graph.ros.dsr_node import DsrNode, main_for
@@ -258,12 +257,12 @@ class Recorder(DsrNode):
         if resynced:  # the graph as the replica holds it now (the drained deltas included)
             doc = dsr_json.to_json(self.agent.graph, "snapshot", seq=self.agent.replica.seq)
             doc["claims"] = self.agent.replica.claims.to_json()
-            self._write(self.snapshot_topic, serialize_message(String(data=_text(doc))))
+            self._write(self.snapshot_topic, serialize_message(String(data=compact(doc))))
             return
         for delta in deltas:
             stamp = delta.get("stamp")
             stamp_ns = int(stamp * 1e9) if isinstance(stamp, (int, float)) else None
-            self._write(self.deltas_topic, serialize_message(String(data=_text(delta))), stamp_ns)
+            self._write(self.deltas_topic, serialize_message(String(data=compact(delta))), stamp_ns)
 
     # ------------------------------------------------------------------ discovery
     def _discover(self) -> None:
@@ -304,10 +303,6 @@ class Recorder(DsrNode):
     def _skip(self, topic: str, why: str) -> None:
         self._skipped.add(topic)
         self.get_logger().warning(f"not recording {topic}: {why}")
-
-
-def _text(doc: dict[str, Any]) -> str:
-    return orjson.dumps(doc, default=to_json_value).decode()
 
 
 main = main_for(Recorder)
