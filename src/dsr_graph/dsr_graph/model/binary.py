@@ -275,9 +275,9 @@ def dumps(doc: Any, **kwargs: Any) -> str:
 def compact(doc: Any) -> str:
     """Compact JSON text of a document that may hold binary values, by orjson: what goes on the
     DSR's hot path (each request, delta, journal line and notice), snapshots and recordings;
-    0.8 us for a one-op delta
-    against json.dumps's 9 (issue 35). Its text differs from json.dumps's only in spelling
-    (no spaces, UTF-8 kept, floats as ``1e-5``) and at what safe_json refuses on the way in:
+    0.8 us for a one-op delta against json.dumps's 9 (issue 35). Its text differs from
+    json.dumps's only in spelling (no spaces, UTF-8 kept, floats as ``1e-5``) and at what
+    safe_json refuses on the way in:
     a NaN is written null (json.dumps wrote NaN, which is no JSON), an integer beyond 64 bits
     is a TypeError."""
     return orjson.dumps(doc, default=_compact_value).decode()
