@@ -64,6 +64,7 @@ def dsr_run(work: Path, domain: int, tag: str, k: int, n: int, batch: int = 1) -
                 {"ops": [{"op": "insert_node", "name": "bench", "type": "transform"}]}, ok.append
             )
             ros.spin_until(lambda: ok, 10, "set-up")
+            ros.spin_for(1.0)  # as the relay's run: discovery's first announcements are over
             answered, t0 = [0], time.time()
             for i in range(n):
                 while batch == 1 and i - answered[0] >= WINDOW:
