@@ -48,6 +48,8 @@ PIP = {  # import name -> PyPI name
     "pocketsphinx": "pocketsphinx",
     "soxr": "soxr",
     "faster_whisper": "faster-whisper",
+    "onnxruntime": "onnxruntime",
+    "tokenizers": "tokenizers",
     "text_to_num": "text2num",
 }
 

@@ -1,7 +1,8 @@
 """Which recogniser hears the patient (``asr`` node's ``recogniser`` parameter, ``clarc hear
 --recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), with
 pocketsphinx's second opinion on the words and serial answers it is not sure of, then Whisper
-base's on those still not sure (``second_opinion.py``: loaded the first time it is asked); or
+base's on those still not sure, then Moonshine base's on serial answers still not sure
+(``second_opinion.py``: each of the last two loaded the first time it is asked); or
 pocketsphinx alone, the one before it, kept to compare. Each loads its model when made (a
 second or two) and gives ``hear_item(samples, item) -> (Heard, how)``."""
 
@@ -35,7 +36,12 @@ def open_recogniser(name: str = DEFAULT, language: str = "en"):
         def larger() -> WhisperRecogniser:
             return WhisperRecogniser(language, model=WHISPER_BASE)
 
-        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE, larger)
+        def other():
+            from clarc_agents.asr.moonshine import MoonshineRecogniser
+
+            return MoonshineRecogniser()
+
+        return SecondOpinion(WhisperRecogniser(), Recogniser(), MIN_CONFIDENCE, larger, other)
     from clarc_agents.asr.recogniser import Recogniser
 
     return Recogniser()

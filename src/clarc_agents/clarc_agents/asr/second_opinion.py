@@ -38,6 +38,14 @@ counts only as the repair counts a second utterance (questionnaire/agreement.py)
 answer (``heard_alike``: a serial answer's numbers in order, a words answer's words but its
 articles), each hearing at least ``BOTH_AT_LEAST`` sure on its own; and it is asked only then,
 so that it costs nothing when it could not count (BENCHMARKS.md section 9e).
+
+Another family's opinion (``other``: Moonshine base, moonshine.py, loaded when first needed) on
+a serial answer still not sure after those: a model made apart from Whisper, whose mistakes on
+the benchmark's serial answers were not Whisper's (of the 39 Whisper misheard and left unsure,
+it heard none the same way; section 9g). Its agreement (``heard_alike``: the same numbers in
+order) counts as an independent hearing, each at least ``OTHER_AT_LEAST`` sure on its own.
+Words answers are left out: it heard them the same as Whisper too seldom to pay (3 of 62
+unsure ones on that audio) and once made one wrong ("a pen or a pencil").
 """
 
 from __future__ import annotations
@@ -68,6 +76,10 @@ IGNORED = (frozenset(ABSORBERS) | frozenset(MUMBLING) | frozenset(SERIAL_SOAKING
 # each of two Whisper models that agree must be at least this sure on its own (section 9e: at
 # 0.35, "93, 87, 87, 73." heard by both at 0.37 and 0.44 was scored wrong)
 BOTH_AT_LEAST = 0.4
+# another family's opinion: the kinds it is asked about, and how sure each hearing must be on
+# its own for their agreement to count (section 9g)
+OTHER_KINDS = ("serial",)
+OTHER_AT_LEAST = 0.1
 
 
 def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
@@ -130,14 +142,23 @@ def heard_alike(item: Item, first: str, second: str) -> bool:
 
 class SecondOpinion:
     """Whisper, with pocketsphinx's opinion on the words and serial answers it is not sure of,
-    then a larger model's (``larger``: made when first asked for) on those still not sure
-    (``hear_item`` as each recogniser's; ``how`` is ``confirmed`` when another agreed)."""
+    then a larger model's (``larger``: made when first asked for) on those still not sure, then
+    another family's (``other``, the same) on serial answers still not sure (``hear_item`` as
+    each recogniser's; ``how`` is ``confirmed`` when another agreed)."""
 
     name = "whisper"
 
-    def __init__(self, first, second, min_confidence: float, larger: Callable | None = None):
+    def __init__(
+        self,
+        first,
+        second,
+        min_confidence: float,
+        larger: Callable | None = None,
+        other: Callable | None = None,
+    ):
         self.first, self.second, self.min_confidence = first, second, min_confidence
         self._make_larger, self._larger = larger, None
+        self._make_other, self._other = other, None
 
     def hear_item(self, samples, item: Item | None) -> tuple[Heard, str]:
         heard, how = self.first.hear_item(samples, item)
@@ -151,6 +172,9 @@ class SecondOpinion:
         both = confirmed(item, heard, other, vocabulary)
         if both.confidence < self.min_confidence and heard.confidence >= BOTH_AT_LEAST:
             both = self._asked_larger(samples, item, heard, both)
+        if both.confidence < self.min_confidence and both.confidence >= OTHER_AT_LEAST:
+            if item.kind in OTHER_KINDS:
+                both = self._asked_other(samples, item, both)
         return both, "confirmed" if both.confirmed_by else how
 
     def _asked_larger(self, samples, item: Item, heard: Heard, so_far: Heard) -> Heard:
@@ -165,3 +189,16 @@ class SecondOpinion:
             return so_far
         both = independent(so_far.confidence, larger.confidence)
         return replace(so_far, confidence=both, confirmed_by=so_far.confirmed_by or larger.text)
+
+    def _asked_other(self, samples, item: Item, so_far: Heard) -> Heard:
+        """``so_far`` made surer by another family's hearing of the same answer, at least
+        ``OTHER_AT_LEAST`` sure; as it was otherwise (or with none)."""
+        if self._make_other is None:
+            return so_far
+        if self._other is None:
+            self._other = self._make_other()
+        text, confidence = self._other.hear(samples)
+        if confidence < OTHER_AT_LEAST or not heard_alike(item, so_far.text, text):
+            return so_far
+        both = independent(so_far.confidence, confidence)
+        return replace(so_far, confidence=both, confirmed_by=so_far.confirmed_by or text)
