@@ -194,3 +194,19 @@ def test_the_dictionary_is_pocketsphinx_s():
 
     known = Recogniser().known
     assert known("pencil") and known("don't") and not known("appiancil")
+
+
+def test_the_larger_model_is_never_asked_about_a_serial_answer():
+    """Two Whispers share their mistakes on numbers ("94, 87, 87, 73." for "... eighty seven,
+    eighty, seventy three", both at least 0.4 sure): a serial answer gets another family's
+    opinion instead (BENCHMARKS.md section 9g)."""
+    made = []
+
+    def larger():
+        made.append(1)
+        return _Fixed(Heard("94, 87, 87, 73.", 0.9, 0, 1))
+
+    second = _Fixed(Heard("one", 0.2, 0, 1), ("one",))
+    unsure = _Fixed(Heard("94, 87, 87, 73.", 0.45, 0, 1))
+    heard, how = SecondOpinion(unsure, second, 0.5, larger).hear_item(None, SERIAL)
+    assert made == [] and heard.confidence == 0.45 and how == "vocabulary"

@@ -1,7 +1,7 @@
 """Which recogniser hears the patient (``asr`` node's ``recogniser`` parameter, ``clarc hear
 --recogniser``): Whisper by default, chosen by measurement (BENCHMARKS.md section 9), with
 pocketsphinx's second opinion on the words and serial answers it is not sure of, then Whisper
-base's on those still not sure, then Moonshine base's on serial answers still not sure
+base's on words answers still not sure and Moonshine base's on serial answers still not sure
 (``second_opinion.py``: each of the last two loaded the first time it is asked); or
 pocketsphinx alone, the one before it, kept to compare. Each loads its model when made (a
 second or two) and gives ``hear_item(samples, item) -> (Heard, how)``."""

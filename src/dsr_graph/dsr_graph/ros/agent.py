@@ -284,12 +284,7 @@ class DsrAgent:
         """Synced with the server, and both directions matched: requests reach the server and
         its deltas reach us (before that, a delta would only be recovered by a resync); and the
         server counts it alive (``_say_present``)."""
-        return (
-            self.synced
-            and self._tx_pub.get_subscription_count() > 0
-            and self._delta_sub.get_publisher_count() > 0
-            and self._presence_readers > 0
-        )
+        return self.synced and self._link_matched() and self._presence_readers > 0
 
     # ------------------------------------------------------------------ sending
     def next_id(self) -> str:
