@@ -82,11 +82,11 @@ BOTH_AT_LEAST = 0.4
 # another family's opinion: the kinds it is asked about, and how sure each hearing must be on
 # its own for their agreement to count (section 9g)
 OTHER_KINDS = ("serial",)
+OTHER_AT_LEAST = 0.1
 # the larger model is asked about words answers only: on serial answers its agreement with
 # tiny.en made one wrong ("94, 87, 87, 73." for "... eighty seven, eighty, seventy three", both
 # at least 0.4 sure), and with Moonshine asked in its place 6 right ones of 460 were lost
 LARGER_KINDS = ("words",)
-OTHER_AT_LEAST = 0.1
 
 
 def wanted(item: Item | None, heard: Heard, min_confidence: float) -> bool:
