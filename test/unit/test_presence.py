@@ -52,16 +52,19 @@ def test_a_process_killed_after_its_successor_was_up_is_told_ended_once():
 
 
 def test_an_answer_given_in_a_cut_waits_for_the_link_to_come_back():
-    # Speech and Panel keep an answer given before its window opened for PATIENCE seconds; in a
-    # network cut that moment counts from when the server is heard again.
+    # Speech and Panel keep an answer given before its window opened for PATIENCE seconds once
+    # the robot has begun another sentence; in a network cut that moment counts from when the
+    # server is heard again.
     clock = [0.0]
     gap = [NO_GAP]
     early = EarlyAnswer(lambda: clock[0], lambda: gap[0])
     early.keep(10, "bathing")
+    early.asked()  # the patient answered while the options were read; the request followed
     clock[0] = 6.0  # the heartbeat was last heard at 0.5 and came back at 5.5
     gap[0] = (0.5, 5.5)
     assert early.take("bathing") == 10
     early.keep(10, "bathing")
+    early.asked()
     clock[0] = 9.0  # no cut since: 3 s is too late
     assert early.take("bathing") is None
 
@@ -69,14 +72,36 @@ def test_an_answer_given_in_a_cut_waits_for_the_link_to_come_back():
 def test_an_answer_stale_before_the_cut_stays_stale():
     clock, early = [30.0], EarlyAnswer(lambda: 30.0, lambda: (20.0, 29.5))
     early.keep(5, "stairs")  # kept at 30... after the gap: the usual patience
+    early.asked()
     assert early.take("stairs") == 5
     early = EarlyAnswer(lambda: clock[0], lambda: (20.0, 29.5))
     clock[0] = 10.0
     early.keep(5, "stairs")  # 10 s before the link went down
+    early.asked()
     clock[0] = 30.0
     assert early.take("stairs") is None
     early.keep(5, "feeding")
     assert early.take("stairs") is None  # another item's answer is never taken
+
+
+def test_an_answer_to_the_last_sentence_waits_for_a_window_held_after_it():
+    # a chaos run: the options said again, the patient answered at once, and PELEA held the
+    # window 4 s for a restarting Panel; the answer is to that sentence however late it opens
+    clock = [0.0]
+    early = EarlyAnswer(lambda: clock[0])
+    early.asked()  # "Let me say the options again..."
+    clock[0] = 1.0
+    early.keep("I need some help", "dressing")
+    clock[0] = 60.0  # held for a minute, nothing said meanwhile
+    assert early.take("dressing") == "I need some help"
+    assert early.take("dressing") is None  # taken once
+    early.keep("I need some help", "dressing")
+    early.asked()  # the robot began another sentence: only the moment counts now
+    clock[0] = 63.0
+    assert early.take("dressing") is None
+    early.keep("two", "dressing")
+    assert early.take("bathing") is None  # another item's window drops it
+    assert early.take("dressing") is None
 
 
 def test_an_agent_whose_request_publisher_is_alive_is_not_gone_whatever_the_ros_graph_lists():

@@ -47,6 +47,7 @@ class PanelBehaviour:
         return {"show": self.show, "clear": self.clear}
 
     def show(self, ctx: ActionContext) -> str:
+        self._early.asked()
         self.screen.display(
             {
                 "sid": ctx["sid"],

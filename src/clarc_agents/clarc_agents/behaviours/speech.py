@@ -75,6 +75,7 @@ class SpeechBehaviour:
     # -- say / stop -------------------------------------------------------------------------
     def say(self, ctx: ActionContext) -> None:
         sid = int(ctx["sid"])
+        self._early.asked()
         self.speaking[sid] = ctx
         self._sends[sid] = 0
         self._send(sid)
