@@ -213,6 +213,93 @@ def test_a_words_answer_is_not_doubted_for_its_articles_but_for_its_hedges(whisp
     assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.15)
 
 
+def test_an_article_is_looked_into_even_in_an_answer_with_words_the_dsr_does_not_expect(
+    whisper, monkeypatch
+):
+    """ "A car, a dog and a table." (registration, one point) was sent to the clinician at 0.20
+    for its first "A" (0.16; " The", " a" and " Car" shared the decoder's mass there): which
+    article was said, or none, changes no reading, so an article's other tokens are looked into
+    even where the answer has words the DSR does not expect ("car", "dog"); those words' own
+    places still are not."""
+    from clarc_agents.asr.whisper import TOKEN_DOUBT
+
+    registration = expectation_for(definitions.load("mmse").item("registration"))
+    said = "A car, a dog and a table."
+    assert registration.unexpected(said) == ["car", "dog"]
+    encode = whisper.tokenizer.encode
+    ids = encode(" " + said)
+    the, car, cart = encode(" The")[0], encode(" Car")[0], encode(" cart")[0]
+    spread = [np.full(whisper.tokenizer.eot + 1, 1e-9) for _ in ids]
+    for k, token in enumerate(ids):
+        spread[k][token] = 0.95
+    spread[0][ids[0]], spread[0][the], spread[0][car] = 0.16, 0.3, 0.3
+    spread[1][ids[1]], spread[1][cart] = 0.3, 0.6  # " car": a word of the decoder's own
+    probs = [float(spread[k][t]) for k, t in enumerate(ids)]
+    decoded_on = {the: "The car, a dog and a table.", car: "Car, a dog and a table."}
+    decoded_on[cart] = "A cart, a dog and a table."
+    monkeypatch.setattr(whisper, "_spread", lambda encoded, prompt, ids: spread)
+    monkeypatch.setattr(
+        whisper, "_decoded_on", lambda encoded, starts: [decoded_on[s[-1]] for s in starts]
+    )
+    doubt = whisper._doubt(None, [], ids, probs, registration, said)
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.3)  # the article's doubt is gone
+    decoded_on[car] = "Car, a dog or a table."  # a hedge after all: that token is no article's
+    doubt = whisper._doubt(None, [], ids, probs, registration, said)
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.3)  # " car" still bounds it
+    spread[1][ids[1]] = 0.95
+    probs = [float(spread[k][t]) for k, t in enumerate(ids)]
+    doubt = whisper._doubt(None, [], ids, probs, registration, said)
+    assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.46)
+
+
+def test_a_words_answer_must_beat_a_hedge_in_place_of_its_least_sure_words():
+    """ "A pen for a pencil." for "a pen or a pencil" credits the pencil; the hedge that was
+    said credits nothing: that reading, worth less, is a rival too (whisper._hedged)."""
+    from clarc_agents.asr.whisper import _hedged
+
+    naming = expectation_for(definitions.load("mmse").item("naming"))
+    said = [("A", 0.2), ("pen", 0.9), ("for", 0.45), ("a", 0.9), ("pencil.", 0.95)]
+    assert naming.meaning("A pen for a pencil.") == ("answer", 1)
+    assert _hedged(said, naming, ("or",)) == ["A pen or a pencil."]  # "or pen ..." same points
+    already = [("A", 0.2), ("pen", 0.9), ("or", 0.45), ("a", 0.9), ("pencil.", 0.95)]
+    assert _hedged(already, naming, ("or",)) == []
+    attention = expectation_for(definitions.load("mmse").item("attention"))
+    assert _hedged([("93,", 0.3), ("86.", 0.4)], attention, ("or",)) == []  # words answers only
+
+
+def test_a_serial_answer_s_narration_is_doubted_as_words_and_its_numbers_as_numbers(whisper):
+    """Narrated serial answers were sent to the clinician for the least sure of "minus",
+    "seven" (the step), "is", "in" or the start "100" (0.34 to 0.5), none of them a number
+    the instrument scores: those words are doubted as a words answer's are, the numbers given
+    (however split: "90, three") and every other word as a serial answer's."""
+    from clarc_agents.asr.whisper import TOKEN_DOUBT
+
+    attention = expectation_for(definitions.load("mmse").item("attention"))
+    encode, decode = whisper.tokenizer.encode, whisper.tokenizer.decode
+
+    def scales(text):
+        ids = encode(text)
+        pairs = zip(ids, whisper._scales(ids, attention), strict=True)
+        return [(decode([t]).strip(), s) for t, s in pairs]
+
+    words_, serial = TOKEN_DOUBT["words"], TOKEN_DOUBT["serial"]
+    narrated = scales(" One hundred minus seven is ninety-three, minus 7 in 86.")
+    assert [w for w, s in narrated if s == words_] == [
+        *("One", "hundred", "minus", "seven", "is"),
+        *("minus", "7", "in"),
+    ]
+    assert [w for w, s in narrated if s == serial] == ["ninety", "-", "three", ",", "86", "."]
+    assert {s for _, s in scales(" 90, three, 86.")} == {serial}
+    # any other word keeps a number's doubt: "80, and minus seven" was "eighty seven, minus
+    # seven" at 20 dB, its "and" the number's; a 100 said later is no start
+    assert {s for _, s in scales(" 93, I think 86, 100.")} == {serial}
+    hidden = scales(" 94, minus seven is 80, and minus seven is 80.")
+    assert [w for w, s in hidden if s == words_] == ["minus", "seven", "is"] * 2
+    naming = expectation_for(definitions.load("mmse").item("naming"))
+    ids = encode(" A pencil and a watch.")
+    assert set(whisper._scales(ids, naming)) == {words_}
+
+
 def _in_white_noise(text: str, snr_db: float, seed: int) -> np.ndarray:
     from clarc_sim.devices.sound import RoomNoise, Voice, mixed, noise_level, speak, speech_rms
 

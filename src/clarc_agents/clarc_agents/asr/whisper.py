@@ -13,10 +13,15 @@ number Whisper could write two ways is not doubted for it, while "87" against "8
 "A wristwatch" and "Wristwatch" are one, "pen or pencil" and "pen, pencil" are not.
 The ``DOUBT_PLACES`` least sure tokens are looked into when they alone would leave the answer
 unsure: the decoder's ``ALTERNATIVES`` likeliest other tokens there, each decoded on to the end
-of the answer. And a words or serial answer heard worth less than every point must beat the
-readings worth more (all of it, or a missing part in place of one of the least sure words),
-forced through the decoder too: one at least a fifth as likely leaves the robot unsure, so a
-misheard "ands" or "watch" goes to the clinician rather than costing a point.
+of the answer (an article always: which one was said, or none, is no reading's). The words
+that narrate a serial answer's numbers ("minus seven is", the start said first) are doubted as
+a words answer's words are, its numbers as numbers (``_scales``).
+And a words or serial answer heard worth less than every point must beat the readings worth
+more (all of it, or a missing part in place of one of the least sure words), forced through the
+decoder too: one at least a fifth as likely leaves the robot unsure, so a misheard "ands" or
+"watch" goes to the clinician rather than costing a point; so must a words answer the readings
+with a hedge ("or") in place of one of its least sure words, where that changes its points ("A
+pen for a pencil." against "A pen or a pencil.").
 
 A choose item whose best transcript means nothing ("So.", "City.") is rescored: each way of
 choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
@@ -44,6 +49,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from clarc_agents import languages
 from clarc_agents.asr.audio import RATE, dithered
 from clarc_agents.asr.expectations import FREE, Expectation, expectation_for
 from clarc_agents.asr.models import WHISPER_BASE, WHISPER_TINY_EN, ModelFiles, verified_folder
@@ -82,6 +88,9 @@ LOOKED_INTO = ("serial", "words")
 # over the odds of the likeliest reading worth more (at Speech's 0.5: such a reading may be at
 # most a fifth as likely as what was heard); checked only for answers sure enough otherwise
 RIVAL_ODDS = 0.1
+# a hedge in place of a word heard (``_hedged``): at Speech's 0.5 it may be at most a twentieth
+# as likely ("A pen for a pencil." was sure at 0.56 with "A pen or a pencil." 0.14 as likely)
+HEDGE_ODDS = 0.025
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
 LOOP = 3  # one sentence this many times in a row is the decoder running away, not an answer
@@ -204,6 +213,9 @@ class WhisperRecogniser:
             if confidence >= CHECKED_ABOVE:
                 rivals = _better_readings(said, expectation)
                 confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
+                hedged = _hedged(said, expectation, languages.get(self.language).hedges)
+                beaten = self._beaten_by(encoded, frames, prompt, said, hedged, HEDGE_ODDS)
+                confidence = min(confidence, beaten)
         return Heard(best, confidence, start, end)
 
     def _spread(self, encoded, prompt: list[int], ids: list[int]) -> list[np.ndarray]:
@@ -227,12 +239,17 @@ class WhisperRecogniser:
         (``probs``, forced), with those of the other tokens there that lead to the same reading
         (a words answer's only if the DSR expects each of its words), times the kind's
         ``TOKEN_DOUBT``."""
-        scale = TOKEN_DOUBT[expectation.kind]
+        scales = self._scales(ids, expectation)
         sure = [float(p) for p in probs]
         places = [k for k, t in enumerate(ids) if any(c.isalnum() for c in self._text([t]))]
         doubted = []
-        if expectation.kind in LOOKED_INTO and not expectation.unexpected(best):
-            unsure = [k for k in places if scale * sure[k] < LOOKED_INTO_BELOW]
+        if expectation.kind in LOOKED_INTO:
+            expected = not expectation.unexpected(best)
+            unsure = [
+                k
+                for k in places
+                if scales[k] * sure[k] < LOOKED_INTO_BELOW and (expected or self._article(ids[k]))
+            ]
             doubted = sorted(unsure, key=sure.__getitem__)[:DOUBT_PLACES]
         if doubted:
             spread = self._spread(encoded, prompt, ids)
@@ -247,7 +264,44 @@ class WhisperRecogniser:
             for (k, t), text in zip(others, self._decoded_on(encoded, starts), strict=True):
                 if (expectation.reading(text), expectation.meaning(text)) == reading:
                     sure[k] += float(spread[k][t])
-        return min((min(1.0, scale * sure[k]) for k in places), default=0.0)
+        return min((min(1.0, scales[k] * sure[k]) for k in places), default=0.0)
+
+    def _article(self, token: int) -> bool:
+        """Whether ``token`` is an article: which one was said, or none, is no reading's."""
+        articles = languages.get(self.language).articles
+        return self.tokenizer.decode([token]).strip().lower() in articles
+
+    def _scales(self, ids: list[int], expectation: Expectation) -> list[float]:
+        """Each token's ``TOKEN_DOUBT``: a serial answer's the kind's, but for the words that
+        narrate its numbers (an operator, the step after it, the word after that: "minus seven
+        is"; the start said first), a words answer's. Any other word keeps the kind's: "80, and
+        minus seven" was "eighty seven, minus seven", its "and" the number's."""
+        scale = TOKEN_DOUBT[expectation.kind]
+        if expectation.kind != "serial" or len(expectation.numbers) < 2:
+            return [scale] * len(ids)
+        start = str(2 * expectation.numbers[0] - expectation.numbers[1])
+        operators = set(languages.get(self.language).operators)
+        said = words(self._text(ids), self.language)
+        first = next((i for i, w in enumerate(said) if w.isdigit()), None)
+        narrating = [
+            w in operators
+            or (i == first and w == start)
+            or (i > 0 and said[i - 1] in operators and w.isdigit())  # the step
+            or (i > 1 and said[i - 2] in operators and not w.isdigit())  # its "is"
+            for i, w in enumerate(said)
+        ]
+        scales, word = [scale] * len(ids), []
+        for k in range(len(ids)):
+            word.append(k)
+            if k + 1 < len(ids) and not self.tokenizer.decode([ids[k + 1]]).startswith(" "):
+                continue
+            # a word ends here; the said word it ends in ("One hundred" is one: "100")
+            owner = len(words(self._text(ids[: k + 1]), self.language)) - 1
+            if 0 <= owner < len(said) and narrating[owner]:
+                for t in word:
+                    scales[t] = TOKEN_DOUBT["words"]
+            word = []
+        return scales
 
     def _decoded_on(self, encoded, starts: list[list[int]]) -> list[str]:
         """What each of ``starts`` (a prompt and the first tokens of an answer) becomes,
@@ -276,9 +330,9 @@ class WhisperRecogniser:
                 out[-1][1] = min(out[-1][1], p)
         return [(w.strip(), p) for w, p in out if any(c.isalnum() for c in w)]
 
-    def _beaten_by(self, encoded, frames, prompt, said, rivals: list[str]) -> float:
+    def _beaten_by(self, encoded, frames, prompt, said, rivals: list[str], allowed=RIVAL_ODDS):
         """A bound on the confidence in the words ``said``: how much less likely than they are
-        the likeliest of ``rivals`` (readings worth more) is, over ``RIVAL_ODDS``."""
+        the likeliest of ``rivals`` (readings worth more) is, over ``allowed``."""
         if not rivals:
             return 1.0
         heard, *scores = self._forced_all(
@@ -286,7 +340,7 @@ class WhisperRecogniser:
         )
         best_rival = max(scores)
         odds = math.exp(min(best_rival - heard, 50.0))  # P(rival) / P(heard)
-        return min(1.0, RIVAL_ODDS / odds)
+        return min(1.0, allowed / odds)
 
     def _rescored(self, encoded, frames, prompt, expectation, free, start, end) -> Heard:
         """The candidates and the free transcript forced through the decoder; the best of them
@@ -354,6 +408,27 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
         if meaning is not None and meaning[0] == "answer" and meaning[1] > worth:
             better.append(reading)
     return better
+
+
+def _hedged(said: list[tuple[str, float]], expectation: Expectation, hedges) -> list[str]:
+    """A words answer's rivals with a hedge ("or") in place of one of its ``RIVAL_PLACES``
+    least sure words, where that changes what it is worth: "A pen for a pencil." (the pencil
+    credited) for "a pen or a pencil" (nothing: a hedge) was sure at 0.56 once its first
+    article was no longer doubted, "or" a rival worth less that no other check tried."""
+    if expectation.kind != "words":
+        return []
+    text = " ".join(w for w, _ in said)
+    heard = expectation.meaning(text)
+    unsure = sorted(range(len(said)), key=lambda k: said[k][1])[:RIVAL_PLACES]
+    rivals = []
+    for k in unsure:
+        for hedge in hedges:
+            if said[k][0].strip(",.;:!?").lower() == hedge:
+                continue
+            reading = " ".join([*(w for w, _ in said[:k]), hedge, *(w for w, _ in said[k + 1 :])])
+            if expectation.meaning(reading) != heard:
+                rivals.append(reading)
+    return rivals
 
 
 def _put_right(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
