@@ -102,6 +102,11 @@ def test_an_answer_to_the_last_sentence_waits_for_a_window_held_after_it():
     early.keep("two", "dressing")
     assert early.take("bathing") is None  # another item's window drops it
     assert early.take("dressing") is None
+    # an agent that never sees the robot's sentences (Person's eyes): the moment alone counts
+    early = EarlyAnswer(lambda: clock[0])
+    early.keep(1, "reading")
+    clock[0] = 70.0
+    assert early.take("reading") is None
 
 
 def test_an_agent_whose_request_publisher_is_alive_is_not_gone_whatever_the_ros_graph_lists():

@@ -26,7 +26,8 @@ signals.connect(
 signals.connect(g, signals.DELETE_EDGE, lambda fr, to, type: out("DELETE_EDGE", fr, to, type))
 signals.connect(g, signals.DELETE_NODE, lambda id: out("DELETE_NODE", id))
 signals.connect(g, signals.DELETE_NODE_OBJ, lambda node: out("DELETE_NODE_OBJ", node.name))
-out("READY", g.get_id_from_name("room"))
+# the agents' own info nodes it already has: their later state changes are not the writer's
+out("READY", g.get_id_from_name("room"), sorted(n.id for n in g.get_nodes_by_type("agent")))
 while not os.path.exists(sys.argv[1]):
     time.sleep(0.05)
 g.write_to_json_file(sys.argv[2])

@@ -2,11 +2,12 @@
 finish asking): kept a moment, and used if a window for the same item opens in time. Speech
 keeps words, Panel a tap, a drawing or the shapes touched (pure).
 
-An answer to the last sentence the robot began is kept until the window opens, however late:
-PELEA may hold the window's opening after asking (an agent it needs restarting: a chaos run
-killed Panel just as the options were said again, the patient answered at once and the window
-opened 4 s later, its answer dropped and the item left unanswered). Once the robot begins
-another sentence, the answer was to an earlier one and only the moment counts.
+An answer to the last sentence the robot began (for the agents that see them: Speech, Panel) is
+kept until the window opens, however late: PELEA may hold the window's opening after asking (an
+agent it needs restarting: a chaos run killed Panel just as the options were said again, the
+patient answered at once and the window opened 4 s later, its answer dropped and the item left
+unanswered). Once the robot begins another sentence, the answer was to an earlier one and only
+the moment counts.
 
 On a network cut the patient may answer a question the agent showed while the window's opening
 is held on the far side of the link: if the server went out of the agent's reach while the
@@ -31,11 +32,14 @@ class EarlyAnswer:
         self.now = now
         self.server_gap = server_gap  # the server's last silence: (last heard before, heard again)
         self._kept: tuple[Any, str, float] | None = None  # (answer, item shown, when)
-        self._asked_since = False  # the robot began a sentence after what is kept
+        # whether the robot began a sentence after what is kept; None for an agent that does
+        # not see the robot's sentences (Person's eyes): the moment alone counts there
+        self._asked_since: bool | None = None
 
     def keep(self, answer: Any, item: str) -> None:
         self._kept = (answer, item, self.now())
-        self._asked_since = False
+        if self._asked_since is not None:
+            self._asked_since = False
 
     def asked(self) -> None:
         """The robot began a sentence: what is kept now answers an earlier one."""
@@ -51,7 +55,7 @@ class EarlyAnswer:
         kept, self._kept = self._kept, None
         if kept is None or kept[1] != item:
             return None
-        if not self._asked_since:
+        if self._asked_since is False:
             return kept[0]
         since = kept[2]
         went, came = self.server_gap()
