@@ -252,19 +252,26 @@ def test_an_article_is_looked_into_even_in_an_answer_with_words_the_dsr_does_not
     assert doubt == pytest.approx(TOKEN_DOUBT["words"] * 0.46)
 
 
-def test_a_words_answer_must_beat_a_hedge_in_place_of_its_least_sure_words():
-    """ "A pen for a pencil." for "a pen or a pencil" credits the pencil; the hedge that was
-    said credits nothing: that reading, worth less, is a rival too (whisper._hedged)."""
+def test_a_words_answer_must_beat_a_hedge_in_place_of_its_words():
+    """ "A pen for a pencil." and "A pen for the pencil." for "a pen or a pencil" credit the
+    pencil; the hedge that was said credits nothing: the readings with "or" in place of a word,
+    the article after it as heard or another, are rivals where they are worth otherwise
+    (whisper._hedged)."""
     from clarc_agents.asr.whisper import _hedged
 
     naming = expectation_for(definitions.load("mmse").item("naming"))
-    said = [("A", 0.2), ("pen", 0.9), ("for", 0.45), ("a", 0.9), ("pencil.", 0.95)]
+    articles = ("a", "an", "the")
+
+    def rivals(text):
+        return _hedged([(w, 0.5) for w in text.split()], naming, ("or",), articles)
+
     assert naming.meaning("A pen for a pencil.") == ("answer", 1)
-    assert _hedged(said, naming, ("or",)) == ["A pen or a pencil."]  # "or pen ..." same points
-    already = [("A", 0.2), ("pen", 0.9), ("or", 0.45), ("a", 0.9), ("pencil.", 0.95)]
-    assert _hedged(already, naming, ("or",)) == []
+    assert "A pen or a pencil." in rivals("A pen for a pencil.")
+    assert {"A pen or the pencil.", "A pen or a pencil."} <= set(rivals("A pen for the pencil."))
+    assert all(naming.meaning(r) != ("answer", 1) for r in rivals("A pen for the pencil."))
+    assert "A pen or a pencil." not in rivals("A pen or a pencil.")  # a hedge heard already
     attention = expectation_for(definitions.load("mmse").item("attention"))
-    assert _hedged([("93,", 0.3), ("86.", 0.4)], attention, ("or",)) == []  # words answers only
+    assert _hedged([("93,", 0.3), ("86.", 0.4)], attention, ("or",), articles) == []
 
 
 def test_a_serial_answer_s_narration_is_doubted_as_words_and_its_numbers_as_numbers(whisper):

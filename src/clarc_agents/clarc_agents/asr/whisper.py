@@ -19,9 +19,9 @@ a words answer's words are, its numbers as numbers (``_scales``).
 And a words or serial answer heard worth less than every point must beat the readings worth
 more (all of it, or a missing part in place of one of the least sure words), forced through the
 decoder too: one at least a fifth as likely leaves the robot unsure, so a misheard "ands" or
-"watch" goes to the clinician rather than costing a point; so must a words answer the readings
-with a hedge ("or") in place of one of its least sure words, where that changes its points ("A
-pen for a pencil." against "A pen or a pencil.").
+"watch" goes to the clinician rather than costing a point; a words answer must also beat, by
+twenty to one (``HEDGE_ODDS``), the readings with a hedge ("or") in place of one of its words
+where that changes its points ("A pen for the pencil." against "A pen or a pencil.").
 
 A choose item whose best transcript means nothing ("So.", "City.") is rescored: each way of
 choosing an option (its number, "option N", its text) and each way of choosing none ("I don't
@@ -89,7 +89,8 @@ LOOKED_INTO = ("serial", "words")
 # most a fifth as likely as what was heard); checked only for answers sure enough otherwise
 RIVAL_ODDS = 0.1
 # a hedge in place of a word heard (``_hedged``): at Speech's 0.5 it may be at most a twentieth
-# as likely ("A pen for a pencil." was sure at 0.56 with "A pen or a pencil." 0.14 as likely)
+# as likely ("A pen for a pencil." was sure at 0.56 with "A pen or a pencil." 0.14 as likely,
+# "A pen for the pencil." at 0.55 with it 0.07 as likely)
 HEDGE_ODDS = 0.025
 CHECKED_ABOVE = 0.3
 RIVAL_PLACES = 2  # a missing part is tried in place of each of the least sure words heard
@@ -213,7 +214,8 @@ class WhisperRecogniser:
             if confidence >= CHECKED_ABOVE:
                 rivals = _better_readings(said, expectation)
                 confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
-                hedged = _hedged(said, expectation, languages.get(self.language).hedges)
+                said_in = languages.get(self.language)
+                hedged = _hedged(said, expectation, said_in.hedges, said_in.articles)
                 beaten = self._beaten_by(encoded, frames, prompt, said, hedged, HEDGE_ODDS)
                 confidence = min(confidence, beaten)
         return Heard(best, confidence, start, end)
@@ -410,25 +412,31 @@ def _better_readings(said: list[tuple[str, float]], expectation: Expectation) ->
     return better
 
 
-def _hedged(said: list[tuple[str, float]], expectation: Expectation, hedges) -> list[str]:
-    """A words answer's rivals with a hedge ("or") in place of one of its ``RIVAL_PLACES``
-    least sure words, where that changes what it is worth: "A pen for a pencil." (the pencil
-    credited) for "a pen or a pencil" (nothing: a hedge) was sure at 0.56 once its first
-    article was no longer doubted, "or" a rival worth less that no other check tried."""
+def _hedged(said: list[tuple[str, float]], expectation: Expectation, hedges, articles) -> list[str]:
+    """A words answer's rivals with a hedge ("or") in place of one of its words, where that
+    changes what it is worth, the article after it as said or as another: "A pen for a
+    pencil." (the pencil credited) for "a pen or a pencil" (nothing: a hedge) was sure at 0.56
+    once its first article was no longer doubted, and "A pen for the pencil." at 0.55 (tiny.en
+    found "A pen or a pencil." 0.07 as likely, "A pen or the pencil." 0.0005): a reading worth
+    less, which no other check tried."""
     if expectation.kind != "words":
         return []
-    text = " ".join(w for w, _ in said)
-    heard = expectation.meaning(text)
-    unsure = sorted(range(len(said)), key=lambda k: said[k][1])[:RIVAL_PLACES]
+    heard_words = [w for w, _ in said]
+    heard = expectation.meaning(" ".join(heard_words))
     rivals = []
-    for k in unsure:
+    for k, word in enumerate(heard_words):
+        if word.strip(",.;:!?").lower() in hedges:
+            continue
+        after = heard_words[k + 1 : k + 2]
+        swapped = [after]
+        if after and after[0].lower() in articles:
+            swapped += [[a] for a in articles if a != after[0].lower()]
         for hedge in hedges:
-            if said[k][0].strip(",.;:!?").lower() == hedge:
-                continue
-            reading = " ".join([*(w for w, _ in said[:k]), hedge, *(w for w, _ in said[k + 1 :])])
-            if expectation.meaning(reading) != heard:
-                rivals.append(reading)
-    return rivals
+            for article in swapped:
+                reading = " ".join([*heard_words[:k], hedge, *article, *heard_words[k + 2 :]])
+                if expectation.meaning(reading) != heard:
+                    rivals.append(reading)
+    return list(dict.fromkeys(rivals))
 
 
 def _put_right(said: list[tuple[str, float]], expectation: Expectation) -> list[str]:
