@@ -239,8 +239,8 @@ class WhisperRecogniser:
     def _doubt(self, encoded, prompt, ids, probs, expectation: Expectation, best: str) -> float:
         """The bound the least sure token of ``best`` puts on the confidence: its probability
         (``probs``, forced), with those of the other tokens there that lead to the same reading
-        (a words answer's only if the DSR expects each of its words), times the kind's
-        ``TOKEN_DOUBT``."""
+        (a words answer's only if the DSR expects each of its words, or at an article), times
+        the token's ``TOKEN_DOUBT`` (``_scales``)."""
         scales = self._scales(ids, expectation)
         sure = [float(p) for p in probs]
         places = [k for k, t in enumerate(ids) if any(c.isalnum() for c in self._text([t]))]
@@ -334,7 +334,8 @@ class WhisperRecogniser:
 
     def _beaten_by(self, encoded, frames, prompt, said, rivals: list[str], allowed=RIVAL_ODDS):
         """A bound on the confidence in the words ``said``: how much less likely than they are
-        the likeliest of ``rivals`` (readings worth more) is, over ``allowed``."""
+        the likeliest of ``rivals`` (readings worth more; ``_hedged``'s, worth otherwise) is,
+        over ``allowed``."""
         if not rivals:
             return 1.0
         heard, *scores = self._forced_all(
