@@ -212,12 +212,12 @@ class WhisperRecogniser:
             doubt = self._doubt(encoded, prompt, ids, probs, expectation, best)
             confidence = min(confidence, doubt)
             if confidence >= CHECKED_ABOVE:
-                rivals = _better_readings(said, expectation)
-                confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
                 said_in = languages.get(self.language)
-                hedged = _hedged(said, expectation, said_in.hedges, said_in.articles)
-                beaten = self._beaten_by(encoded, frames, prompt, said, hedged, HEDGE_ODDS)
-                confidence = min(confidence, beaten)
+                rivals = [
+                    (RIVAL_ODDS, _better_readings(said, expectation)),
+                    (HEDGE_ODDS, _hedged(said, expectation, said_in.hedges, said_in.articles)),
+                ]
+                confidence = min(confidence, self._beaten_by(encoded, frames, prompt, said, rivals))
         return Heard(best, confidence, start, end)
 
     def _spread(self, encoded, prompt: list[int], ids: list[int]) -> list[np.ndarray]:
@@ -332,18 +332,24 @@ class WhisperRecogniser:
                 out[-1][1] = min(out[-1][1], p)
         return [(w.strip(), p) for w, p in out if any(c.isalnum() for c in w)]
 
-    def _beaten_by(self, encoded, frames, prompt, said, rivals: list[str], allowed=RIVAL_ODDS):
-        """A bound on the confidence in the words ``said``: how much less likely than they are
-        the likeliest of ``rivals`` (readings worth more; ``_hedged``'s, worth otherwise) is,
-        over ``allowed``."""
-        if not rivals:
+    def _beaten_by(self, encoded, frames, prompt, said, rivals: list[tuple[float, list[str]]]):
+        """A bound on the confidence in the words ``said``: for each group of ``rivals`` (the
+        odds it allows: readings worth more, ``_hedged``'s worth otherwise), how much less
+        likely than ``said`` its likeliest is, over those odds; all forced in one batch."""
+        texts = [t for _, group in rivals for t in group]
+        if not texts:
             return 1.0
         heard, *scores = self._forced_all(
-            encoded, frames, prompt, [" ".join(w for w, _ in said), *rivals]
+            encoded, frames, prompt, [" ".join(w for w, _ in said), *texts]
         )
-        best_rival = max(scores)
-        odds = math.exp(min(best_rival - heard, 50.0))  # P(rival) / P(heard)
-        return min(1.0, allowed / odds)
+        bound, start = 1.0, 0
+        for allowed, group in rivals:
+            if group:
+                best_rival = max(scores[start : start + len(group)])
+                odds = math.exp(min(best_rival - heard, 50.0))  # P(rival) / P(heard)
+                bound = min(bound, allowed / odds)
+            start += len(group)
+        return bound
 
     def _rescored(self, encoded, frames, prompt, expectation, free, start, end) -> Heard:
         """The candidates and the free transcript forced through the decoder; the best of them
