@@ -30,7 +30,8 @@ def main() -> int:
 
     def deltas(batch, resynced) -> None:
         now = time.perf_counter()
-        out.write("".join(f"d {d['id']} {now!r} {started[0]!r}\n" for d in batch if "id" in d))
+        # the server's own deltas (an agent gone, ...) have an empty id: not a timed change
+        out.write("".join(f"d {d['id']} {now!r} {started[0]!r}\n" for d in batch if d.get("id")))
         out.flush()
 
     def raw(msg) -> None:
