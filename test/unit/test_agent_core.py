@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 
 from dsr_graph.model.binary import dumps
 from dsr_graph.model.graph import Graph
-from dsr_graph.protocol.agent_core import TICK, AgentCore
+from dsr_graph.protocol.agent_core import DUPLICATE_PATIENCE, TICK, AgentCore
 from dsr_graph.protocol.server_core import Rejection, ServerCore
 
 pytestmark = pytest.mark.unit
@@ -345,3 +345,47 @@ def test_an_idle_replica_told_the_server_is_ahead_waits_for_the_delta_on_its_way
         net.deliver(delta)
         speech.tick(net.now + 2 * TICK)
         assert net.asked["/speech"] == asked and "cup" in speech.graph
+
+
+def test_a_request_a_snapshot_took_is_answered_at_once():
+    """After a server restart, /speech resyncs; its next request is applied before the server
+    answers its snapshot, so the snapshot holds that request's delta, which the replica never
+    applies one by one. Its verdict comes with the snapshot, not RESEND_AFTER (3 s) later: every
+    agent's first write after a restart (its info node's "ready" among them) waited that long,
+    and PELEA waited for it."""
+    net, verdicts = network(requests_faulty=False, group_commit=True)
+    speech = net.cores["/speech"]
+
+    def deliver(kind: str, to: str) -> None:
+        net.deliver(next(i for i, m in enumerate(net.flight) if m.kind == kind and m.to == to))
+
+    while net.flight:
+        net.deliver(0)
+    net.cores["/panel"].send({"ops": [{"op": "insert_node", "name": "a", "type": "cup"}]}, None, 0)
+    while net.flight:  # broadcast, never committed: both replicas ahead of the restarted server
+        net.deliver(0)
+    net.restart()
+    deliver("heartbeat", "/speech")  # a new boot: /speech resyncs
+    while not any(m.kind == "snapshot" and m.to == "server" for m in net.flight):
+        net.advance(TICK)
+    ident = speech.send(
+        {"ops": [{"op": "insert_node", "name": "b", "type": "cup"}]},
+        lambda result: verdicts.setdefault(result.id, []).append(result),
+        net.now,
+    )
+    request = next(i for i, m in enumerate(net.flight) if m.text and ident in m.text)
+    net.deliver(request)  # applied before the snapshot is made
+    deliver("snapshot", "server")
+    deliver("delta", "/speech")  # while the snapshot is awaited
+    deliver("snapshot", "/speech")
+    net.commit()
+    sent_at = net.now
+    while ident not in verdicts and net.now - sent_at < 3.0:
+        while net.flight:
+            net.deliver(0)
+        net.advance(TICK)
+    assert [v.accepted for v in verdicts.get(ident, [])] == [True]
+    # the server calls the repeat a duplicate; its delta is not awaited beyond DUPLICATE_PATIENCE
+    took = net.now - sent_at
+    assert took <= DUPLICATE_PATIENCE + 2 * TICK, f"the verdict took {took:.2f} s"
+    assert "b" in speech.graph

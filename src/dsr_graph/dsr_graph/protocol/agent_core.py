@@ -15,7 +15,8 @@ The rules:
   heard; one sent to a restarted server before it said so would overtake the requests its
   predecessor never answered (an agent's writes apply in its order);
 - a request with no verdict after RESEND_AFTER goes again with the same id, and every unanswered
-  one goes again, in order, when the server restarted or is heard after a silence; the server
+  one goes again, in order, when the server restarted or is heard after a silence, and once a
+  snapshot is loaded (it may hold a request's delta, which then never comes); the server
   applies an id once and answers a repeat with the seq that accepted it (``duplicate_of``), whose
   verdict is given once the replica has reached that seq;
 - a change is visible before it is durable: the server broadcasts a delta at once and makes it
@@ -199,14 +200,15 @@ class AgentCore:
         self._flush(now)
         return doc["id"]
 
-    def _send_again(self, now: float) -> None:
-        """Requests whose verdict has not come (lost to a server that died, or not heard): send
-        them again with the same id; the server applies each once and answers the rest."""
+    def _send_again(self, now: float, after: float = RESEND_AFTER) -> None:
+        """Requests whose verdict has not come for ``after`` seconds (lost to a server that
+        died, or not heard): send them again with the same id; the server applies each once and
+        answers the rest."""
         if self._server_lost:
             return  # all of them go again, in order, when the server is heard (on_heartbeat)
         for ident, (text, sent, blobs) in list(self._unanswered.items()):
             waiting = ident in self._undurable or ident in self._accepted_before
-            if now - sent >= RESEND_AFTER and not waiting:
+            if now - sent >= after and not waiting:
                 self._unanswered[ident] = (text, now, blobs)
                 self._outbox.append((text, blobs))
 
@@ -508,3 +510,9 @@ class AgentCore:
                 "the server restarted or was out of reach)",
             )
         self._deliver(applied, True, now)
+        # A request whose delta the snapshot took (dropped while it was awaited) has no verdict
+        # coming: asked again now, the server answers "duplicate_of" and the replica has that
+        # seq. Left to RESEND_AFTER, every agent's next write after a server restart waited
+        # 3 s, and PELEA with it (an agent info node's "ready" among them).
+        self._send_again(now, after=0.0)
+        self._flush(now)
