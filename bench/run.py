@@ -54,6 +54,7 @@ from tables import table
 from throughput import bench_throughput
 
 from dsr_graph.ros import dds_deadlock
+from dsr_graph.ros.domains import reserve as reserve_domains
 from dsr_graph.ros.exit_timer import exit_now
 
 
@@ -134,7 +135,9 @@ def main() -> int:
     # way out, not left running in their own sessions
     signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     quick = args.quick
-    domain = 10 + os.getpid() % 50  # and up to 2 a section more (below 101: Linux's ports)
+    # ROS domains of our own, two a section, held until the run ends (no test run or launch on
+    # this machine takes them: ros/domains.py)
+    domains, _held = reserve_domains(3)
     failed: dict[str, str] = {}
     report: dict[str, Any] = {
         "machine": {
@@ -232,7 +235,7 @@ def main() -> int:
             # a ROS domain of its own (two for signed's side-by-side servers): what a failed
             # section left behind cannot meet the next one's agents
             try:
-                result = run(domain + 2 * i)
+                result = run(domains[2 * i % len(domains)])
             except Exception as e:  # a section that fails is named, the run goes on
                 failed[name] = f"{type(e).__name__}: {e}"
                 print(f"section {name} FAILED: {failed[name]}", file=sys.stderr, flush=True)

@@ -120,8 +120,8 @@ esac
 outbox="$root/var/pelea_outbox/$(printf '%s' "$db" | sha1sum | cut -c1-12)"
 [ -n "$run" ] || run="$root/var/runs/$(date +%Y%m%d-%H%M%S)-$$"
 mkdir -p "$run/log"
-# Our own ROS domain unless the caller chose one, so two runs on one machine do not meet.
-export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
+# Our own ROS domain unless the caller chose one, so that no other run on this machine meets it.
+source "$root/scripts/ros_domain.sh"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"
 # Fast DDS's shared-memory files of processes killed outright (a robot that lost power): a stale
 # port can hang a new node at start. Those of living processes, and other domains' ports, stay.

@@ -79,7 +79,7 @@ for ns in $(ip netns list | awk '$1 ~ /^dsr[AB][0-9]+$/ {print $1}'); do
 done
 nsA="dsrA$tag"; nsB="dsrB$tag"; vA="vdA$tag"; vB="vdB$tag"
 net="10.213.$(( $$ % 250 ))"
-export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-$(( ($$ % 90) + 10 ))}"
+source "$root/scripts/ros_domain.sh"  # as launch.sh: a domain no other run here holds
 unset ROS_AUTOMATIC_DISCOVERY_RANGE  # SUBNET: discovery goes over the link
 export FASTDDS_BUILTIN_TRANSPORTS=UDPv4  # the hosts share no memory on a real robot either
 export ROS_STATIC_PEERS="$net.1;$net.2"  # discovery by unicast too, not multicast alone

@@ -11,49 +11,28 @@ import subprocess
 import time
 from pathlib import Path
 
-from dsr_graph.ros import shm_zombies
+from dsr_graph.ros import domains, shm_zombies
 from dsr_graph.ros.session import RosSession
 
 _next = itertools.count()
-BLOCK = 10  # domains a test run takes for itself, and uses in turn
-BLOCKS = 9  # 10..99: valid Fast DDS domains on Linux, clear of the usual 0
-_block: list = []  # [the first domain of this run's block, its lock file (held while we run)]
+_block: list = []  # [this run's block of domains, its lock files (held while we run)]
 
 
 def fresh_domain_id() -> int:
-    """A ROS domain for one test: the next of this run's own block. The block is locked (flock
-    on a file under the temp folder, held until this process ends), so two test runs on one
-    machine never share a domain; tests of one run take the block's ten in turn, each test
-    having stopped what it started before the next begins."""
+    """A ROS domain for one test: the next of this run's own block (ros/domains.py: locked, so
+    two test runs, a benchmark or a launch on one machine never share a domain); tests of one
+    run take the block's ten in turn, each test having stopped what it started before the next
+    begins."""
     if not _block:
-        _block.extend(_reserve_block())
+        _block.extend(domains.reserve())
         # Fast DDS ports an earlier run's killed processes left in these domains
         shm_zombies.clean(own_domains())
-    return _block[0] + next(_next) % BLOCK
+    return _block[0][next(_next) % len(_block[0])]
 
 
 def own_domains() -> list[int]:
     """The domains this process has taken for its tests (none before its first test's)."""
-    return list(range(_block[0], _block[0] + BLOCK)) if _block else []
-
-
-def _reserve_block():
-    import fcntl
-    import tempfile
-
-    folder = Path(tempfile.gettempdir()) / "clarc-test-domains"
-    folder.mkdir(exist_ok=True)
-    first = os.getpid() % BLOCKS
-    for i in range(BLOCKS):
-        block = (first + i) % BLOCKS
-        lock = open(folder / f"block-{block}.lock", "w")
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            lock.close()
-            continue
-        return 10 + BLOCK * block, lock
-    raise RuntimeError(f"every block of ROS domains is taken by other test runs ({folder})")
+    return list(_block[0]) if _block else []
 
 
 class Processes:
