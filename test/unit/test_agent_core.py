@@ -347,12 +347,12 @@ def test_an_idle_replica_told_the_server_is_ahead_waits_for_the_delta_on_its_way
         assert net.asked["/speech"] == asked and "cup" in speech.graph
 
 
-def test_a_request_a_snapshot_took_is_answered_at_once():
+def test_a_request_a_snapshot_took_is_answered_without_waiting_for_its_resend():
     """After a server restart, /speech resyncs; its next request is applied before the server
     answers its snapshot, so the snapshot holds that request's delta, which the replica never
-    applies one by one. Its verdict comes with the snapshot, not RESEND_AFTER (3 s) later: every
-    agent's first write after a restart (its info node's "ready" among them) waited that long,
-    and PELEA waited for it."""
+    applies one by one. Its verdict comes soon after the snapshot, not RESEND_AFTER (3 s) later:
+    every agent's first write after a restart (its info node's "ready" among them) waited that
+    long, and PELEA waited for it."""
     net, verdicts = network(requests_faulty=False, group_commit=True)
     speech = net.cores["/speech"]
 

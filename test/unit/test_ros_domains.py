@@ -3,6 +3,7 @@ whether taken in Python (test runs, benchmarks) or by the shell's flock (scripts
 
 import os
 import subprocess
+import sys
 import time
 
 import pytest
@@ -19,7 +20,7 @@ def locks(tmp_path, monkeypatch):
 
 def test_two_reservations_never_share_a_domain_and_a_released_block_is_free_again(locks):
     first, held = domains.reserve()
-    second, other = domains.reserve(2)
+    second, other = domains.reserve(2)  # other: its locks, held to the end
     assert len(first) == domains.BLOCK and len(second) == 2 * domains.BLOCK
     assert not set(first) & set(second)
     assert all(10 <= d <= 99 for d in first + second)
@@ -54,7 +55,7 @@ def test_the_shell_reads_the_candidates_from_the_module(tmp_path):
     """What launch.sh reads: "<lock file> <first domain>" a block, in the order it tries them."""
     env = dict(os.environ, TMPDIR=str(tmp_path))
     out = subprocess.run(
-        ["python", "-m", "dsr_graph.ros.domains", "7"],
+        [sys.executable, "-m", "dsr_graph.ros.domains", "7"],
         capture_output=True,
         text=True,
         check=True,
