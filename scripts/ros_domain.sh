@@ -3,6 +3,11 @@
 # this machine holds (dsr_graph/ros/domains.py: a lock file a block). The lock stays with the
 # sourcing shell and the processes it starts (they inherit the file) until the last of them ends.
 if [ -z "${ROS_DOMAIN_ID:-}" ]; then
+  if ! blocks=$(python -m dsr_graph.ros.domains $$); then
+    echo "cannot list the ROS domains' lock files (python -m dsr_graph.ros.domains failed);" \
+      "set ROS_DOMAIN_ID" >&2
+    exit 1
+  fi
   while read -r lock first; do
     [ ! -e "$lock" ] || [ -w "$lock" ] || continue  # another user's lock file: their block
     exec {domain_lock}> "$lock"
@@ -11,7 +16,7 @@ if [ -z "${ROS_DOMAIN_ID:-}" ]; then
       break
     fi
     exec {domain_lock}>&-
-  done < <(python -m dsr_graph.ros.domains $$)
+  done <<< "$blocks"
   if [ -z "${ROS_DOMAIN_ID:-}" ]; then
     echo "every block of ROS domains is held by test runs, benchmarks or launches on this" \
       "machine; set ROS_DOMAIN_ID" >&2
