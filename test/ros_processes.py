@@ -15,7 +15,8 @@ from dsr_graph.ros import domains, shm_zombies
 from dsr_graph.ros.session import RosSession
 
 _next = itertools.count()
-_block: list = []  # [this run's block of domains, its lock files (held while we run)]
+_domains: list[int] = []  # this run's block of domains
+_locks: list = []  # its lock files, held while we run
 
 
 def fresh_domain_id() -> int:
@@ -23,16 +24,18 @@ def fresh_domain_id() -> int:
     two test runs, a benchmark or a launch on one machine never share a domain); tests of one
     run take the block's ten in turn, each test having stopped what it started before the next
     begins."""
-    if not _block:
-        _block.extend(domains.reserve())
+    if not _domains:
+        taken, locks = domains.reserve()
+        _domains.extend(taken)
+        _locks.extend(locks)
         # Fast DDS ports an earlier run's killed processes left in these domains
         shm_zombies.clean(own_domains())
-    return _block[0][next(_next) % len(_block[0])]
+    return _domains[next(_next) % len(_domains)]
 
 
 def own_domains() -> list[int]:
     """The domains this process has taken for its tests (none before its first test's)."""
-    return list(_block[0]) if _block else []
+    return list(_domains)
 
 
 class Processes:
